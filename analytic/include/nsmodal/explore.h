@@ -1,0 +1,45 @@
+#pragma once
+// Exploratory search for m >= 3 impacts per period (paper section 2.3), on
+// coarse grids of the impact times, to test the paper's conjectures:
+//   odd m:  dim ker A_m = 1 everywhere (Q_m is orthogonal with det -1);
+//   even m: dim ker A_m = 2 on the roots of det A_m;
+//   potential solutions exist only as degenerate counterparts of fewer impacts
+//   (a lower-m orbit repeated, or a 1-ipp orbit with grazing contacts).
+// The search minimises phi = sigma_k(A_m) (k = 2 for even m, 0 for odd m) +
+// the NC2 least-squares misfit in the span of the k smallest singular vectors,
+// from the best grid points, with GSL's Nelder-Mead simplex.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "nsmodal/modal_basis.h"
+#include "nsmodal/orbit.h"
+
+namespace nsmodal {
+
+struct ExploreOptions {
+  int impacts = 3;
+  int grid = 24;            // grid nodes per impact-time axis on (0, T)
+  int starts_per_period = 6;  // best grid points polished per period
+  // A polished point is a potential solution when phi is below this; phi
+  // measures defects of O(1) quantities, polished to ~1e-12 where a root exists.
+  double potential_tol = 1e-8;
+};
+
+struct ExploreFinding {
+  Orbit orbit;
+  std::string kind;  // "repeated-lower-m" or "new"
+  int kernel_dimension = 0;
+};
+
+struct ExploreReport {
+  int impacts = 0;
+  long samples = 0;
+  std::map<int, long> kernel_dimension_histogram;  // over grid samples (odd m) or findings (even m)
+  std::vector<ExploreFinding> findings;            // distinct potential solutions
+  double best_phi_new = 0.0;                       // smallest phi away from repeated lower-m orbits
+};
+
+ExploreReport ExploreImpacts(const ModalBasis& b, const std::vector<double>& periods, const ExploreOptions& options);
+
+}  // namespace nsmodal

@@ -1,0 +1,43 @@
+#pragma once
+// Exact free flight S(t) (paper eqs. 7-8, 13) and the impact map N (eqs. 9-12,
+// 14) on the scaled modal state y = (u, s) of modal_basis.h.
+#include <Eigen/Dense>
+#include <utility>
+
+#include "nsmodal/modal_basis.h"
+
+namespace nsmodal {
+
+// y <- S(t) y: a rotation by w_i t in each modal plane.
+void Flow(const ModalBasis& b, double t, Eigen::Ref<Eigen::VectorXd> y);
+// y <- N y with restitution e: s <- s - (1 + e) r (r.s) / |r|^2, so v_c -> -e v_c.
+void Impact(const ModalBasis& b, double e, Eigen::Ref<Eigen::VectorXd> y);
+
+Eigen::MatrixXd FlowMatrix(const ModalBasis& b, double t);
+Eigen::MatrixXd ImpactMatrix(const ModalBasis& b, double e);
+
+inline double ContactPosition(const ModalBasis& b, const Eigen::Ref<const Eigen::VectorXd>& y) {
+  return b.r_over_omega.dot(y.head(b.n));
+}
+inline double ContactVelocity(const ModalBasis& b, const Eigen::Ref<const Eigen::VectorXd>& y) {
+  return b.r.dot(y.tail(b.n));
+}
+inline double Energy(const Eigen::Ref<const Eigen::VectorXd>& y) { return 0.5 * y.squaredNorm(); }
+
+// x_c(t) on one flight segment from state y at t = 0, as a sum of sinusoids
+// f(t) = sum_i a_i cos(w_i t) + b_i sin(w_i t). The bounds
+// |f^(k)(t)| <= sum_i w_i^k sqrt(a_i^2 + b_i^2) make root isolation provable.
+struct ContactSignal {
+  Eigen::VectorXd a, b, omega;
+  // bound[k] >= sup |f^(k)|, k = 0..3
+  double bound[4] = {0.0, 0.0, 0.0, 0.0};
+
+  ContactSignal(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y);
+  double Position(double t) const;
+  double Velocity(double t) const;
+  double Acceleration(double t) const;
+  // (velocity, acceleration) from one sin/cos per mode: the inner loop of NC3.
+  std::pair<double, double> VelocityAcceleration(double t) const;
+};
+
+}  // namespace nsmodal

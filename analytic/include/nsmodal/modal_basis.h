@@ -1,0 +1,40 @@
+#pragma once
+// Modal basis of the free flight (paper eqs. 4-8), in a scaled form that makes
+// every map of the analysis orthogonal for e = 1.
+//
+// K phi = w^2 M phi with Phi' M Phi = I, Phi' K Phi = diag(w_i^2); x = Phi q.
+// The scaled modal state is y = (u, s) with u_i = w_i q_i and s_i = dq_i/dt, so
+//   energy E = v'Mv/2 + x'Kx/2 = |y|^2 / 2,
+//   free flight is a rotation by w_i t in each plane (u_i, s_i) (eq. 8),
+//   the impact is s <- s - (1 + e) r (r.s)/|r|^2 with r = row c of Phi (eq. 10-12);
+// for e = 1 the impact is a reflection, so S(t) and N are orthogonal.
+#include <Eigen/Dense>
+
+#include "nsmodal/model.h"
+
+namespace nsmodal {
+
+struct ModalBasis {
+  int n = 0;                // dofs
+  Eigen::VectorXd omega;    // w_i, ascending
+  Eigen::MatrixXd phi;      // Phi, columns M-orthonormal
+  Eigen::MatrixXd phi_inv;  // Phi^{-1} = Phi' M
+  Eigen::VectorXd r;        // row c of Phi: x_c = sum r_i q_i
+  Eigen::VectorXd r_over_omega;  // r_i / w_i: x_c = sum (r_i / w_i) u_i
+  double r_norm2 = 0.0;     // |r|^2 = (M^{-1})_cc
+  double gap = 1.0;
+  double restitution = 1.0;
+
+  // Linear periods T_i = 2 pi / w_i.
+  Eigen::VectorXd Periods() const;
+};
+
+ModalBasis MakeModalBasis(const Model& model);
+
+// Conversions between the physical state z = (x, v) and the scaled modal y.
+Eigen::VectorXd ToModal(const ModalBasis& b, const Eigen::VectorXd& x, const Eigen::VectorXd& v);
+Eigen::VectorXd PositionOf(const ModalBasis& b, const Eigen::VectorXd& y);
+Eigen::VectorXd VelocityOf(const ModalBasis& b, const Eigen::VectorXd& y);
+Eigen::VectorXd PhysicalOf(const ModalBasis& b, const Eigen::VectorXd& y);  // (x, v)
+
+}  // namespace nsmodal

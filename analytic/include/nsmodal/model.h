@@ -1,0 +1,41 @@
+#pragma once
+// The vibro-impact model: M xdd + K x = 0 in free flight, one unilateral
+// contact x_c <= d (Signorini, paper eq. 1) with a Newton impact law.
+//
+// Impact law (paper eq. 2b generalised to any SPD M): the impulse acts along
+// the contact normal e_c, M (v+ - v-) = e_c * Lambda, with Lambda chosen so that
+//   v_c(t+) = -e * v_c(t-),   0 <= e <= 1.
+// For a diagonal M this changes v_c only ("other velocities continuous"); for a
+// coupled M it is the only choice that conserves energy at e = 1.
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+namespace nsmodal {
+
+struct Model {
+  Eigen::MatrixXd mass;       // M, symmetric positive definite, N x N
+  Eigen::MatrixXd stiffness;  // K, symmetric positive definite, N x N
+  int contact = 0;            // c, 0-based index of the dof that meets the obstacle
+  double gap = 1.0;           // d > 0
+  double restitution = 1.0;   // e in [0, 1]
+
+  int dofs() const { return static_cast<int>(mass.rows()); }
+};
+
+// A chain ground - k1 - m1 - k2 - m2 - ... (the paper's Figure 1 for N = 2).
+// springs[0] links the ground to m1, springs[i] links m_i to m_{i+1}.
+// Throws InputError naming "system.masses" or "system.springs" on bad values.
+Model MakeChain(const std::vector<double>& masses, const std::vector<double>& springs,
+                int contact, double gap, double restitution);
+
+// The paper's default system: m1 = m2 = 1, k1 = 0.85, k2 = 2, d = 1, e = 1, c = x2.
+Model PaperModel();
+
+// Checks every field; throws InputError naming the field ("system.mass_matrix",
+// "system.contact_dof", "system.gap", "system.restitution", ...) and the value.
+void Validate(const Model& model);
+
+std::string FormatValue(double v);
+
+}  // namespace nsmodal

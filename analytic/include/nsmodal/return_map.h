@@ -1,0 +1,37 @@
+#pragma once
+// The return map of an m-impact periodic orbit (paper eqs. 15-17, 25) in the
+// scaled modal coordinates of modal_basis.h. With impact times
+// 0 = t1 < t2 < ... < tm < T and y0 the state just AFTER the impact at t = 0,
+//   Q_m = N S(T - tm) N S(tm - t_{m-1}) ... N S(t2),    A_m = Q_m - I.
+// (Eq. 17 of the paper drops the last N; eq. 25 has it. The form above is right.)
+// NC1: det A_m = 0.  For e = 1, Q_m is orthogonal with det (-1)^m.
+#include <Eigen/Dense>
+#include <vector>
+
+#include "nsmodal/modal_basis.h"
+
+namespace nsmodal {
+
+// times = {t2, ..., tm} (t1 = 0 is implicit); period T.
+Eigen::MatrixXd ReturnMap(const ModalBasis& b, const std::vector<double>& times, double period,
+                          double restitution = 1.0);
+inline Eigen::MatrixXd MatrixA(const ModalBasis& b, const std::vector<double>& times, double period) {
+  return ReturnMap(b, times, period) - Eigen::MatrixXd::Identity(2 * b.n, 2 * b.n);
+}
+
+// Pfaffian of a skew-symmetric matrix (Parlett-Reid elimination with pivoting);
+// Pf(A)^2 = det(A).
+double Pfaffian(Eigen::MatrixXd a);
+
+// The smooth signed NC1 indicator for m = 2. det A_2 >= 0 touches zero at its
+// roots (DESIGN.md): Q_2 is a rotation with eigenvalue pairs exp(+-i theta_k),
+// det(Q - I) = prod 4 sin^2(theta_k / 2). Instead we use
+//   F(t2, T) = Pf(Q_2 - Q_2^T) = prod (+-2 sin theta_k),  F^2 = det(Q-I) det(Q+I),
+// a polynomial in the entries of Q_2, which changes sign where a pair crosses 1
+// (a root of det A_2) or -1 (rejected afterwards by checking det(Q + I)).
+double TwoImpactIndicator(const ModalBasis& b, double t2, double period);
+
+// Dimension of ker A: singular values of A below tol (A is O(1) for e = 1).
+int KernelDimension(const Eigen::MatrixXd& a, double tol);
+
+}  // namespace nsmodal

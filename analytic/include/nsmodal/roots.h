@@ -1,0 +1,26 @@
+#pragma once
+// Root isolation that cannot step over a root, and root polishing (GSL Brent).
+#include <functional>
+#include <utility>
+#include <vector>
+
+namespace nsmodal {
+
+// Brent's method (gsl_root_fsolver_brent) on a bracket with g(lo) g(hi) <= 0.
+// Converges to |hi - lo| <= 4 eps (|lo| + |hi|) or an exact zero.
+double PolishRoot(const std::function<double(double)>& g, double lo, double hi);
+
+// Every root of g on [a, b], given g' and the bounds L1 >= sup |g'| and
+// L2 >= sup |g''| on [a, b]. On a cell [p, q] of width h:
+//   g(p), g(q) of one sign and |g(p)| + |g(q)| > L1 h   -> provably no root;
+//   g'(p), g'(q) of one sign and |g'(p)| + |g'(q)| > L2 h -> g monotone: one root
+//                                    if g changes sign (polished by Brent), else none;
+//   otherwise the cell is halved. A cell narrower than min_width that is still
+// undecided reports one root: the Brent root on a sign change, else its
+// midpoint (a tangency, an even root, to within min_width). Roots come out sorted.
+// g_dg(t) returns (g(t), g'(t)). An exact zero at a cell end is a root, and the
+// cell's interior is still searched.
+std::vector<double> IsolateRoots(const std::function<std::pair<double, double>(double)>& g_dg, double l1,
+                                 double l2, double a, double b, double min_width);
+
+}  // namespace nsmodal

@@ -1,0 +1,43 @@
+#pragma once
+// Transitions of the admissible zones of the 1-ipp family (paper section 2.1):
+//   singular  - D(T) = 0 (eq. 23): the energy goes to infinity;
+//   modal     - T = k T_i (eq. 24): the orbit becomes a linear mode grazing d;
+//   grazing   - an interior maximum of x_c reaches d (the bridge to m > 1).
+// Each is located by refinement, not by the grid step: singular periods are the
+// roots of D between consecutive poles k T_i (D decreases strictly there, so
+// there is exactly one), modal periods are exact, and grazing periods are the
+// roots of h(T) = max over interior maxima of x_c - d, polished by Brent.
+#include <string>
+#include <vector>
+
+#include "nsmodal/modal_basis.h"
+
+namespace nsmodal {
+
+enum class TransitionKind { kSingular, kModal, kGrazing };
+std::string ToString(TransitionKind kind);
+
+struct Transition {
+  double period = 0.0;
+  TransitionKind kind = TransitionKind::kGrazing;
+  double energy = 0.0;  // infinite for a singular transition
+};
+
+// Every root of D(T) in [from, to].
+std::vector<double> SingularPeriods(const ModalBasis& b, double from, double to);
+// Every k T_i in [from, to] (modes that do not move x_c, r_i = 0, excluded).
+std::vector<double> ModalPeriods(const ModalBasis& b, double from, double to);
+
+// h(T): the largest x_c - d at an interior maximum of the 1-ipp orbit of period T.
+double GrazingFunction(const ModalBasis& b, double period);
+
+// The boundaries of the admissible 1-ipp zones seen on an increasing grid of
+// periods whose admissibility is already known (admissible[j] for periods[j]),
+// each refined and classified. Two boundaries inside one grid cell cancel and
+// are not seen; anything else is.
+std::vector<Transition> OneImpactTransitions(const ModalBasis& b, const std::vector<double>& periods,
+                                             const std::vector<bool>& admissible);
+// The same on the grid from:to:step, evaluating admissibility itself.
+std::vector<Transition> OneImpactTransitions(const ModalBasis& b, double from, double to, double step);
+
+}  // namespace nsmodal

@@ -1,0 +1,41 @@
+#pragma once
+// Periodic orbits with two impacts per period (paper section 2.2).
+//
+// NC1 roots t2 of det A_2(., T) are double roots (det A_2 >= 0). They are found
+// as sign changes of the smooth signed indicator F = Pf(Q_2 - Q_2^T)
+// (return_map.h) on a grid in t2, polished by Brent to ~1e-15 relative, and
+// kept only where Q_2 really has eigenvalue 1 (not -1). t2 = T/2 is always a
+// root (eq. 26: the 1-ipp orbit of period T/2 run twice) and is added exactly.
+// On a root ker A_2 has dimension 2 (eq. 28); y0 in it with x_c(0) = d and
+// x_c(t2) = d is unique unless those two conditions coincide (the "bridge",
+// paper section 4), where the orbit is flagged degenerate.
+#include <vector>
+
+#include "nsmodal/admissibility.h"
+#include "nsmodal/modal_basis.h"
+#include "nsmodal/orbit.h"
+
+namespace nsmodal {
+
+struct TwoImpactOptions {
+  // Grid spacing in t2 for the sign scan: max spacing, also at most T/64.
+  // Two roots closer than this may be missed; the default resolves the
+  // paper's system (checked against a 10x finer grid in the tests).
+  double t2_step = 0.01;
+  // A polished sign change is an NC1 root when the smallest singular value of
+  // A_2 is below this (A_2 is O(1): Q_2 is orthogonal). At a true root it is
+  // ~1e-15; at a -1 crossing it is ~2.
+  double kernel_tol = 1e-8;
+  AdmissibilityOptions admissibility;
+};
+
+// All roots t2 in (0, T) of det A_2(., T), sorted, T/2 included.
+std::vector<double> TwoImpactRoots(const ModalBasis& b, double period, const TwoImpactOptions& options = {});
+
+// The potential orbit at a root (t2, T).
+Orbit TwoImpactOrbitAt(const ModalBasis& b, double t2, double period, const TwoImpactOptions& options = {});
+
+// Every potential 2-ipp orbit of period T (one per root t2).
+std::vector<Orbit> TwoImpactOrbits(const ModalBasis& b, double period, const TwoImpactOptions& options = {});
+
+}  // namespace nsmodal

@@ -1,0 +1,173 @@
+#include "nsmodal/explore.h"
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_multimin.h>
+
+#include <algorithm>
+#include <functional>
+#include <cmath>
+#include <limits>
+
+#include "nsmodal/admissibility.h"
+#include "nsmodal/error.h"
+#include "nsmodal/flow.h"
+#include "nsmodal/return_map.h"
+
+namespace nsmodal {
+namespace {
+
+struct Candidate {
+  double phi;
+  Eigen::VectorXd y0;
+};
+
+// phi(times) and the y0 that realises it (see explore.h).
+Candidate Objective(const ModalBasis& b, const std::vector<double>& times, double period, int impacts) {
+  double prev = 0.0;
+  for (double t : times) {
+    if (!(t > prev)) return {std::numeric_limits<double>::infinity(), {}};
+    prev = t;
+  }
+  if (!(prev < period)) return {std::numeric_limits<double>::infinity(), {}};
+  const int dim = 2 * b.n;
+  const int k = impacts % 2 == 0 ? 2 : 1;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, times, period), Eigen::ComputeFullV);
+  const Eigen::MatrixXd basis = svd.matrixV().rightCols(k);
+  Eigen::MatrixXd c(impacts, k);
+  Eigen::MatrixXd y = basis;
+  prev = 0.0;
+  for (int i = 0; i < impacts; ++i) {
+    if (i > 0) {
+      for (int j = 0; j < k; ++j) {
+        Flow(b, times[i - 1] - prev, y.col(j));
+      }
+      prev = times[i - 1];
+    }
+    for (int j = 0; j < k; ++j) {
+      c(i, j) = ContactPosition(b, y.col(j));
+      Impact(b, 1.0, y.col(j));
+    }
+  }
+  const Eigen::VectorXd rhs = Eigen::VectorXd::Constant(impacts, b.gap);
+  const Eigen::VectorXd alpha = c.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(rhs);
+  const double misfit = (c * alpha - rhs).norm() / (b.gap * std::sqrt(impacts));
+  const double sigma = impacts % 2 == 0 ? svd.singularValues()[dim - 2] : 0.0;
+  return {sigma + misfit, basis * alpha};
+}
+
+struct NmParams {
+  const ModalBasis* b;
+  double period;
+  int impacts;
+};
+
+double NmObjective(const gsl_vector* v, void* p) {
+  const auto* prm = static_cast<const NmParams*>(p);
+  std::vector<double> times(v->size);
+  for (std::size_t i = 0; i < v->size; ++i) times[i] = gsl_vector_get(v, i);
+  const double phi = Objective(*prm->b, times, prm->period, prm->impacts).phi;
+  return std::isfinite(phi) ? phi : 1e6;
+}
+
+std::vector<double> Polish(const ModalBasis& b, std::vector<double> times, double period, int impacts) {
+  gsl_set_error_handler_off();
+  const std::size_t n = times.size();
+  NmParams prm{&b, period, impacts};
+  gsl_multimin_function f{&NmObjective, n, &prm};
+  gsl_vector* x = gsl_vector_alloc(n);
+  gsl_vector* step = gsl_vector_alloc(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    gsl_vector_set(x, i, times[i]);
+    gsl_vector_set(step, i, 0.25 * period / (impacts * 4.0));
+  }
+  gsl_multimin_fminimizer* s = gsl_multimin_fminimizer_alloc(gsl_multimin_fminimizer_nmsimplex2, n);
+  gsl_multimin_fminimizer_set(s, &f, x, step);
+  for (int iter = 0; iter < 2000; ++iter) {
+    if (gsl_multimin_fminimizer_iterate(s) != GSL_SUCCESS) break;
+    if (gsl_multimin_test_size(gsl_multimin_fminimizer_size(s), 1e-13 * period) == GSL_SUCCESS) break;
+  }
+  for (std::size_t i = 0; i < n; ++i) times[i] = gsl_vector_get(s->x, i);
+  gsl_multimin_fminimizer_free(s);
+  gsl_vector_free(step);
+  gsl_vector_free(x);
+  return times;
+}
+
+// A potential m-ipp orbit that is a lower-m orbit repeated: its impact times
+// form a periodic pattern (t_{i+p} = t_i + T p / m for some divisor p of m).
+bool RepeatsLowerOrbit(const std::vector<double>& times, double period, int impacts) {
+  std::vector<double> all{0.0};
+  all.insert(all.end(), times.begin(), times.end());
+  for (int p = 1; p < impacts; ++p) {
+    if (impacts % p != 0) continue;
+    const double shift = period * p / impacts;
+    bool ok = true;
+    for (int i = 0; i + p < impacts && ok; ++i) ok = std::abs(all[i + p] - all[i] - shift) < 1e-6 * period;
+    if (ok) return true;
+  }
+  return false;
+}
+
+void Enumerate(int impacts, int grid, std::vector<int>& idx, int pos, const std::function<void()>& visit) {
+  if (pos == impacts - 1) {
+    visit();
+    return;
+  }
+  const int start = pos == 0 ? 1 : idx[pos - 1] + 1;
+  for (int j = start; j < grid; ++j) {
+    idx[pos] = j;
+    Enumerate(impacts, grid, idx, pos + 1, visit);
+  }
+}
+
+}  // namespace
+
+ExploreReport ExploreImpacts(const ModalBasis& b, const std::vector<double>& periods, const ExploreOptions& options) {
+  if (options.impacts < 3 || options.impacts > 6) {
+    throw InputError("impacts", "the exploratory search takes 3 to 6 impacts, got " +
+                                    std::to_string(options.impacts));
+  }
+  const int m = options.impacts;
+  ExploreReport report;
+  report.impacts = m;
+  report.best_phi_new = std::numeric_limits<double>::infinity();
+  for (double period : periods) {
+    std::vector<std::pair<double, std::vector<double>>> best;
+    std::vector<int> idx(m - 1);
+    std::vector<double> times(m - 1);
+    Enumerate(m, options.grid, idx, 0, [&] {
+      for (int i = 0; i < m - 1; ++i) times[i] = period * idx[i] / options.grid;
+      ++report.samples;
+      if (m % 2 == 1) ++report.kernel_dimension_histogram[KernelDimension(MatrixA(b, times, period), 1e-8)];
+      const double phi = Objective(b, times, period, m).phi;
+      best.emplace_back(phi, times);
+    });
+    const std::size_t keep = std::min<std::size_t>(best.size(), options.starts_per_period);
+    std::partial_sort(best.begin(), best.begin() + keep, best.end(),
+                      [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (std::size_t s = 0; s < keep; ++s) {
+      const std::vector<double> polished = Polish(b, best[s].second, period, m);
+      const Candidate cand = Objective(b, polished, period, m);
+      const bool repeated = RepeatsLowerOrbit(polished, period, m);
+      if (!repeated) report.best_phi_new = std::min(report.best_phi_new, cand.phi);
+      if (!(cand.phi < options.potential_tol)) continue;
+      bool seen = false;
+      for (const ExploreFinding& f : report.findings) {
+        if (f.orbit.period != period) continue;
+        double dist = 0.0;
+        for (int i = 0; i < m - 1; ++i) dist = std::max(dist, std::abs(f.orbit.times[i] - polished[i]));
+        seen = seen || dist < 1e-6 * period;
+      }
+      if (seen) continue;
+      ExploreFinding finding;
+      finding.orbit = EvaluateOrbit(b, cand.y0, polished, period);
+      finding.kind = repeated ? "repeated-lower-m" : "new";
+      finding.kernel_dimension = KernelDimension(MatrixA(b, polished, period), 1e-6);
+      if (m % 2 == 0) ++report.kernel_dimension_histogram[finding.kernel_dimension];
+      report.findings.push_back(finding);
+    }
+  }
+  return report;
+}
+
+}  // namespace nsmodal

@@ -1,0 +1,88 @@
+#include "nsmodal/flow.h"
+
+#include <cmath>
+
+namespace nsmodal {
+
+void Flow(const ModalBasis& b, double t, Eigen::Ref<Eigen::VectorXd> y) {
+  for (int i = 0; i < b.n; ++i) {
+    const double c = std::cos(b.omega[i] * t);
+    const double s = std::sin(b.omega[i] * t);
+    const double u = y[i];
+    const double w = y[b.n + i];
+    y[i] = c * u + s * w;
+    y[b.n + i] = -s * u + c * w;
+  }
+}
+
+void Impact(const ModalBasis& b, double e, Eigen::Ref<Eigen::VectorXd> y) {
+  const double vc = b.r.dot(y.tail(b.n));
+  y.tail(b.n) -= ((1.0 + e) * vc / b.r_norm2) * b.r;
+}
+
+Eigen::MatrixXd FlowMatrix(const ModalBasis& b, double t) {
+  Eigen::MatrixXd s = Eigen::MatrixXd::Zero(2 * b.n, 2 * b.n);
+  for (int i = 0; i < b.n; ++i) {
+    const double c = std::cos(b.omega[i] * t);
+    const double sn = std::sin(b.omega[i] * t);
+    s(i, i) = c;
+    s(i, b.n + i) = sn;
+    s(b.n + i, i) = -sn;
+    s(b.n + i, b.n + i) = c;
+  }
+  return s;
+}
+
+Eigen::MatrixXd ImpactMatrix(const ModalBasis& b, double e) {
+  Eigen::MatrixXd m = Eigen::MatrixXd::Identity(2 * b.n, 2 * b.n);
+  m.bottomRightCorner(b.n, b.n) -= ((1.0 + e) / b.r_norm2) * b.r * b.r.transpose();
+  return m;
+}
+
+ContactSignal::ContactSignal(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y)
+    : a(basis.r_over_omega.cwiseProduct(y.head(basis.n))),
+      b(basis.r_over_omega.cwiseProduct(y.tail(basis.n))),
+      omega(basis.omega) {
+  for (int i = 0; i < omega.size(); ++i) {
+    const double amp = std::hypot(a[i], b[i]);
+    for (int k = 0; k < 4; ++k) bound[k] += std::pow(omega[i], k) * amp;
+  }
+}
+
+double ContactSignal::Position(double t) const {
+  double f = 0.0;
+  for (int i = 0; i < omega.size(); ++i) f += a[i] * std::cos(omega[i] * t) + b[i] * std::sin(omega[i] * t);
+  return f;
+}
+
+double ContactSignal::Velocity(double t) const {
+  double f = 0.0;
+  for (int i = 0; i < omega.size(); ++i) {
+    f += omega[i] * (b[i] * std::cos(omega[i] * t) - a[i] * std::sin(omega[i] * t));
+  }
+  return f;
+}
+
+}  // namespace nsmodal
+
+namespace nsmodal {
+
+double ContactSignal::Acceleration(double t) const {
+  double f = 0.0;
+  for (int i = 0; i < omega.size(); ++i) {
+    f -= omega[i] * omega[i] * (a[i] * std::cos(omega[i] * t) + b[i] * std::sin(omega[i] * t));
+  }
+  return f;
+}
+
+std::pair<double, double> ContactSignal::VelocityAcceleration(double t) const {
+  double v = 0.0, acc = 0.0;
+  for (int i = 0; i < omega.size(); ++i) {
+    const double c = std::cos(omega[i] * t), s = std::sin(omega[i] * t);
+    v += omega[i] * (b[i] * c - a[i] * s);
+    acc -= omega[i] * omega[i] * (a[i] * c + b[i] * s);
+  }
+  return {v, acc};
+}
+
+}  // namespace nsmodal

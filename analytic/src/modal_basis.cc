@@ -1,0 +1,46 @@
+#include "nsmodal/modal_basis.h"
+
+#include <cmath>
+
+namespace nsmodal {
+
+Eigen::VectorXd ModalBasis::Periods() const {
+  return (2.0 * M_PI) * omega.cwiseInverse();
+}
+
+ModalBasis MakeModalBasis(const Model& model) {
+  Validate(model);
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(model.stiffness, model.mass);
+  ModalBasis b;
+  b.n = model.dofs();
+  b.omega = ges.eigenvalues().cwiseSqrt();
+  b.phi = ges.eigenvectors();  // normalised so that Phi' M Phi = I
+  b.phi_inv = b.phi.transpose() * model.mass;
+  b.r = b.phi.row(model.contact).transpose();
+  b.r_over_omega = b.r.cwiseQuotient(b.omega);
+  b.r_norm2 = b.r.squaredNorm();
+  b.gap = model.gap;
+  b.restitution = model.restitution;
+  return b;
+}
+
+Eigen::VectorXd ToModal(const ModalBasis& b, const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
+  Eigen::VectorXd y(2 * b.n);
+  y.head(b.n) = b.omega.cwiseProduct(b.phi_inv * x);
+  y.tail(b.n) = b.phi_inv * v;
+  return y;
+}
+
+Eigen::VectorXd PositionOf(const ModalBasis& b, const Eigen::VectorXd& y) {
+  return b.phi * y.head(b.n).cwiseQuotient(b.omega);
+}
+
+Eigen::VectorXd VelocityOf(const ModalBasis& b, const Eigen::VectorXd& y) { return b.phi * y.tail(b.n); }
+
+Eigen::VectorXd PhysicalOf(const ModalBasis& b, const Eigen::VectorXd& y) {
+  Eigen::VectorXd z(2 * b.n);
+  z << PositionOf(b, y), VelocityOf(b, y);
+  return z;
+}
+
+}  // namespace nsmodal

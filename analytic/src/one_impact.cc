@@ -1,0 +1,54 @@
+#include "nsmodal/one_impact.h"
+
+#include <cmath>
+
+#include "nsmodal/flow.h"
+#include "nsmodal/return_map.h"
+
+namespace nsmodal {
+
+double SingularFunction(const ModalBasis& b, double period) {
+  double d = 0.0;
+  for (int i = 0; i < b.n; ++i) {
+    const double h = 0.5 * b.omega[i] * period;
+    d += b.r[i] * b.r[i] * std::cos(h) / (std::sin(h) * b.omega[i]);
+  }
+  return d;
+}
+
+Orbit OneImpactOrbit(const ModalBasis& b, double period, const AdmissibilityOptions& options) {
+  const double denom = SingularFunction(b, period);
+  Eigen::VectorXd y0(2 * b.n);
+  const double scale = b.gap / denom;
+  for (int i = 0; i < b.n; ++i) {
+    const double h = 0.5 * b.omega[i] * period;
+    y0[i] = scale * b.r[i] * std::cos(h) / std::sin(h);
+    y0[b.n + i] = scale * b.r[i];
+  }
+  if (!y0.allFinite() || denom == 0.0) {
+    Orbit o;
+    o.period = period;
+    o.y0 = y0;
+    o.reason = "not potential: T is singular (D(T) = 0) or a multiple of a linear period";
+    return o;
+  }
+  return EvaluateOrbit(b, y0, {}, period, options);
+}
+
+Orbit OneImpactOrbitFromKernel(const ModalBasis& b, double period, const AdmissibilityOptions& options) {
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, {}, period), Eigen::ComputeFullV);
+  Eigen::VectorXd k = svd.matrixV().col(2 * b.n - 1);
+  k *= b.gap / ContactPosition(b, k);
+  return EvaluateOrbit(b, k, {}, period, options);
+}
+
+double OneImpactContactPosition(const ModalBasis& b, double period, double t) {
+  double sum = 0.0;
+  for (int i = 0; i < b.n; ++i) {
+    sum += b.r[i] * b.r[i] * std::cos(b.omega[i] * (t - 0.5 * period)) /
+           (b.omega[i] * std::sin(0.5 * b.omega[i] * period));
+  }
+  return b.gap * sum / SingularFunction(b, period);
+}
+
+}  // namespace nsmodal

@@ -1,0 +1,67 @@
+#include "nsmodal/return_map.h"
+
+#include <cassert>
+#include <cmath>
+
+#include "nsmodal/flow.h"
+
+namespace nsmodal {
+
+Eigen::MatrixXd ReturnMap(const ModalBasis& b, const std::vector<double>& times, double period,
+                          double restitution) {
+  const int dim = 2 * b.n;
+  Eigen::MatrixXd q = Eigen::MatrixXd::Identity(dim, dim);
+  double previous = 0.0;
+  auto advance = [&](double dt) {
+    for (int col = 0; col < dim; ++col) {
+      Flow(b, dt, q.col(col));
+      Impact(b, restitution, q.col(col));
+    }
+  };
+  for (double t : times) {
+    advance(t - previous);
+    previous = t;
+  }
+  advance(period - previous);
+  return q;
+}
+
+double Pfaffian(Eigen::MatrixXd a) {
+  const int n = static_cast<int>(a.rows());
+  assert(a.cols() == n);
+  if (n % 2 == 1) return 0.0;
+  double pf = 1.0;
+  for (int k = 0; k + 1 < n; k += 2) {
+    int kp = k + 1;
+    a.col(k).tail(n - k - 1).cwiseAbs().maxCoeff(&kp);
+    kp += k + 1;
+    if (kp != k + 1) {
+      a.row(k + 1).swap(a.row(kp));
+      a.col(k + 1).swap(a.col(kp));
+      pf = -pf;
+    }
+    if (a(k + 1, k) == 0.0) return 0.0;
+    pf *= a(k, k + 1);
+    const int rest = n - k - 2;
+    if (rest > 0) {
+      const Eigen::VectorXd tau = a.row(k).tail(rest).transpose() / a(k, k + 1);
+      const Eigen::VectorXd col = a.col(k + 1).tail(rest);
+      a.bottomRightCorner(rest, rest) += tau * col.transpose() - col * tau.transpose();
+    }
+  }
+  return pf;
+}
+
+double TwoImpactIndicator(const ModalBasis& b, double t2, double period) {
+  const Eigen::MatrixXd q = ReturnMap(b, {t2}, period);
+  return Pfaffian(q - q.transpose());
+}
+
+int KernelDimension(const Eigen::MatrixXd& a, double tol) {
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(a);
+  int dim = 0;
+  for (int i = 0; i < svd.singularValues().size(); ++i) dim += svd.singularValues()[i] < tol ? 1 : 0;
+  return dim;
+}
+
+}  // namespace nsmodal

@@ -1,0 +1,109 @@
+#include "nsmodal/scene.h"
+
+#include <fstream>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "nsmodal/error.h"
+
+namespace nsmodal {
+namespace {
+
+double ReadNumber(const toml::node& node, const std::string& field) {
+  if (auto v = node.as_floating_point()) return v->get();
+  if (auto v = node.as_integer()) return static_cast<double>(v->get());
+  std::ostringstream os;
+  node.visit([&os](auto&& v) { os << v; });
+  throw InputError(field, "must be a number, got " + os.str());
+}
+
+std::vector<double> ReadVector(const toml::node& node, const std::string& field) {
+  const toml::array* arr = node.as_array();
+  if (arr == nullptr) throw InputError(field, "must be an array of numbers");
+  std::vector<double> out;
+  for (std::size_t i = 0; i < arr->size(); ++i) {
+    out.push_back(ReadNumber(*arr->get(i), field + "[" + std::to_string(i + 1) + "]"));
+  }
+  return out;
+}
+
+Eigen::MatrixXd ReadMatrix(const toml::node& node, const std::string& field) {
+  const toml::array* rows = node.as_array();
+  if (rows == nullptr || rows->empty()) throw InputError(field, "must be a non-empty array of rows");
+  const int n = static_cast<int>(rows->size());
+  Eigen::MatrixXd m(n, n);
+  for (int i = 0; i < n; ++i) {
+    const std::string row_field = field + "[" + std::to_string(i + 1) + "]";
+    std::vector<double> row = ReadVector(*rows->get(i), row_field);
+    if (static_cast<int>(row.size()) != n) {
+      throw InputError(row_field, "must have " + std::to_string(n) + " entries (a square matrix), got " +
+                                      std::to_string(row.size()));
+    }
+    for (int j = 0; j < n; ++j) m(i, j) = row[j];
+  }
+  return m;
+}
+
+}  // namespace
+
+Scene ParseScene(const std::string& toml_text, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source);
+  } catch (const toml::parse_error& err) {
+    std::ostringstream os;
+    os << source << ":" << err.source().begin.line << ":" << err.source().begin.column << ": "
+       << err.description();
+    throw InputError("scene", os.str());
+  }
+  const toml::table* sys = root["system"].as_table();
+  if (sys == nullptr) throw InputError("system", "the scene has no [system] table");
+  for (auto&& [key, value] : *sys) {
+    static const char* kKnown[] = {"masses", "springs", "mass_matrix", "stiffness_matrix",
+                                   "contact_dof", "gap", "restitution"};
+    bool known = false;
+    for (const char* k : kKnown) known = known || key.str() == k;
+    if (!known) throw InputError("system." + std::string(key.str()), "is not a known key");
+  }
+  const bool chain = sys->contains("masses") || sys->contains("springs");
+  const bool matrices = sys->contains("mass_matrix") || sys->contains("stiffness_matrix");
+  if (chain == matrices) {
+    throw InputError("system", "give either masses and springs (a chain) or mass_matrix and stiffness_matrix");
+  }
+  Model model;
+  if (chain) {
+    if (!sys->contains("masses")) throw InputError("system.masses", "is missing");
+    if (!sys->contains("springs")) throw InputError("system.springs", "is missing");
+    std::vector<double> masses = ReadVector(*sys->get("masses"), "system.masses");
+    std::vector<double> springs = ReadVector(*sys->get("springs"), "system.springs");
+    model = MakeChain(masses, springs, static_cast<int>(masses.size()) - 1, 1.0, 1.0);
+  } else {
+    if (!sys->contains("mass_matrix")) throw InputError("system.mass_matrix", "is missing");
+    if (!sys->contains("stiffness_matrix")) throw InputError("system.stiffness_matrix", "is missing");
+    model.mass = ReadMatrix(*sys->get("mass_matrix"), "system.mass_matrix");
+    model.stiffness = ReadMatrix(*sys->get("stiffness_matrix"), "system.stiffness_matrix");
+    model.contact = model.dofs() - 1;
+  }
+  if (const toml::node* n = sys->get("contact_dof")) {
+    const double c = ReadNumber(*n, "system.contact_dof");
+    if (c != static_cast<double>(static_cast<long>(c)) || c < 1 || c > model.dofs()) {
+      throw InputError("system.contact_dof", "must be an integer between 1 and " +
+                                                 std::to_string(model.dofs()) + ", got " + FormatValue(c));
+    }
+    model.contact = static_cast<int>(c) - 1;
+  }
+  if (const toml::node* n = sys->get("gap")) model.gap = ReadNumber(*n, "system.gap");
+  if (const toml::node* n = sys->get("restitution")) model.restitution = ReadNumber(*n, "system.restitution");
+  Validate(model);
+  return Scene{source, model};
+}
+
+Scene LoadScene(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("scene", "cannot open file '" + path + "'");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  return ParseScene(buf.str(), path);
+}
+
+}  // namespace nsmodal

@@ -1,0 +1,147 @@
+#include "nsmodal/transitions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "nsmodal/admissibility.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/roots.h"
+
+namespace nsmodal {
+
+std::string ToString(TransitionKind kind) {
+  switch (kind) {
+    case TransitionKind::kSingular: return "singular";
+    case TransitionKind::kModal: return "modal";
+    case TransitionKind::kGrazing: return "grazing";
+  }
+  return "?";
+}
+
+std::vector<double> ModalPeriods(const ModalBasis& b, double from, double to) {
+  std::vector<double> out;
+  const Eigen::VectorXd periods = b.Periods();
+  for (int i = 0; i < b.n; ++i) {
+    if (std::abs(b.r[i]) < 1e-14 * std::sqrt(b.r_norm2)) continue;
+    for (int k = std::max(1, static_cast<int>(std::ceil(from / periods[i]))); k * periods[i] <= to; ++k) {
+      out.push_back(k * periods[i]);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<double> SingularPeriods(const ModalBasis& b, double from, double to) {
+  // Poles of D are the k T_i; D runs from +inf to -inf between consecutive poles.
+  std::vector<double> poles{0.0};
+  for (double p : ModalPeriods(b, 0.0, to)) poles.push_back(p);
+  const Eigen::VectorXd periods = b.Periods();
+  double next = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < b.n; ++i) {
+    if (std::abs(b.r[i]) >= 1e-14 * std::sqrt(b.r_norm2)) {
+      next = std::min(next, (std::floor(to / periods[i]) + 1.0) * periods[i]);
+    }
+  }
+  poles.push_back(next);
+  std::sort(poles.begin(), poles.end());
+  std::vector<double> out;
+  auto d = [&b](double t) { return SingularFunction(b, t); };
+  for (std::size_t k = 0; k + 1 < poles.size(); ++k) {
+    const double lo = poles[k], hi = poles[k + 1];
+    if (hi - lo <= 1e-12 * hi) continue;  // coincident poles (commensurate periods)
+    // Step off the poles by a relative 1e-13: D there is ~1e13 in magnitude,
+    // of the right sign, and Brent finds the single root inside.
+    double a = lo + 1e-13 * std::max(hi, 1.0), c = hi - 1e-13 * hi;
+    if (!(d(a) > 0.0 && d(c) < 0.0)) continue;
+    const double root = PolishRoot(d, a, c);
+    if (root >= from && root <= to) out.push_back(root);
+  }
+  return out;
+}
+
+double GrazingFunction(const ModalBasis& b, double period) {
+  const Orbit o = OneImpactOrbit(b, period);
+  return CheckSegment(b, o.y0, period).max_excess;
+}
+
+std::vector<Transition> OneImpactTransitions(const ModalBasis& b, double from, double to, double step) {
+  std::vector<double> periods;
+  std::vector<bool> admissible;
+  const long cells = std::lround(std::ceil((to - from) / step - 1e-9));
+  for (long j = 0; j <= cells; ++j) {
+    periods.push_back(std::min(to, from + j * step));
+    admissible.push_back(OneImpactOrbit(b, periods.back()).admissible);
+  }
+  return OneImpactTransitions(b, periods, admissible);
+}
+
+std::vector<Transition> OneImpactTransitions(const ModalBasis& b, const std::vector<double>& periods,
+                                             const std::vector<bool>& grid_admissible) {
+  if (periods.size() < 2) return {};
+  const double from = periods.front(), to = periods.back();
+  const std::vector<double> singular = SingularPeriods(b, from, to);
+  const std::vector<double> modal = ModalPeriods(b, from, to);
+  struct Special {
+    double t;
+    TransitionKind kind;
+    int mode;
+  };
+  std::vector<Special> specials;
+  for (double t : singular) specials.push_back({t, TransitionKind::kSingular, -1});
+  const Eigen::VectorXd linear = b.Periods();
+  for (double t : modal) {
+    int mode = 0;
+    for (int i = 0; i < b.n; ++i) {
+      if (std::abs(std::remainder(t, linear[i])) < 1e-12 * t) mode = i;
+    }
+    specials.push_back({t, TransitionKind::kModal, mode});
+  }
+  std::sort(specials.begin(), specials.end(), [](const Special& x, const Special& y) { return x.t < y.t; });
+
+  auto admissible = [&b](double t) { return OneImpactOrbit(b, t).admissible; };
+  std::vector<Transition> out;
+  auto grazing = [&](double lo, double hi) {
+    // h changes sign on [lo, hi]: polish the grazing period.
+    auto h = [&b](double t) { return GrazingFunction(b, t); };
+    if (!((h(lo) > 0.0) != (h(hi) > 0.0))) return;
+    const double tg = PolishRoot(h, lo, hi);
+    out.push_back({tg, TransitionKind::kGrazing, OneImpactOrbit(b, tg).energy});
+  };
+  bool adm_prev = grid_admissible[0];
+  for (std::size_t j = 1; j < periods.size(); ++j) {
+    const double ta = periods[j - 1];
+    const double tb = periods[j];
+    const bool adm_b = grid_admissible[j];
+    std::vector<Special> inside;
+    for (const Special& s : specials) {
+      if (s.t > ta && s.t < tb) inside.push_back(s);
+    }
+    if (inside.empty()) {
+      if (adm_prev != adm_b) grazing(ta, tb);
+    } else {
+      // Sub-intervals between the special periods, each side probed 1e-9 away.
+      double left = ta;
+      bool adm_left = adm_prev;
+      for (const Special& s : inside) {
+        const double delta = 1e-9 * s.t;
+        const bool before = admissible(s.t - delta);
+        const bool after = admissible(s.t + delta);
+        if (adm_left != before) grazing(left, s.t - delta);
+        if (before != after) {
+          const double e = s.kind == TransitionKind::kSingular
+                               ? std::numeric_limits<double>::infinity()
+                               : 0.5 * std::pow(b.omega[s.mode] * b.gap, 2) / (b.r[s.mode] * b.r[s.mode]);
+          out.push_back({s.t, s.kind, e});
+        }
+        left = s.t + delta;
+        adm_left = after;
+      }
+      if (adm_left != adm_b) grazing(left, tb);
+    }
+    adm_prev = adm_b;
+  }
+  return out;
+}
+
+}  // namespace nsmodal

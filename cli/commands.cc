@@ -1,0 +1,292 @@
+#include "commands.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "nsmodal/error.h"
+#include "nsmodal/explore.h"
+#include "nsmodal/modal_basis.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/parallel.h"
+#include "nsmodal/scene.h"
+#include "nsmodal/transitions.h"
+#include "nsmodal/two_impact.h"
+
+namespace nsmodal::cli {
+namespace {
+
+double ParseNumber(const std::string& s, const std::string& field, const std::string& whole) {
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != s.size() || s.empty() || !std::isfinite(v)) {
+    throw InputError(field, "expects FROM:TO:STEP with numbers, got '" + whole + "'");
+  }
+  return v;
+}
+
+// Periodic orbits with impacts exist only for e = 1 (paper section 1).
+ModalBasis AnalysisBasis(const std::string& scene_path) {
+  const Scene scene = LoadScene(scene_path);
+  if (scene.model.restitution != 1.0) {
+    throw InputError("system.restitution",
+                     "periodic orbits with impacts exist only for e = 1 (energy is lost at every impact "
+                     "when e < 1, paper section 1); got " +
+                         FormatValue(scene.model.restitution));
+  }
+  return MakeModalBasis(scene.model);
+}
+
+void CheckImpacts(int impacts) {
+  if (impacts != 1 && impacts != 2) {
+    throw InputError("--impacts", "orbits and orbit compute 1 or 2 impacts per period, got " +
+                                      std::to_string(impacts) + " (use 'nsmodal explore' for 3 or more)");
+  }
+}
+
+void CheckT2Step(double step) {
+  if (!(step > 0.0) || !std::isfinite(step)) throw InputError("--t2-step", "must be positive, got " + FormatValue(step));
+}
+
+std::function<void(long, long)> ProgressBar(const std::string& label) {
+  if (!isatty(STDERR_FILENO)) return {};
+  return [label](long done, long count) {
+    const int width = 40;
+    const int filled = count > 0 ? static_cast<int>(width * done / count) : width;
+    std::fprintf(stderr, "\r%s [%s%s] %ld/%ld", label.c_str(), std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), done, count);
+    if (done == count) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  };
+}
+
+std::ofstream OpenOut(const std::string& dir, const std::string& name) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError("--out", "cannot create directory '" + dir + "': " + ec.message());
+  std::ofstream out(std::filesystem::path(dir) / name);
+  if (!out) throw InputError("--out", "cannot write '" + dir + "/" + name + "'");
+  out << std::setprecision(17);
+  return out;
+}
+
+void WriteOrbitHeader(std::ostream& os, int n) {
+  os << "T,t2,energy,potential,admissible,periodicity_residual,nc2_residual,nc3_margin,degenerate";
+  for (int i = 1; i <= n; ++i) os << ",x" << i;
+  for (int i = 1; i <= n; ++i) os << ",v" << i;
+  os << "\n";
+}
+
+void WriteOrbitRow(std::ostream& os, const Orbit& o) {
+  os << o.period << ",";
+  if (!o.times.empty()) os << o.times[0];
+  os << "," << o.energy << "," << o.potential << "," << o.admissible << "," << o.periodicity_residual << ","
+     << o.nc2_residual << "," << o.max_excess << "," << o.degenerate;
+  for (int i = 0; i < o.z0.size(); ++i) os << "," << o.z0[i];
+  os << "\n";
+}
+
+nlohmann::json OrbitJson(const Orbit& o) {
+  const int n = static_cast<int>(o.z0.size() / 2);
+  std::vector<double> x(o.z0.data(), o.z0.data() + n), v(o.z0.data() + n, o.z0.data() + 2 * n);
+  nlohmann::json j{{"impacts", o.impacts},
+                   {"T", o.period},
+                   {"impact_times", o.times},
+                   {"energy", o.energy},
+                   {"potential", o.potential},
+                   {"admissible", o.admissible},
+                   {"degenerate", o.degenerate},
+                   {"periodicity_residual", o.periodicity_residual},
+                   {"nc2_residual", o.nc2_residual},
+                   {"nc3_margin", std::isfinite(o.max_excess) ? nlohmann::json(o.max_excess) : nlohmann::json()},
+                   {"x", x},
+                   {"v", v},
+                   {"reason", o.reason}};
+  j["t2"] = o.times.empty() ? nlohmann::json() : nlohmann::json(o.times[0]);
+  return j;
+}
+
+}  // namespace
+
+std::vector<double> PeriodRange::Values() const {
+  std::vector<double> out;
+  const long cells = std::lround(std::floor((to - from) / step + 1e-9));
+  for (long j = 0; j <= cells; ++j) out.push_back(from + j * step);
+  return out;
+}
+
+PeriodRange ParsePeriodRange(const std::string& text) {
+  std::vector<std::string> parts;
+  std::stringstream ss(text);
+  for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
+  if (parts.size() != 3) throw InputError("--period", "expects FROM:TO:STEP, got '" + text + "'");
+  PeriodRange r{ParseNumber(parts[0], "--period", text), ParseNumber(parts[1], "--period", text),
+                ParseNumber(parts[2], "--period", text)};
+  if (!(r.from > 0.0)) throw InputError("--period", "FROM must be positive, got " + FormatValue(r.from));
+  if (!(r.to >= r.from)) throw InputError("--period", "TO must be >= FROM, got '" + text + "'");
+  if (!(r.step > 0.0)) throw InputError("--period", "STEP must be positive, got " + FormatValue(r.step));
+  if ((r.to - r.from) / r.step > 1e8) {
+    throw InputError("--period", "more than 1e8 periods requested by '" + text + "'");
+  }
+  return r;
+}
+
+int RunOrbits(const OrbitsArgs& a) {
+  CheckImpacts(a.impacts);
+  CheckT2Step(a.t2_step);
+  const PeriodRange range = ParsePeriodRange(a.period);
+  const ModalBasis b = AnalysisBasis(a.scene);
+  const std::vector<double> periods = range.Values();
+  std::vector<std::vector<Orbit>> results(periods.size());
+  TwoImpactOptions two;
+  two.t2_step = a.t2_step;
+  ParallelFor(
+      static_cast<long>(periods.size()), a.threads,
+      [&](long i) {
+        if (a.impacts == 1) {
+          results[i].push_back(OneImpactOrbit(b, periods[i]));
+        } else {
+          results[i] = TwoImpactOrbits(b, periods[i], two);
+        }
+      },
+      ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits"));
+  std::ofstream out = OpenOut(a.out, "orbits.csv");
+  WriteOrbitHeader(out, b.n);
+  long rows = 0, admissible = 0;
+  for (const auto& list : results) {
+    for (const Orbit& o : list) {
+      WriteOrbitRow(out, o);
+      ++rows;
+      admissible += o.admissible;
+    }
+  }
+  std::cout << "wrote " << rows << " orbits (" << admissible << " admissible) to " << a.out << "/orbits.csv\n";
+  if (a.impacts == 1) {
+    std::vector<bool> adm;
+    for (const auto& list : results) adm.push_back(list.front().admissible);
+    const std::vector<Transition> transitions = OneImpactTransitions(b, periods, adm);
+    std::ofstream tr = OpenOut(a.out, "transitions.csv");
+    tr << "T,kind,energy\n";
+    for (const Transition& t : transitions) tr << t.period << "," << ToString(t.kind) << "," << t.energy << "\n";
+    std::cout << "wrote " << transitions.size() << " transitions to " << a.out << "/transitions.csv\n";
+  }
+  return 0;
+}
+
+int RunOrbit(const OrbitArgs& a) {
+  CheckImpacts(a.impacts);
+  CheckT2Step(a.t2_step);
+  if (!(a.period > 0.0) || !std::isfinite(a.period)) {
+    throw InputError("--period", "must be positive, got " + FormatValue(a.period));
+  }
+  const ModalBasis b = AnalysisBasis(a.scene);
+  std::vector<Orbit> orbits;
+  if (a.impacts == 1) {
+    orbits.push_back(OneImpactOrbit(b, a.period));
+  } else {
+    TwoImpactOptions two;
+    two.t2_step = a.t2_step;
+    orbits = TwoImpactOrbits(b, a.period, two);
+  }
+  if (a.json) {
+    nlohmann::json arr = nlohmann::json::array();
+    for (const Orbit& o : orbits) arr.push_back(OrbitJson(o));
+    std::cout << nlohmann::json{{"orbits", arr}}.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << std::setprecision(12);
+  std::cout << orbits.size() << " potential orbit(s) with " << a.impacts << " impact(s) per period, T = " << a.period
+            << "\n";
+  for (std::size_t k = 0; k < orbits.size(); ++k) {
+    const Orbit& o = orbits[k];
+    std::cout << "\n#" << k + 1 << (o.admissible ? "  admissible" : "  NOT admissible")
+              << (o.potential ? "" : " (not potential)") << (o.degenerate ? " (degenerate: bridge)" : "") << "\n";
+    if (!o.times.empty()) std::cout << "  t2                    " << o.times[0] << "\n";
+    std::cout << "  energy                " << o.energy << "\n"
+              << "  periodicity residual  " << o.periodicity_residual << "\n"
+              << "  NC2 residual          " << o.nc2_residual << "\n"
+              << "  NC3 margin (max x_c-d) " << o.max_excess << "\n";
+    std::cout << "  x(0) =";
+    for (int i = 0; i < b.n; ++i) std::cout << " " << o.z0[i];
+    std::cout << "\n  v(0+) =";
+    for (int i = 0; i < b.n; ++i) std::cout << " " << o.z0[b.n + i];
+    std::cout << "\n";
+    if (!o.reason.empty()) std::cout << "  " << o.reason << "\n";
+  }
+  return 0;
+}
+
+int RunExplore(const ExploreArgs& a) {
+  if (a.grid < 4 || a.grid > 200) throw InputError("--grid", "must lie in [4, 200], got " + std::to_string(a.grid));
+  const PeriodRange range = ParsePeriodRange(a.period);
+  const ModalBasis b = AnalysisBasis(a.scene);
+  ExploreOptions opt;
+  opt.impacts = a.impacts;
+  opt.grid = a.grid;
+  const std::vector<double> periods = range.Values();
+  std::vector<ExploreReport> parts(periods.size());
+  ParallelFor(
+      static_cast<long>(periods.size()), 0, [&](long i) { parts[i] = ExploreImpacts(b, {periods[i]}, opt); },
+      ProgressBar("explore"));
+  ExploreReport r;
+  r.impacts = a.impacts;
+  r.best_phi_new = INFINITY;
+  for (const ExploreReport& p : parts) {
+    r.samples += p.samples;
+    for (auto [k, v] : p.kernel_dimension_histogram) r.kernel_dimension_histogram[k] += v;
+    r.findings.insert(r.findings.end(), p.findings.begin(), p.findings.end());
+    r.best_phi_new = std::min(r.best_phi_new, p.best_phi_new);
+  }
+  long repeated = 0, fresh = 0, fresh_admissible = 0;
+  for (const ExploreFinding& f : r.findings) {
+    (f.kind == "new" ? fresh : repeated) += 1;
+    fresh_admissible += f.kind == "new" && f.orbit.admissible;
+  }
+  if (a.json) {
+    nlohmann::json j;
+    j["impacts"] = r.impacts;
+    j["samples"] = r.samples;
+    for (auto [k, v] : r.kernel_dimension_histogram) j["kernel_dimension_histogram"][std::to_string(k)] = v;
+    j["findings"] = nlohmann::json::array();
+    for (const ExploreFinding& f : r.findings) {
+      nlohmann::json o = OrbitJson(f.orbit);
+      o["kind"] = f.kind;
+      o["kernel_dimension"] = f.kernel_dimension;
+      j["findings"].push_back(o);
+    }
+    j["best_phi_new"] = r.best_phi_new;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << "m = " << r.impacts << ": " << r.samples << " grid samples over " << periods.size() << " periods\n";
+  std::cout << "dim ker A_m " << (r.impacts % 2 ? "at grid samples" : "at roots found") << ":";
+  for (auto [k, v] : r.kernel_dimension_histogram) std::cout << "  " << k << " -> " << v;
+  std::cout << "\npotential solutions: " << repeated << " repeat a lower-m orbit, " << fresh << " new ("
+            << fresh_admissible << " admissible)\n";
+  std::cout << "smallest defect away from repeated orbits: " << r.best_phi_new << "\n";
+  std::cout << "conjecture (paper 2.3): dim ker = " << (r.impacts % 2 ? 1 : 2)
+            << "; potential solutions only as degenerate lower-m orbits\n";
+  for (const ExploreFinding& f : r.findings) {
+    if (f.kind != "new") continue;
+    std::cout << "  new: T = " << f.orbit.period << " times =";
+    for (double t : f.orbit.times) std::cout << " " << t;
+    std::cout << " energy = " << f.orbit.energy << (f.orbit.admissible ? " admissible" : " not admissible") << "\n";
+  }
+  return 0;
+}
+
+}  // namespace nsmodal::cli

@@ -1,0 +1,55 @@
+// nsmodal: nonsmooth modal analysis of vibro-impact oscillators.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "commands.h"
+#include "nsmodal/error.h"
+
+int main(int argc, char** argv) {
+  using namespace nsmodal::cli;
+  CLI::App app{"nsmodal: nonsmooth modes of vibro-impact oscillators (Thorin, Legrand, Junca 2015)"};
+  app.require_subcommand(1);
+
+  OrbitsArgs orbits;
+  auto* c_orbits = app.add_subcommand("orbits", "Potential and admissible orbits over a period grid (CSV)");
+  c_orbits->add_option("scene", orbits.scene, "Scene file (TOML)")->required();
+  c_orbits->add_option("--impacts", orbits.impacts, "Impacts per period (1 or 2)")->default_val(1);
+  c_orbits->add_option("--period", orbits.period, "Period grid FROM:TO:STEP")->required();
+  c_orbits->add_option("--out", orbits.out, "Output directory")->required();
+  c_orbits->add_option("--threads", orbits.threads, "Worker threads (0: all cores)")->default_val(0);
+  c_orbits->add_option("--t2-step", orbits.t2_step, "Grid spacing of the t2 root scan (m = 2)")->default_val(0.01);
+
+  OrbitArgs orbit;
+  auto* c_orbit = app.add_subcommand("orbit", "Every potential orbit at one period");
+  c_orbit->add_option("scene", orbit.scene, "Scene file (TOML)")->required();
+  c_orbit->add_option("--impacts", orbit.impacts, "Impacts per period (1 or 2)")->default_val(1);
+  c_orbit->add_option("--period", orbit.period, "Period T")->required();
+  c_orbit->add_flag("--json", orbit.json, "Print JSON {\"orbits\": [...]}");
+  c_orbit->add_option("--t2-step", orbit.t2_step, "Grid spacing of the t2 root scan (m = 2)")->default_val(0.01);
+
+  ExploreArgs explore;
+  auto* c_explore = app.add_subcommand("explore", "Exploratory search for 3 or more impacts per period (section 2.3)");
+  c_explore->add_option("scene", explore.scene, "Scene file (TOML)")->required();
+  c_explore->add_option("--impacts", explore.impacts, "Impacts per period (3 to 6)")->default_val(3);
+  c_explore->add_option("--period", explore.period, "Period grid FROM:TO:STEP")->required();
+  c_explore->add_option("--grid", explore.grid, "Grid nodes per impact-time axis")->default_val(24);
+  c_explore->add_flag("--json", explore.json, "Print JSON");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    if (*c_orbits) return RunOrbits(orbits);
+    if (*c_orbit) return RunOrbit(orbit);
+    if (*c_explore) return RunExplore(explore);
+  } catch (const nsmodal::InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+  return 1;
+}
