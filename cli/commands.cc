@@ -251,9 +251,9 @@ int RunExplore(const ExploreArgs& a) {
     r.findings.insert(r.findings.end(), p.findings.begin(), p.findings.end());
     r.best_phi_new = std::min(r.best_phi_new, p.best_phi_new);
   }
-  long repeated = 0, fresh = 0, fresh_admissible = 0;
+  long repeated = 0, grazing = 0, fresh = 0, fresh_admissible = 0;
   for (const ExploreFinding& f : r.findings) {
-    (f.kind == "new" ? fresh : repeated) += 1;
+    (f.kind == "new" ? fresh : f.kind == "grazing-contact" ? grazing : repeated) += 1;
     fresh_admissible += f.kind == "new" && f.orbit.admissible;
   }
   if (a.json) {
@@ -266,6 +266,7 @@ int RunExplore(const ExploreArgs& a) {
       nlohmann::json o = OrbitJson(f.orbit);
       o["kind"] = f.kind;
       o["kernel_dimension"] = f.kernel_dimension;
+      o["grazing_ratio"] = f.grazing_ratio;
       j["findings"].push_back(o);
     }
     j["best_phi_new"] = r.best_phi_new;
@@ -275,8 +276,8 @@ int RunExplore(const ExploreArgs& a) {
   std::cout << "m = " << r.impacts << ": " << r.samples << " grid samples over " << periods.size() << " periods\n";
   std::cout << "dim ker A_m " << (r.impacts % 2 ? "at grid samples" : "at roots found") << ":";
   for (auto [k, v] : r.kernel_dimension_histogram) std::cout << "  " << k << " -> " << v;
-  std::cout << "\npotential solutions: " << repeated << " repeat a lower-m orbit, " << fresh << " new ("
-            << fresh_admissible << " admissible)\n";
+  std::cout << "\npotential orbits (cyclic shifts merged): " << repeated << " repeat a lower-m orbit, " << grazing
+            << " have a grazing contact, " << fresh << " new (" << fresh_admissible << " admissible)\n";
   std::cout << "smallest defect away from repeated orbits: " << r.best_phi_new << "\n";
   std::cout << "conjecture (paper 2.3): dim ker = " << (r.impacts % 2 ? 1 : 2)
             << "; potential solutions only as degenerate lower-m orbits\n";
@@ -284,7 +285,8 @@ int RunExplore(const ExploreArgs& a) {
     if (f.kind != "new") continue;
     std::cout << "  new: T = " << f.orbit.period << " times =";
     for (double t : f.orbit.times) std::cout << " " << t;
-    std::cout << " energy = " << f.orbit.energy << (f.orbit.admissible ? " admissible" : " not admissible") << "\n";
+    std::cout << " energy = " << f.orbit.energy << " min/max |v_c-| = " << f.grazing_ratio
+              << (f.orbit.admissible ? " admissible" : " not admissible") << "\n";
   }
   return 0;
 }

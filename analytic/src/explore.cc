@@ -36,17 +36,15 @@ Candidate Objective(const ModalBasis& b, const std::vector<double>& times, doubl
   Eigen::MatrixXd c(impacts, k);
   Eigen::MatrixXd y = basis;
   prev = 0.0;
+  // y0 is the state just after the impact at t = 0: record x_c there, then
+  // flow to each t_i, record x_c (NC2) and apply that impact.
   for (int i = 0; i < impacts; ++i) {
-    if (i > 0) {
-      for (int j = 0; j < k; ++j) {
-        Flow(b, times[i - 1] - prev, y.col(j));
-      }
-      prev = times[i - 1];
-    }
     for (int j = 0; j < k; ++j) {
+      if (i > 0) Flow(b, times[i - 1] - prev, y.col(j));
       c(i, j) = ContactPosition(b, y.col(j));
-      Impact(b, 1.0, y.col(j));
+      if (i > 0) Impact(b, 1.0, y.col(j));
     }
+    if (i > 0) prev = times[i - 1];
   }
   const Eigen::VectorXd rhs = Eigen::VectorXd::Constant(impacts, b.gap);
   const Eigen::VectorXd alpha = c.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(rhs);
@@ -98,6 +96,11 @@ std::vector<double> Polish(const ModalBasis& b, std::vector<double> times, doubl
 bool RepeatsLowerOrbit(const std::vector<double>& times, double period, int impacts) {
   std::vector<double> all{0.0};
   all.insert(all.end(), times.begin(), times.end());
+  // Two impacts at one instant cancel (N^2 = I for e = 1): an orbit with fewer impacts.
+  for (int i = 0; i < impacts; ++i) {
+    const double next = i + 1 < impacts ? all[i + 1] : period;
+    if (next - all[i] < 1e-6 * period) return true;
+  }
   for (int p = 1; p < impacts; ++p) {
     if (impacts % p != 0) continue;
     const double shift = period * p / impacts;
@@ -106,6 +109,49 @@ bool RepeatsLowerOrbit(const std::vector<double>& times, double period, int impa
     if (ok) return true;
   }
   return false;
+}
+
+// Flight durations (t2, t3 - t2, ..., T - tm): the same orbit started at
+// another impact has these rotated.
+std::vector<double> Intervals(const std::vector<double>& times, double period) {
+  std::vector<double> d;
+  double prev = 0.0;
+  for (double t : times) {
+    d.push_back(t - prev);
+    prev = t;
+  }
+  d.push_back(period - prev);
+  return d;
+}
+
+bool SameOrbit(const Orbit& a, const std::vector<double>& times, double period) {
+  if (a.period != period) return false;
+  const std::vector<double> x = Intervals(a.times, period), y = Intervals(times, period);
+  const std::size_t m = x.size();
+  for (std::size_t shift = 0; shift < m; ++shift) {
+    double dist = 0.0;
+    for (std::size_t i = 0; i < m; ++i) dist = std::max(dist, std::abs(x[i] - y[(i + shift) % m]));
+    if (dist < 1e-6 * period) return true;
+  }
+  return false;
+}
+
+// Smallest |v_c| just before an impact relative to the largest: ~0 means a
+// grazing contact, i.e. an orbit with fewer true impacts touching d (Fig. 9).
+double GrazingRatio(const ModalBasis& b, const Orbit& o) {
+  Eigen::VectorXd y = o.y0;
+  double prev = 0.0, vmin = INFINITY, vmax = 0.0;
+  std::vector<double> ends = o.times;
+  ends.push_back(o.period);
+  for (double t : ends) {
+    Flow(b, t - prev, y);
+    prev = t;
+    const double v = std::abs(ContactVelocity(b, y));
+    vmin = std::min(vmin, v);
+    vmax = std::max(vmax, v);
+    Impact(b, 1.0, y);
+  }
+  return vmax > 0.0 ? vmin / vmax : 0.0;
 }
 
 void Enumerate(int impacts, int grid, std::vector<int>& idx, int pos, const std::function<void()>& visit) {
@@ -152,16 +198,13 @@ ExploreReport ExploreImpacts(const ModalBasis& b, const std::vector<double>& per
       if (!repeated) report.best_phi_new = std::min(report.best_phi_new, cand.phi);
       if (!(cand.phi < options.potential_tol)) continue;
       bool seen = false;
-      for (const ExploreFinding& f : report.findings) {
-        if (f.orbit.period != period) continue;
-        double dist = 0.0;
-        for (int i = 0; i < m - 1; ++i) dist = std::max(dist, std::abs(f.orbit.times[i] - polished[i]));
-        seen = seen || dist < 1e-6 * period;
-      }
+      for (const ExploreFinding& f : report.findings) seen = seen || SameOrbit(f.orbit, polished, period);
       if (seen) continue;
       ExploreFinding finding;
       finding.orbit = EvaluateOrbit(b, cand.y0, polished, period);
-      finding.kind = repeated ? "repeated-lower-m" : "new";
+      finding.grazing_ratio = GrazingRatio(b, finding.orbit);
+      // A contact velocity below 1e-6 of the largest is a touch, not an impact.
+      finding.kind = repeated ? "repeated-lower-m" : finding.grazing_ratio < 1e-6 ? "grazing-contact" : "new";
       finding.kernel_dimension = KernelDimension(MatrixA(b, polished, period), 1e-6);
       if (m % 2 == 0) ++report.kernel_dimension_histogram[finding.kernel_dimension];
       report.findings.push_back(finding);

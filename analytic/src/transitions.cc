@@ -120,11 +120,13 @@ std::vector<Transition> OneImpactTransitions(const ModalBasis& b, const std::vec
     if (inside.empty()) {
       if (adm_prev != adm_b) grazing(ta, tb);
     } else {
-      // Sub-intervals between the special periods, each side probed 1e-9 away.
+      // Sub-intervals between the special periods, each side probed a relative
+      // 1e-6 away: closer to a singular period the orbit's energy ~ 1/delta^2
+      // makes x_c a cancellation of terms ~1/delta and NC2 fails on round-off.
       double left = ta;
       bool adm_left = adm_prev;
       for (const Special& s : inside) {
-        const double delta = 1e-9 * s.t;
+        const double delta = 1e-6 * s.t;
         const bool before = admissible(s.t - delta);
         const bool after = admissible(s.t + delta);
         if (adm_left != before) grazing(left, s.t - delta);

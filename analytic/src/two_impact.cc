@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_min.h>
+#include <memory>
 
 #include "nsmodal/flow.h"
 #include "nsmodal/return_map.h"
@@ -9,31 +12,90 @@
 
 namespace nsmodal {
 
+namespace {
+
+// sigma_min(A_2) = min_k |2 sin(theta_k / 2)|: V-shaped (not quadratic) at a
+// root, so golden section reaches it to ~eps / slope, not sqrt(eps). (GSL's
+// Brent minimiser steps no finer than sqrt(eps) |x| and stops at ~1e-8.)
+double SmallestSingularValue(const ModalBasis& b, double t2, double period) {
+  return Eigen::JacobiSVD<Eigen::MatrixXd>(MatrixA(b, {t2}, period)).singularValues().minCoeff();
+}
+
+struct MinimizerDeleter {
+  void operator()(gsl_min_fminimizer* m) const { gsl_min_fminimizer_free(m); }
+};
+
+// Minimises sigma_min(A_2) on [lo, hi] from mid; returns the minimiser.
+double MinimizeSigma(const ModalBasis& b, double period, double lo, double mid, double hi) {
+  struct Ctx {
+    const ModalBasis* b;
+    double period;
+  } ctx{&b, period};
+  gsl_function f{[](double t, void* p) {
+                   const auto* c = static_cast<const Ctx*>(p);
+                   return SmallestSingularValue(*c->b, t, c->period);
+                 },
+                 &ctx};
+  gsl_set_error_handler_off();
+  std::unique_ptr<gsl_min_fminimizer, MinimizerDeleter> m(gsl_min_fminimizer_alloc(gsl_min_fminimizer_goldensection));
+  if (gsl_min_fminimizer_set(m.get(), &f, mid, lo, hi) != GSL_SUCCESS) return mid;
+  for (int iter = 0; iter < 200; ++iter) {  // 0.618^80 < 1e-16
+    if (gsl_min_fminimizer_iterate(m.get()) != GSL_SUCCESS) break;
+    const double a = gsl_min_fminimizer_x_lower(m.get()), c = gsl_min_fminimizer_x_upper(m.get());
+    if (gsl_min_test_interval(a, c, 0.0, 1e-15) == GSL_SUCCESS) break;
+  }
+  return gsl_min_fminimizer_x_minimum(m.get());
+}
+
+}  // namespace
+
 std::vector<double> TwoImpactRoots(const ModalBasis& b, double period, const TwoImpactOptions& options) {
   const double half = 0.5 * period;
   // An even number of cells so that T/2 is a grid node.
   int cells = static_cast<int>(std::ceil(period / std::min(options.t2_step, period / 64.0)));
   cells += cells % 2;
   auto indicator = [&](double t2) { return TwoImpactIndicator(b, t2, period); };
+  const Eigen::MatrixXd id = Eigen::MatrixXd::Identity(2 * b.n, 2 * b.n);
+  // Grid nodes 1..cells-1: the signed indicator F and det(Q - I) >= 0.
+  std::vector<double> t(cells + 1), f(cells + 1), det(cells + 1);
+  for (int j = 1; j < cells; ++j) {
+    t[j] = period * j / cells;
+    const Eigen::MatrixXd q = ReturnMap(b, {t[j]}, period);
+    f[j] = Pfaffian(q - q.transpose());
+    det[j] = (q - id).determinant();
+  }
   std::vector<double> roots{half};
-  double t_prev = period / cells;
-  double f_prev = indicator(t_prev);
-  for (int j = 2; j < cells; ++j) {
-    const double t = period * j / cells;
-    const double f = indicator(t);
-    if ((f_prev < 0.0) != (f < 0.0) || f == 0.0) {
-      const double root = f == 0.0 ? t : PolishRoot(indicator, t_prev, t);
-      const bool at_half = std::abs(root - half) <= 1e-9 * period;
-      if (!at_half) {
-        Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, {root}, period));
-        if (svd.singularValues().minCoeff() < options.kernel_tol) roots.push_back(root);
-      }
+  auto accept = [&](double root) {
+    for (double r : roots) {
+      if (std::abs(r - root) <= 1e-9 * period) return;
     }
-    t_prev = t;
-    f_prev = f;
+    if (SmallestSingularValue(b, root, period) < options.kernel_tol) roots.push_back(root);
+  };
+  // 1. Sign changes of F: a pair of eigenvalues crossing +1 (kept) or -1 (rejected).
+  for (int j = 2; j < cells; ++j) {
+    if ((f[j - 1] < 0.0) != (f[j] < 0.0) || f[j] == 0.0) accept(f[j] == 0.0 ? t[j] : PolishRoot(indicator, t[j - 1], t[j]));
+  }
+  // 2. A +1 and a -1 crossing in one cell leave F's sign unchanged. sigma_min(A_2)
+  // is 2 w_max-Lipschitz in t2 (|dQ/dt2| <= 2 w_max, Weyl), and the eigenvalue
+  // pair makes det(Q - I) <= 4^(N-1) sigma_min^2: where det exceeds
+  // 4^(N-1) (2 w_max h)^2 no root lies within h. Elsewhere, away from the roots
+  // already found, minimise sigma_min(A_2) around the node.
+  const double h = period / cells;
+  const double reach = 2.0 * b.omega.maxCoeff() * h;
+  const double det_bound = std::pow(4.0, b.n - 1) * reach * reach;
+  for (int j = 2; j + 1 < cells; ++j) {
+    if (det[j] > det_bound) continue;
+    bool explained = false;
+    for (double r : roots) explained = explained || std::abs(r - t[j]) <= 2.0 * h;
+    if (explained) continue;
+    const double lo = t[j - 1], hi = t[j + 1];
+    if (!(SmallestSingularValue(b, t[j], period) < std::min(SmallestSingularValue(b, lo, period),
+                                                             SmallestSingularValue(b, hi, period)))) {
+      continue;  // the minimum is at a neighbouring node, tried on its own
+    }
+    accept(MinimizeSigma(b, period, lo, t[j], hi));
   }
   std::sort(roots.begin(), roots.end());
-  roots.erase(std::unique(roots.begin(), roots.end()), roots.end());
   return roots;
 }
 

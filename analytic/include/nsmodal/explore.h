@@ -28,15 +28,18 @@ struct ExploreOptions {
 
 struct ExploreFinding {
   Orbit orbit;
-  std::string kind;  // "repeated-lower-m" or "new"
+  // "repeated-lower-m" (a lower-m orbit repeated, or coincident impacts),
+  // "grazing-contact" (an impact at zero velocity: fewer true impacts), or "new".
+  std::string kind;
   int kernel_dimension = 0;
+  double grazing_ratio = 0.0;  // min |v_c-| / max |v_c-| over the impacts
 };
 
 struct ExploreReport {
   int impacts = 0;
   long samples = 0;
   std::map<int, long> kernel_dimension_histogram;  // over grid samples (odd m) or findings (even m)
-  std::vector<ExploreFinding> findings;            // distinct potential solutions
+  std::vector<ExploreFinding> findings;            // distinct potential orbits (cyclic shifts merged)
   double best_phi_new = 0.0;                       // smallest phi away from repeated lower-m orbits
 };
 

@@ -7,8 +7,8 @@
 //   D(T) = sum_i r_i^2 cot(w_i T / 2) / w_i            (singular when D = 0, eq. 23)
 // the post-impact state y0 = (d / D(T)) (r_i cot(w_i T/2), r_i)_i, and
 //   x_c(t) = d / D(T) * sum_i r_i^2 cos(w_i (t - T/2)) / (w_i sin(w_i T/2))   (eqs. 21-22)
-// The paper's eq. 22 prints cot(w_i T); the kernel computation (tests) shows it
-// must read cot(w_i T / 2).
+// The paper's eq. 22 prints cot(w_i T) in A(T); the kernel computation (tests)
+// shows it must read cot(w_i T / 2), with the opposite sign on B2.
 #include <vector>
 
 #include "nsmodal/admissibility.h"

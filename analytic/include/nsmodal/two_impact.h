@@ -2,10 +2,17 @@
 // Periodic orbits with two impacts per period (paper section 2.2).
 //
 // NC1 roots t2 of det A_2(., T) are double roots (det A_2 >= 0). They are found
-// as sign changes of the smooth signed indicator F = Pf(Q_2 - Q_2^T)
-// (return_map.h) on a grid in t2, polished by Brent to ~1e-15 relative, and
-// kept only where Q_2 really has eigenvalue 1 (not -1). t2 = T/2 is always a
-// root (eq. 26: the 1-ipp orbit of period T/2 run twice) and is added exactly.
+// on a grid in t2 in two ways:
+//  1. sign changes of the smooth signed indicator F = Pf(Q_2 - Q_2^T)
+//     (return_map.h), polished by Brent to ~1e-15 relative, kept only where
+//     Q_2 really has eigenvalue 1 (not -1);
+//  2. where a +1 and a -1 crossing share a cell F keeps its sign; grid nodes
+//     where det(Q_2 - I) is small enough that a root may be near (a provable
+//     bound, two_impact.cc) are refined by minimising sigma_min(A_2) =
+//     min |2 sin(theta_k/2)|, V-shaped at a root, so the minimiser (GSL Brent)
+//     reaches it to ~eps/slope, not sqrt(eps).
+// t2 = T/2 is always a root (eq. 26: the 1-ipp orbit of period T/2 run twice)
+// and is added exactly.
 // On a root ker A_2 has dimension 2 (eq. 28); y0 in it with x_c(0) = d and
 // x_c(t2) = d is unique unless those two conditions coincide (the "bridge",
 // paper section 4), where the orbit is flagged degenerate.
@@ -22,10 +29,11 @@ struct TwoImpactOptions {
   // Two roots closer than this may be missed; the default resolves the
   // paper's system (checked against a 10x finer grid in the tests).
   double t2_step = 0.01;
-  // A polished sign change is an NC1 root when the smallest singular value of
-  // A_2 is below this (A_2 is O(1): Q_2 is orthogonal). At a true root it is
-  // ~1e-15; at a -1 crossing it is ~2.
-  double kernel_tol = 1e-8;
+  // A candidate is an NC1 root when the smallest singular value of A_2 is
+  // below this (A_2 is O(1): Q_2 is orthogonal). At a true root it is ~1e-15;
+  // at a -1 crossing ~2; at a near miss (a pair approaching 1 without reaching
+  // it, close to a fold of the root curve) it was seen as low as 9e-9.
+  double kernel_tol = 1e-11;
   AdmissibilityOptions admissibility;
 };
 

@@ -1,0 +1,66 @@
+#include <gtest/gtest.h>
+
+#include "fixtures.h"
+#include "nsmodal/flow.h"
+
+namespace nsmodal {
+namespace {
+
+// The matrix exponential (scaling and squaring) of an O(1) matrix at t <= 10
+// is accurate to ~1e-13; the modal flow is exact up to cos/sin round-off.
+constexpr double kTol = 1e-11;
+
+TEST(Flow, MatchesMatrixExponential) {
+  const Model m = testing::CoupledThreeDof();
+  const ModalBasis b = MakeModalBasis(m);
+  Eigen::VectorXd z(6);
+  z << 0.2, -0.1, 0.3, 0.5, -1.0, 0.25;
+  for (double t : {0.1, 1.7, 9.3}) {
+    Eigen::VectorXd y = ToModal(b, z.head(3), z.tail(3));
+    Flow(b, t, y);
+    const Eigen::VectorXd expect = testing::PhysicalFlow(m, t) * z;
+    EXPECT_LT((PhysicalOf(b, y) - expect).norm(), kTol * expect.norm()) << "t = " << t;
+    EXPECT_TRUE(FlowMatrix(b, t).isApprox(FlowMatrix(b, t), 0.0));
+  }
+}
+
+TEST(Flow, ImpactLawFlipsContactVelocityAndConservesEnergyWhenElastic) {
+  const Model m = testing::CoupledThreeDof();  // non-diagonal M
+  const ModalBasis b = MakeModalBasis(m);
+  Eigen::VectorXd x(3), v(3);
+  x << 0.1, 0.7, -0.2;
+  v << 0.3, 1.2, -0.5;
+  for (double e : {0.0, 0.5, 1.0}) {
+    Eigen::VectorXd y = ToModal(b, x, v);
+    const double e0 = Energy(y);
+    Impact(b, e, y);
+    const Eigen::VectorXd v_after = VelocityOf(b, y);
+    EXPECT_NEAR(v_after[1], -e * v[1], 1e-14);
+    // The impulse acts along the contact normal: M (v+ - v-) is parallel to e_c.
+    const Eigen::VectorXd impulse = m.mass * (v_after - v);
+    EXPECT_NEAR(impulse[0], 0.0, 1e-14);
+    EXPECT_NEAR(impulse[2], 0.0, 1e-14);
+    EXPECT_TRUE(PositionOf(b, y).isApprox(x, 1e-14));
+    if (e == 1.0) {
+      EXPECT_NEAR(Energy(y), e0, 1e-14 * e0);
+    } else {
+      EXPECT_LT(Energy(y), e0);
+    }
+  }
+}
+
+TEST(Flow, ContactSignalMatchesFlowAndItsBounds) {
+  const ModalBasis b = testing::PaperBasis();
+  const Eigen::VectorXd y = Eigen::Vector4d(0.3, -1.1, 0.8, 0.4);
+  const ContactSignal f(b, y);
+  for (double t = 0.0; t < 20.0; t += 0.37) {
+    Eigen::VectorXd yt = FlowMatrix(b, t) * y;
+    EXPECT_NEAR(f.Position(t), ContactPosition(b, yt), 1e-14);
+    EXPECT_NEAR(f.Velocity(t), ContactVelocity(b, yt), 1e-14);
+    EXPECT_LE(std::abs(f.Acceleration(t)), f.bound[2]);
+    EXPECT_DOUBLE_EQ(f.VelocityAcceleration(t).first, f.Velocity(t));
+  }
+}
+
+}  // namespace
+}  // namespace nsmodal

@@ -1,0 +1,118 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "fixtures.h"
+#include "nsmodal/return_map.h"
+#include "nsmodal/two_impact.h"
+
+namespace nsmodal {
+namespace {
+
+// Targets of the orbit engine.
+constexpr double kPeriodicityTarget = 1e-12;
+constexpr double kRootTarget = 1e-10;
+
+bool HasRootAwayFromHalf(const std::vector<double>& roots, double period) {
+  for (double t2 : roots) {
+    if (std::abs(t2 - period / 2) > 1e-6 * period) return true;
+  }
+  return false;
+}
+
+TEST(TwoImpact, Figure6Classification) {
+  // Fig. 6: no root t2 != T/2 for T in {1, 2, 7, 8, 10}; some for {3, 4, 5, 6, 9}.
+  const ModalBasis b = testing::PaperBasis();
+  for (int period : {1, 2, 7, 8, 10}) EXPECT_FALSE(HasRootAwayFromHalf(TwoImpactRoots(b, period), period)) << period;
+  for (int period : {3, 4, 5, 6, 9}) EXPECT_TRUE(HasRootAwayFromHalf(TwoImpactRoots(b, period), period)) << period;
+}
+
+TEST(TwoImpact, Eq27ThresholdAlwaysHasARootAwayFromHalf) {
+  const ModalBasis b = testing::PaperBasis();
+  const double threshold = 1.5 * b.Periods().maxCoeff();  // 3 max(T1, T2) / 2
+  EXPECT_NEAR(threshold, 15.28, 0.01);
+  for (double period = threshold; period < 40.0; period += 0.37) {
+    EXPECT_TRUE(HasRootAwayFromHalf(TwoImpactRoots(b, period), period)) << "T = " << period;
+  }
+}
+
+TEST(TwoImpact, RootsAreRootsKernelHasDimensionTwoAndOrbitsArePeriodic) {
+  // Eq. 28: det A_2 = 0 implies dim ker A_2 = 2.
+  const ModalBasis b = testing::PaperBasis();
+  int checked = 0;
+  for (double period = 2.5; period < 30.0; period += 0.53) {
+    for (const Orbit& o : TwoImpactOrbits(b, period)) {
+      const double t2 = o.times[0];
+      const Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, {t2}, period));
+      const Eigen::VectorXd s = svd.singularValues();
+      // Smallest two singular values at round-off (a double eigenvalue 1 of an
+      // orthogonal matrix), the next one of order one.
+      EXPECT_LT(s[3], 1e-12) << "T = " << period << " t2 = " << t2;
+      EXPECT_LT(s[2], 1e-12) << "T = " << period << " t2 = " << t2;
+      EXPECT_GT(s[1], 1e-6) << "T = " << period << " t2 = " << t2;
+      EXPECT_EQ(KernelDimension(MatrixA(b, {t2}, period), 1e-9), 2);
+      if (o.potential) {
+        EXPECT_LT(o.periodicity_residual, kPeriodicityTarget) << "T = " << period << " t2 = " << t2;
+        EXPECT_LT(o.nc2_residual, kPeriodicityTarget);
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 100);
+}
+
+TEST(TwoImpact, RootsDoNotMoveWhenTheGridIsRefined) {
+  // The grid only brackets; the root is Brent's: a 10x finer grid gives the
+  // same roots to the root target.
+  const ModalBasis b = testing::PaperBasis();
+  TwoImpactOptions fine;
+  fine.t2_step = 0.001;
+  for (double period : {3.0, 6.0, 9.0, 17.3, 33.1}) {
+    const std::vector<double> coarse_roots = TwoImpactRoots(b, period);
+    const std::vector<double> fine_roots = TwoImpactRoots(b, period, fine);
+    ASSERT_EQ(coarse_roots.size(), fine_roots.size()) << "T = " << period;
+    for (std::size_t k = 0; k < coarse_roots.size(); ++k) EXPECT_NEAR(coarse_roots[k], fine_roots[k], kRootTarget);
+  }
+}
+
+TEST(TwoImpact, SymmetryT2ToTMinusT2) {
+  // Starting the same orbit at its second impact swaps the flight times.
+  const ModalBasis b = testing::PaperBasis();
+  for (double period : {3.0, 6.0, 9.0, 21.7}) {
+    const std::vector<Orbit> orbits = TwoImpactOrbits(b, period);
+    for (const Orbit& o : orbits) {
+      const Orbit* mirror = nullptr;
+      for (const Orbit& p : orbits) {
+        if (std::abs(p.times[0] - (period - o.times[0])) < kRootTarget) mirror = &p;
+      }
+      ASSERT_NE(mirror, nullptr) << "T = " << period << " t2 = " << o.times[0];
+      EXPECT_NEAR(mirror->energy, o.energy, 1e-10 * o.energy);
+      EXPECT_EQ(mirror->admissible, o.admissible);
+    }
+  }
+}
+
+TEST(TwoImpact, HalfPeriodRootIsTheOneImpactOrbitRunTwice) {
+  const ModalBasis b = testing::PaperBasis();
+  for (double period : {3.0, 7.0, 12.0}) {
+    const Orbit two = TwoImpactOrbitAt(b, period / 2, period);
+    EXPECT_TRUE(two.potential);
+    EXPECT_FALSE(two.degenerate);
+    // The 1-ipp orbit of period T/2 (one_impact.h closed form) has the same state.
+    Eigen::VectorXd y(4);
+    const double h = 0.5 * period / 2;
+    const double scale = b.gap / [&] {
+      double d = 0.0;
+      for (int i = 0; i < 2; ++i) d += b.r[i] * b.r[i] / (std::tan(b.omega[i] * h) * b.omega[i]);
+      return d;
+    }();
+    for (int i = 0; i < 2; ++i) {
+      y[i] = scale * b.r[i] / std::tan(b.omega[i] * h);
+      y[2 + i] = scale * b.r[i];
+    }
+    EXPECT_LT((two.y0 - y).norm(), 1e-10 * y.norm()) << "T = " << period;
+  }
+}
+
+}  // namespace
+}  // namespace nsmodal
