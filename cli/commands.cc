@@ -237,6 +237,10 @@ int RunExplore(const ExploreArgs& a) {
   ExploreOptions opt;
   opt.impacts = a.impacts;
   opt.grid = a.grid;
+  if (a.impacts < 3 || a.impacts > 6) {
+    throw InputError("--impacts", "explore takes 3 to 6 impacts per period, got " + std::to_string(a.impacts) +
+                                      " (use 'nsmodal orbits' for 1 or 2)");
+  }
   const std::vector<double> periods = range.Values();
   std::vector<ExploreReport> parts(periods.size());
   ParallelFor(

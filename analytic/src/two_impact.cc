@@ -56,9 +56,11 @@ std::vector<double> TwoImpactRoots(const ModalBasis& b, double period, const Two
   cells += cells % 2;
   auto indicator = [&](double t2) { return TwoImpactIndicator(b, t2, period); };
   const Eigen::MatrixXd id = Eigen::MatrixXd::Identity(2 * b.n, 2 * b.n);
-  // Grid nodes 1..cells-1: the signed indicator F and det(Q - I) >= 0.
+  // Grid nodes 0..cells: the signed indicator F and det(Q - I) >= 0. The end
+  // nodes t2 = 0 and t2 = T (coincident impacts, Q = N S(T) N) bracket the
+  // roots of short flights next to an impact (T just above a k T_i).
   std::vector<double> t(cells + 1), f(cells + 1), det(cells + 1);
-  for (int j = 1; j < cells; ++j) {
+  for (int j = 0; j <= cells; ++j) {
     t[j] = period * j / cells;
     const Eigen::MatrixXd q = ReturnMap(b, {t[j]}, period);
     f[j] = Pfaffian(q - q.transpose());
@@ -66,13 +68,14 @@ std::vector<double> TwoImpactRoots(const ModalBasis& b, double period, const Two
   }
   std::vector<double> roots{half};
   auto accept = [&](double root) {
+    if (root < 1e-9 * period || root > (1.0 - 1e-9) * period) return;  // coincident impacts
     for (double r : roots) {
       if (std::abs(r - root) <= 1e-9 * period) return;
     }
     if (SmallestSingularValue(b, root, period) < options.kernel_tol) roots.push_back(root);
   };
   // 1. Sign changes of F: a pair of eigenvalues crossing +1 (kept) or -1 (rejected).
-  for (int j = 2; j < cells; ++j) {
+  for (int j = 1; j <= cells; ++j) {
     if ((f[j - 1] < 0.0) != (f[j] < 0.0) || f[j] == 0.0) accept(f[j] == 0.0 ? t[j] : PolishRoot(indicator, t[j - 1], t[j]));
   }
   // 2. A +1 and a -1 crossing in one cell leave F's sign unchanged. sigma_min(A_2)
@@ -83,7 +86,7 @@ std::vector<double> TwoImpactRoots(const ModalBasis& b, double period, const Two
   const double h = period / cells;
   const double reach = 2.0 * b.omega.maxCoeff() * h;
   const double det_bound = std::pow(4.0, b.n - 1) * reach * reach;
-  for (int j = 2; j + 1 < cells; ++j) {
+  for (int j = 1; j < cells; ++j) {
     if (det[j] > det_bound) continue;
     bool explained = false;
     for (double r : roots) explained = explained || std::abs(r - t[j]) <= 2.0 * h;

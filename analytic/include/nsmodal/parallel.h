@@ -1,9 +1,13 @@
 #pragma once
 // Runs body(i) for i in [0, count) on `threads` worker threads (0: all cores),
 // calling progress(done, count) from the calling thread about ten times a second.
+// The first exception thrown by body stops the remaining work and is rethrown
+// on the calling thread.
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <functional>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -14,9 +18,17 @@ inline void ParallelFor(long count, int threads, const std::function<void(long)>
   if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::atomic<long> next{0};
   std::atomic<long> done{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
   auto worker = [&] {
     for (long i = next++; i < count; i = next++) {
-      body(i);
+      try {
+        body(i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next = count;  // stop handing out work
+      }
       ++done;
     }
   };
@@ -32,6 +44,7 @@ inline void ParallelFor(long count, int threads, const std::function<void(long)>
   }
   worker();
   for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
   if (progress) progress(count, count);
 }
 

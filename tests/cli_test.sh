@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# End-to-end checks of the nsmodal CLI: outputs and their contracts, and bad
+# input refused with a message naming the field and a non-zero exit.
+# Usage: cli_test.sh NSMODAL_BINARY SOURCE_DIR
+set -u
+bin=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0
+fail=0
+ok() { pass=$((pass + 1)); }
+bad() { echo "FAIL: $*"; fail=$((fail + 1)); }
+
+# expect_error PATTERN CMD...: non-zero exit and PATTERN on stderr, no crash (exit < 128).
+expect_error() {
+  local pattern=$1
+  shift
+  "$@" >"$tmp/out" 2>"$tmp/err"
+  local rc=$?
+  if [ "$rc" -eq 0 ] || [ "$rc" -ge 128 ]; then
+    bad "exit $rc for: $*"
+  elif ! grep -q -- "$pattern" "$tmp/err"; then
+    bad "message lacks '$pattern' for: $* -> $(cat "$tmp/err")"
+  else
+    ok
+  fi
+}
+
+scene() { printf '%b' "$2" >"$tmp/$1.toml"; echo "$tmp/$1.toml"; }
+
+paper=$src/configs/paper.toml
+expect_error "system.masses" "$bin" orbit "$(scene negmass '[system]\nmasses=[1,-1]\nsprings=[1,1]\n')" --period 3
+expect_error "system.mass_matrix" "$bin" orbit "$(scene nonspd '[system]\nmass_matrix=[[1,2],[2,1]]\nstiffness_matrix=[[1,0],[0,1]]\n')" --period 3
+expect_error "system.contact_dof" "$bin" orbit "$(scene dof '[system]\nmasses=[1,1]\nsprings=[1,1]\ncontact_dof=5\n')" --period 3
+expect_error "system.gap" "$bin" orbit "$(scene gap '[system]\nmasses=[1,1]\nsprings=[1,1]\ngap=0\n')" --period 3
+expect_error "system.restitution" "$bin" orbit "$(scene e15 '[system]\nmasses=[1,1]\nsprings=[1,1]\nrestitution=1.5\n')" --period 3
+expect_error "only for e = 1" "$bin" orbits "$(scene e05 '[system]\nmasses=[1,1]\nsprings=[1,1]\nrestitution=0.5\n')" --period 1:2:0.5 --out "$tmp/o"
+expect_error "scene" "$bin" orbit "$(scene malformed '[system\nmasses=[1,1]\n')" --period 3
+expect_error "cannot open" "$bin" orbit "$tmp/missing.toml" --period 3
+expect_error "\-\-period" "$bin" orbits "$paper" --period 1:2 --out "$tmp/o"
+expect_error "\-\-period" "$bin" orbits "$paper" --period 5:1:0.1 --out "$tmp/o"
+expect_error "\-\-period" "$bin" orbits "$paper" --period 1:2:0 --out "$tmp/o"
+expect_error "\-\-period" "$bin" orbits "$paper" --period a:2:0.1 --out "$tmp/o"
+expect_error "\-\-period" "$bin" orbit "$paper" --period -1
+expect_error "\-\-impacts" "$bin" orbits "$paper" --impacts 3 --period 1:2:0.5 --out "$tmp/o"
+expect_error "impacts" "$bin" explore "$paper" --impacts 2 --period 1:2:0.5
+
+# orbits.csv and transitions.csv contracts.
+if "$bin" orbits "$paper" --impacts 1 --period 2:12:0.01 --out "$tmp/one" >/dev/null 2>&1; then
+  head -1 "$tmp/one/orbits.csv" | grep -q '^T,t2,energy,potential,admissible,periodicity_residual,.*,x1,x2,v1,v2$' && ok || bad "orbits.csv header"
+  [ "$(wc -l <"$tmp/one/orbits.csv")" -eq 1002 ] && ok || bad "orbits.csv rows: $(wc -l <"$tmp/one/orbits.csv")"
+  head -1 "$tmp/one/transitions.csv" | grep -qx 'T,kind,energy' && ok || bad "transitions.csv header"
+  grep -q ',singular,' "$tmp/one/transitions.csv" && grep -q ',modal,' "$tmp/one/transitions.csv" &&
+    grep -q ',grazing,' "$tmp/one/transitions.csv" && ok || bad "transitions.csv kinds"
+else
+  bad "orbits --impacts 1 failed"
+fi
+if "$bin" orbits "$paper" --impacts 2 --period 3:4:0.5 --out "$tmp/two" >/dev/null 2>&1; then
+  # Every 2-ipp row has t2; T = 3 has roots t2 != T/2 (Fig. 6).
+  awk -F, 'NR > 1 && $2 == "" { exit 1 }' "$tmp/two/orbits.csv" && ok || bad "2-ipp rows without t2"
+  [ "$(awk -F, 'NR > 1 && $1 == 3' "$tmp/two/orbits.csv" | wc -l)" -ge 3 ] && ok || bad "T = 3 has < 3 roots"
+else
+  bad "orbits --impacts 2 failed"
+fi
+if "$bin" orbit "$paper" --impacts 2 --period 6 --json >"$tmp/j.json" 2>/dev/null; then
+  python3 -c "import json,sys; d=json.load(open('$tmp/j.json')); o=d['orbits']; assert len(o) >= 3; assert all(k in o[0] for k in ('T','t2','energy','admissible','periodicity_residual','x','v'))" && ok || bad "orbit --json"
+else
+  bad "orbit --json failed"
+fi
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
