@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Quick start: install what is missing, build, and run the main job on the
+# default scene (configs/paper.toml, the paper's 2-dof system).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+scene=configs/paper.toml
+echo
+echo "== 1 impact per period, T in [0.05, 40] step 0.001 (orbits, transitions)"
+build/cli/nsmodal orbits "$scene" --impacts 1 --period 0.05:40:0.001 --out out/paper/one-impact
+echo
+echo "== 2 impacts per period, T in [0.05, 40] step 0.01"
+build/cli/nsmodal orbits "$scene" --impacts 2 --period 0.05:40:0.01 --out out/paper/two-impact
+echo
+echo "== transitions of the 1-ipp family"
+cat out/paper/one-impact/transitions.csv
+echo
+echo "== 3 impacts per period: exploratory search (paper section 2.3)"
+build/cli/nsmodal explore "$scene" --impacts 3 --period 1:40:0.5 --grid 24 | head -6
