@@ -39,23 +39,29 @@ Eigen::MatrixXd ImpactMatrix(const ModalBasis& b, double e) {
   return m;
 }
 
-ContactSignal::ContactSignal(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y)
-    : a(basis.r_over_omega.cwiseProduct(y.head(basis.n))),
-      b(basis.r_over_omega.cwiseProduct(y.tail(basis.n))),
-      omega(basis.omega) {
+SinusoidSum::SinusoidSum(double c, Eigen::VectorXd a_in, Eigen::VectorXd b_in, Eigen::VectorXd omega_in)
+    : offset(c), a(std::move(a_in)), b(std::move(b_in)), omega(std::move(omega_in)) {
   for (int i = 0; i < omega.size(); ++i) {
     const double amp = std::hypot(a[i], b[i]);
-    for (int k = 0; k < 4; ++k) bound[k] += std::pow(omega[i], k) * amp;
+    double wk = 1.0;
+    for (int k = 0; k < 5; ++k) {
+      bound[k] += wk * amp;
+      wk *= omega[i];
+    }
   }
 }
 
-double ContactSignal::Position(double t) const {
-  double f = 0.0;
+ContactSignal::ContactSignal(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y)
+    : SinusoidSum(0.0, basis.r_over_omega.cwiseProduct(y.head(basis.n)),
+                  basis.r_over_omega.cwiseProduct(y.tail(basis.n)), basis.omega) {}
+
+double SinusoidSum::Position(double t) const {
+  double f = offset;
   for (int i = 0; i < omega.size(); ++i) f += a[i] * std::cos(omega[i] * t) + b[i] * std::sin(omega[i] * t);
   return f;
 }
 
-double ContactSignal::Velocity(double t) const {
+double SinusoidSum::Velocity(double t) const {
   double f = 0.0;
   for (int i = 0; i < omega.size(); ++i) {
     f += omega[i] * (b[i] * std::cos(omega[i] * t) - a[i] * std::sin(omega[i] * t));
@@ -63,11 +69,7 @@ double ContactSignal::Velocity(double t) const {
   return f;
 }
 
-}  // namespace nsmodal
-
-namespace nsmodal {
-
-double ContactSignal::Acceleration(double t) const {
+double SinusoidSum::Acceleration(double t) const {
   double f = 0.0;
   for (int i = 0; i < omega.size(); ++i) {
     f -= omega[i] * omega[i] * (a[i] * std::cos(omega[i] * t) + b[i] * std::sin(omega[i] * t));
@@ -75,7 +77,7 @@ double ContactSignal::Acceleration(double t) const {
   return f;
 }
 
-std::pair<double, double> ContactSignal::VelocityAcceleration(double t) const {
+std::pair<double, double> SinusoidSum::VelocityAcceleration(double t) const {
   double v = 0.0, acc = 0.0;
   for (int i = 0; i < omega.size(); ++i) {
     const double c = std::cos(omega[i] * t), s = std::sin(omega[i] * t);
@@ -83,6 +85,20 @@ std::pair<double, double> ContactSignal::VelocityAcceleration(double t) const {
     acc -= omega[i] * omega[i] * (a[i] * c + b[i] * s);
   }
   return {v, acc};
+}
+
+void SinusoidSum::Derivatives(double t, double out[4]) const {
+  out[0] = offset;
+  out[1] = out[2] = out[3] = 0.0;
+  for (int i = 0; i < omega.size(); ++i) {
+    const double c = std::cos(omega[i] * t), s = std::sin(omega[i] * t), w = omega[i];
+    const double p = a[i] * c + b[i] * s;  // the term itself
+    const double q = b[i] * c - a[i] * s;  // its derivative divided by w
+    out[0] += p;
+    out[1] += w * q;
+    out[2] -= w * w * p;
+    out[3] -= w * w * w * q;
+  }
 }
 
 }  // namespace nsmodal

@@ -24,20 +24,29 @@ inline double ContactVelocity(const ModalBasis& b, const Eigen::Ref<const Eigen:
 }
 inline double Energy(const Eigen::Ref<const Eigen::VectorXd>& y) { return 0.5 * y.squaredNorm(); }
 
-// x_c(t) on one flight segment from state y at t = 0, as a sum of sinusoids
-// f(t) = sum_i a_i cos(w_i t) + b_i sin(w_i t). The bounds
-// |f^(k)(t)| <= sum_i w_i^k sqrt(a_i^2 + b_i^2) make root isolation provable.
-struct ContactSignal {
+// A sum of sinusoids with an offset, f(t) = c + sum_i a_i cos(w_i t) + b_i sin(w_i t):
+// x_c(t) on a flight, or the contact force while sticking. The bounds
+// |f^(k)(t)| <= sum_i w_i^k sqrt(a_i^2 + b_i^2) (k >= 1) make root isolation provable.
+struct SinusoidSum {
+  double offset = 0.0;
   Eigen::VectorXd a, b, omega;
-  // bound[k] >= sup |f^(k)|, k = 0..3
-  double bound[4] = {0.0, 0.0, 0.0, 0.0};
+  // bound[k] >= sup |f^(k)| for k = 1..4; bound[0] = sum of the amplitudes.
+  double bound[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
 
-  ContactSignal(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y);
+  SinusoidSum() = default;
+  SinusoidSum(double c, Eigen::VectorXd a_in, Eigen::VectorXd b_in, Eigen::VectorXd omega_in);
   double Position(double t) const;
   double Velocity(double t) const;
   double Acceleration(double t) const;
-  // (velocity, acceleration) from one sin/cos per mode: the inner loop of NC3.
+  // First and second derivative from one sin/cos per term: the inner loop of NC3.
   std::pair<double, double> VelocityAcceleration(double t) const;
+  // The value and the first three derivatives at t.
+  void Derivatives(double t, double out[4]) const;
+};
+
+// x_c(t) on one flight segment from state y at t = 0.
+struct ContactSignal : SinusoidSum {
+  ContactSignal(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y);
 };
 
 }  // namespace nsmodal
