@@ -19,6 +19,7 @@
 #include "nsmodal/one_impact.h"
 #include "nsmodal/parallel.h"
 #include "nsmodal/scene.h"
+#include "nsmodal/simulate.h"
 #include "nsmodal/transitions.h"
 #include "nsmodal/two_impact.h"
 
@@ -183,6 +184,90 @@ int RunOrbits(const OrbitsArgs& a) {
     tr << "T,kind,energy\n";
     for (const Transition& t : transitions) tr << t.period << "," << ToString(t.kind) << "," << t.energy << "\n";
     std::cout << "wrote " << transitions.size() << " transitions to " << a.out << "/transitions.csv\n";
+  }
+  return 0;
+}
+
+int RunSimulate(const SimulateArgs& a) {
+  const Scene scene = LoadScene(a.scene);
+  const SimulateSection& sec = scene.simulate;
+  SimulateOptions opt;
+  auto pick = [](const auto& flag, const auto& table, auto fallback) { return flag ? *flag : table ? *table : fallback; };
+  opt.integrator = ParseIntegrator(pick(a.integrator, sec.integrator, std::string("exact")),
+                                   a.integrator ? "--integrator" : "simulate.integrator");
+  opt.cvode_method = pick(a.method, sec.method, opt.cvode_method);
+  opt.t_end = pick(a.t_end, sec.t_end, opt.t_end);
+  opt.rtol = pick(a.rtol, sec.rtol, opt.rtol);
+  opt.atol = pick(a.atol, sec.atol, opt.atol);
+  opt.step = pick(a.step, sec.step, opt.step);
+  opt.theta = pick(a.theta, sec.theta, opt.theta);
+  opt.root_tol = pick(a.root_tol, sec.root_tol, opt.root_tol);
+  opt.sample_dt = pick(a.sample_dt, sec.sample_dt, opt.sample_dt);
+  const int n = scene.model.dofs();
+  const auto x0v = a.x0 ? a.x0 : sec.initial_position;
+  if (!x0v) throw InputError("simulate.initial_position", "is missing: give it in [simulate] or with --x0");
+  const std::vector<double> v0v = a.v0 ? *a.v0 : sec.initial_velocity ? *sec.initial_velocity : std::vector<double>(n, 0.0);
+  const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(x0v->data(), static_cast<long>(x0v->size()));
+  const Eigen::VectorXd v0 = Eigen::Map<const Eigen::VectorXd>(v0v.data(), static_cast<long>(v0v.size()));
+
+  std::ofstream traj = OpenOut(a.out, "trajectory.csv");
+  std::ofstream imp = OpenOut(a.out, "impacts.csv");
+  traj << "t";
+  for (int i = 1; i <= n; ++i) traj << ",x" << i;
+  for (int i = 1; i <= n; ++i) traj << ",v" << i;
+  traj << ",energy\n";
+  imp << "t";
+  for (const char* when : {"before", "after"}) {
+    for (int i = 1; i <= n; ++i) imp << ",x" << i << "_" << when;
+    for (int i = 1; i <= n; ++i) imp << ",v" << i << "_" << when;
+  }
+  imp << "\n";
+  const Model& m = scene.model;
+  SimulationObserver obs;
+  obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
+    traj << t;
+    for (int i = 0; i < 2 * n; ++i) traj << "," << z[i];
+    traj << "," << 0.5 * z.tail(n).dot(m.mass * z.tail(n)) + 0.5 * z.head(n).dot(m.stiffness * z.head(n)) << "\n";
+  };
+  obs.on_impact = [&](const ContactEvent& ev) {
+    imp << ev.t;
+    for (int i = 0; i < 2 * n; ++i) imp << "," << ev.before[i];
+    for (int i = 0; i < 2 * n; ++i) imp << "," << ev.after[i];
+    imp << "\n";
+  };
+  const auto bar = ProgressBar("simulate");
+  if (bar) {
+    obs.on_progress = [&](double t) { bar(static_cast<long>(1000.0 * t / opt.t_end), 1000); };
+  }
+  const SimulationSummary s = Simulate(m, x0, v0, opt, obs);
+  if (bar) bar(1000, 1000);
+  nlohmann::json j;
+  j["integrator"] = ToString(opt.integrator);
+  j["status"] = s.status == SimulationStatus::kFinished ? "finished"
+                : s.status == SimulationStatus::kStepLimit ? "step_limit" : "solver_error";
+  j["message"] = s.message;
+  j["final_time"] = s.final_time;
+  j["final_state"] = std::vector<double>(s.final_state.data(), s.final_state.data() + s.final_state.size());
+  j["impacts"] = s.impacts;
+  j["grazes"] = s.grazes;
+  j["zeno_events"] = s.zeno_events;
+  j["first_zeno_time"] = s.first_zeno_time >= 0.0 ? nlohmann::json(s.first_zeno_time) : nlohmann::json();
+  j["sticking_phases"] = s.sticking_phases;
+  j["sticking_time"] = s.sticking_time;
+  j["initial_energy"] = s.initial_energy;
+  j["final_energy"] = s.final_energy;
+  j["energy_drift"] = s.energy_drift;
+  j["wall_time_s"] = s.wall_time_s;
+  j["steps"] = s.steps;
+  j["settings"] = {{"t_end", opt.t_end}, {"rtol", opt.rtol}, {"atol", opt.atol}, {"method", opt.cvode_method},
+                   {"step", opt.step}, {"theta", opt.theta}, {"root_tol", opt.root_tol}, {"sample_dt", opt.sample_dt}};
+  std::ofstream(std::filesystem::path(a.out) / "summary.json") << j.dump(2) << "\n";
+  std::cout << ToString(opt.integrator) << ": t = " << s.final_time << ", " << s.impacts << " impacts, " << s.grazes
+            << " grazes, " << s.zeno_events << " Zeno sequences, sticking " << s.sticking_time << ", energy drift "
+            << s.energy_drift << ", " << s.wall_time_s << " s; wrote " << a.out << "/{trajectory.csv,impacts.csv,summary.json}\n";
+  if (s.status != SimulationStatus::kFinished) {
+    std::cerr << "error: simulation stopped: " << s.message << "\n";
+    return 3;
   }
   return 0;
 }

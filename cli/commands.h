@@ -1,5 +1,6 @@
 #pragma once
 // Thin command layer of the nsmodal CLI: parse, call the libraries, write files.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,7 +33,16 @@ struct ExploreArgs {
   bool json = false;
 };
 
+// Flags of `simulate`; unset ones fall back to the scene's [simulate] table.
+struct SimulateArgs {
+  std::string scene, out;
+  std::optional<std::string> integrator, method;
+  std::optional<double> t_end, rtol, atol, step, theta, root_tol, sample_dt;
+  std::optional<std::vector<double>> x0, v0;
+};
+
 int RunOrbits(const OrbitsArgs& a);
+int RunSimulate(const SimulateArgs& a);
 int RunOrbit(const OrbitArgs& a);
 int RunExplore(const ExploreArgs& a);
 

@@ -35,6 +35,22 @@ int main(int argc, char** argv) {
   c_explore->add_option("--grid", explore.grid, "Grid nodes per impact-time axis")->default_val(24);
   c_explore->add_flag("--json", explore.json, "Print JSON");
 
+  SimulateArgs simulate;
+  auto* c_sim = app.add_subcommand("simulate", "Simulate an initial condition (exact, cvode or moreau-jean)");
+  c_sim->add_option("scene", simulate.scene, "Scene file (TOML) with a [simulate] table")->required();
+  c_sim->add_option("--out", simulate.out, "Output directory")->required();
+  c_sim->add_option("--integrator", simulate.integrator, "exact, cvode or moreau-jean");
+  c_sim->add_option("--method", simulate.method, "CVODE method: bdf or adams");
+  c_sim->add_option("--t-end", simulate.t_end, "Final time");
+  c_sim->add_option("--rtol", simulate.rtol, "CVODE relative tolerance");
+  c_sim->add_option("--atol", simulate.atol, "CVODE absolute tolerance");
+  c_sim->add_option("--step", simulate.step, "Moreau-Jean time step");
+  c_sim->add_option("--theta", simulate.theta, "Moreau-Jean theta in [0.5, 1]");
+  c_sim->add_option("--root-tol", simulate.root_tol, "Exact integrator contact tolerance (relative)");
+  c_sim->add_option("--sample-dt", simulate.sample_dt, "Trajectory sampling interval (0: none)");
+  c_sim->add_option("--x0", simulate.x0, "Initial position (N values)")->expected(1, 1000);
+  c_sim->add_option("--v0", simulate.v0, "Initial velocity (N values)")->expected(1, 1000);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -44,6 +60,7 @@ int main(int argc, char** argv) {
     if (*c_orbits) return RunOrbits(orbits);
     if (*c_orbit) return RunOrbit(orbit);
     if (*c_explore) return RunExplore(explore);
+    if (*c_sim) return RunSimulate(simulate);
   } catch (const nsmodal::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;

@@ -55,6 +55,20 @@ ContactSignal::ContactSignal(const ModalBasis& basis, const Eigen::Ref<const Eig
     : SinusoidSum(0.0, basis.r_over_omega.cwiseProduct(y.head(basis.n)),
                   basis.r_over_omega.cwiseProduct(y.tail(basis.n)), basis.omega) {}
 
+void ContactSignal::Reset(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y) {
+  a = basis.r_over_omega.cwiseProduct(y.head(basis.n));
+  b = basis.r_over_omega.cwiseProduct(y.tail(basis.n));
+  for (double& v : bound) v = 0.0;
+  for (int i = 0; i < omega.size(); ++i) {
+    const double amp = std::hypot(a[i], b[i]);
+    double wk = 1.0;
+    for (int k = 0; k < 5; ++k) {
+      bound[k] += wk * amp;
+      wk *= omega[i];
+    }
+  }
+}
+
 double SinusoidSum::Position(double t) const {
   double f = offset;
   for (int i = 0; i < omega.size(); ++i) f += a[i] * std::cos(omega[i] * t) + b[i] * std::sin(omega[i] * t);

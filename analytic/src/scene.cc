@@ -95,7 +95,47 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
   if (const toml::node* n = sys->get("gap")) model.gap = ReadNumber(*n, "system.gap");
   if (const toml::node* n = sys->get("restitution")) model.restitution = ReadNumber(*n, "system.restitution");
   Validate(model);
-  return Scene{source, model};
+  Scene scene{source, model, {}};
+  if (const toml::node* node = root.get("simulate")) {
+    const toml::table* sim = node->as_table();
+    if (sim == nullptr) throw InputError("simulate", "must be a table");
+    SimulateSection& out = scene.simulate;
+    for (auto&& [key, value] : *sim) {
+      const std::string k(key.str());
+      const std::string field = "simulate." + k;
+      if (k == "initial_position") {
+        out.initial_position = ReadVector(value, field);
+      } else if (k == "initial_velocity") {
+        out.initial_velocity = ReadVector(value, field);
+      } else if (k == "integrator" || k == "method") {
+        const auto* str = value.as_string();
+        if (str == nullptr) throw InputError(field, "must be a string");
+        (k == "integrator" ? out.integrator : out.method) = str->get();
+      } else if (k == "t_end") {
+        out.t_end = ReadNumber(value, field);
+      } else if (k == "rtol") {
+        out.rtol = ReadNumber(value, field);
+      } else if (k == "atol") {
+        out.atol = ReadNumber(value, field);
+      } else if (k == "step") {
+        out.step = ReadNumber(value, field);
+      } else if (k == "theta") {
+        out.theta = ReadNumber(value, field);
+      } else if (k == "root_tol") {
+        out.root_tol = ReadNumber(value, field);
+      } else if (k == "sample_dt") {
+        out.sample_dt = ReadNumber(value, field);
+      } else {
+        throw InputError(field, "is not a known key");
+      }
+    }
+  }
+  for (auto&& [key, value] : root) {
+    if (key.str() != "system" && key.str() != "simulate") {
+      throw InputError(std::string(key.str()), "is not a known table");
+    }
+  }
+  return scene;
 }
 
 Scene LoadScene(const std::string& path) {

@@ -47,6 +47,8 @@ struct SinusoidSum {
 // x_c(t) on one flight segment from state y at t = 0.
 struct ContactSignal : SinusoidSum {
   ContactSignal(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y);
+  // Reuses the storage for a new state (the simulator's inner loop).
+  void Reset(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y);
 };
 
 }  // namespace nsmodal

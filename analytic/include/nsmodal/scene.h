@@ -8,15 +8,38 @@
 //   contact_dof = 2            # 1-based; default: the last dof
 //   gap = 1.0                  # d
 //   restitution = 1.0          # e
+//
+//   [simulate]                 # optional; the simulate command's flags override it
+//   initial_position = [0.0, 0.5]   # length N
+//   initial_velocity = [0.0, 1.0]   # length N
+//   t_end = 100.0
+//   integrator = "exact"       # exact, cvode, moreau-jean
+//   rtol = 1e-10               # cvode
+//   atol = 1e-12               # cvode
+//   method = "bdf"             # cvode: bdf or adams
+//   step = 1e-3                # moreau-jean
+//   theta = 0.5                # moreau-jean
+//   root_tol = 1e-14           # exact
+//   sample_dt = 0.01           # trajectory output
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "nsmodal/model.h"
 
 namespace nsmodal {
 
+// The [simulate] table as written; values are checked by the simulator.
+struct SimulateSection {
+  std::optional<std::vector<double>> initial_position, initial_velocity;
+  std::optional<double> t_end, rtol, atol, step, theta, root_tol, sample_dt;
+  std::optional<std::string> integrator, method;
+};
+
 struct Scene {
   std::string source;  // file name, for messages
   Model model;
+  SimulateSection simulate;
 };
 
 // Throws InputError naming the field ("scene" for a file that cannot be read

@@ -1,0 +1,56 @@
+#pragma once
+// Contact mechanics shared by the integrators: the impact law in physical
+// coordinates and the constrained (sticking) dynamics x_c = d, v_c = 0.
+#include <Eigen/Dense>
+
+#include "nsmodal/flow.h"
+#include "nsmodal/modal_basis.h"
+#include "nsmodal/model.h"
+
+namespace nsmodal {
+
+struct ContactModel {
+  Model model;
+  ModalBasis basis;
+  Eigen::MatrixXd minv_k;  // M^-1 K
+  Eigen::VectorXd minv_c;  // M^-1 e_c
+  double w_cc = 0.0;       // (M^-1)_cc
+
+  explicit ContactModel(const Model& m);
+  // v <- v - (1 + e) v_c M^-1 e_c / (M^-1)_cc, so v_c -> -e v_c.
+  void ApplyImpact(double e, Eigen::Ref<Eigen::VectorXd> v) const;
+  // Free acceleration of the contact dof, -(M^-1 K x)_c.
+  double FreeContactAcceleration(const Eigen::Ref<const Eigen::VectorXd>& x) const {
+    return -minv_k.row(model.contact).dot(x);
+  }
+  double EnergyOf(const Eigen::Ref<const Eigen::VectorXd>& x, const Eigen::Ref<const Eigen::VectorXd>& v) const {
+    return 0.5 * v.dot(model.mass * v) + 0.5 * x.dot(model.stiffness * x);
+  }
+};
+
+// The sticking phase in closed form. With x = Z xi + d e_c (Z: the other
+// dofs), M_r = Z'MZ, K_r = Z'KZ, the held system is M_r xi'' + K_r xi + d Z'K e_c = 0:
+// oscillations of its own modes about xi* = -d K_r^-1 Z'K e_c. The contact
+// force lambda = a_c / (M^-1)_cc, with a_c = -(M^-1 K x)_c a constant plus a
+// sum of sinusoids: the mass is released when a_c falls through 0.
+class StickingFlow {
+ public:
+  explicit StickingFlow(const ContactModel& cm);
+  int reduced_dofs() const { return nr_; }
+  // State on entry (physical x, v with x_c = d, v_c = 0) -> scaled reduced modal state.
+  Eigen::VectorXd Enter(const Eigen::VectorXd& x, const Eigen::VectorXd& v) const;
+  void Advance(double dt, Eigen::Ref<Eigen::VectorXd> yr) const;
+  Eigen::VectorXd Physical(const Eigen::VectorXd& yr) const;  // (x, v)
+  // a_c(s) for s >= 0 from the reduced state yr.
+  SinusoidSum ContactAcceleration(const Eigen::VectorXd& yr) const;
+
+ private:
+  const ContactModel* cm_;
+  int nr_ = 0;
+  std::vector<int> others_;
+  Eigen::VectorXd omega_, xi_star_, rho_;
+  Eigen::MatrixXd phi_, phi_inv_;
+  double a0_ = 0.0;
+};
+
+}  // namespace nsmodal

@@ -1,0 +1,32 @@
+#pragma once
+// The first time a sum of sinusoids g rises to zero: the impact search of the
+// exact integrator (g = x_c - d) and the release search while sticking
+// (g = -a_c).
+//
+// Conservative advancement: from s, with g and its derivatives there and the
+// bound L_k >= sup |g^(k)|, the Taylor polynomial
+//   P(sigma) = g + g' sigma + ... + L_k sigma^k / k!      (k = 2, or 4 near tangency)
+// bounds g(s + sigma) from above, so g stays below `level` up to P's first
+// root: the step cannot pass a crossing, however short the excursion. At a
+// transversal crossing the steps converge quadratically.
+//
+// Trigger rule (as Drake's witness functions): the search is armed once
+// g < -2 tol; armed, it stops at g >= -tol; unarmed (starting inside the
+// contact band |g| <= tol, right after an impact, a graze or a release) it
+// stops only at g > tol, and steps with level = +tol to leave the band, so a
+// contact is never reported twice. A transversal crossing found inside the
+// band is finished by one Newton step.
+#include "nsmodal/flow.h"
+
+namespace nsmodal {
+
+struct FirstRiseResult {
+  bool found = false;
+  double s = 0.0;  // time of the crossing (found) or the horizon
+  long steps = 0;
+  bool stalled = false;  // no progress at a degenerate tangency
+};
+
+FirstRiseResult FirstRise(const SinusoidSum& g, double horizon, double tol);
+
+}  // namespace nsmodal

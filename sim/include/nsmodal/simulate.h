@@ -1,0 +1,93 @@
+#pragma once
+// Simulation of any initial condition, any restitution 0 <= e <= 1, with three
+// integrators behind one interface:
+//   exact        closed-form modal flight, impacts isolated by conservative
+//                advancement (a Taylor upper bound of x_c - d that provably
+//                cannot step over a crossing), polished to root_tol;
+//   cvode        SUNDIALS CVODE (BDF or Adams) with CVodeRootInit on d - x_c,
+//                the Newton law at each root and CVodeReInit;
+//   moreau-jean  the theta-method event-capturing time-stepper of nonsmooth
+//                contact dynamics, one-contact LCP in closed form.
+//
+// Contact events (paper eq. 1-2, DESIGN.md):
+//   impact     x_c reaches d with v_c > v_tol: v_c -> -e v_c (model.h's law);
+//   graze      x_c touches d with |v_c| <= v_tol and the free acceleration
+//              pulls away: no impulse, counted apart, never twice;
+//   sticking   x_c = d, v_c = 0 and the free acceleration a_c pushes into the
+//              wall: the mass is held (reaction lambda = a_c / (M^-1)_cc >= 0)
+//              until a_c falls through 0;
+//   Zeno       for e < 1, when the flight predicted after an impact
+//              (2 e v_c / a_c) is shorter than zeno_flight * 2 pi / w_max, the
+//              rest of the geometric sequence (time 2 e v_c / (a_c (1 - e)))
+//              is summed and the mass sticks.
+#include <Eigen/Dense>
+#include <functional>
+#include <string>
+
+#include "nsmodal/model.h"
+
+namespace nsmodal {
+
+enum class Integrator { kExact, kCvode, kMoreauJean };
+std::string ToString(Integrator integrator);
+// "exact", "cvode", "moreau-jean"; throws InputError naming `field`.
+Integrator ParseIntegrator(const std::string& name, const std::string& field = "simulate.integrator");
+
+struct SimulateOptions {
+  Integrator integrator = Integrator::kExact;
+  double t_end = 100.0;
+  double sample_dt = 0.01;  // trajectory samples every sample_dt (0: none)
+  // exact: contact is reached when x_c - d >= -root_tol * max(d, amplitude of x_c).
+  double root_tol = 1e-14;
+  // cvode: relative and absolute tolerances, "bdf" or "adams".
+  double rtol = 1e-10;
+  double atol = 1e-12;
+  std::string cvode_method = "bdf";
+  // moreau-jean: time step and theta in [1/2, 1].
+  double step = 1e-3;
+  double theta = 0.5;
+  // Zeno truncation threshold, relative to the shortest linear period.
+  double zeno_flight = 1e-9;
+  long max_steps = 2000000000;
+
+  // Throws InputError naming the field ("simulate.t_end", ...).
+  void Validate() const;
+};
+
+struct ContactEvent {
+  double t = 0.0;
+  Eigen::VectorXd before, after;  // physical (x, v)
+};
+
+struct SimulationObserver {
+  std::function<void(double t, const Eigen::VectorXd& z)> on_sample;  // physical (x, v)
+  std::function<void(const ContactEvent&)> on_impact;
+  std::function<void(double t)> on_progress;
+};
+
+enum class SimulationStatus { kFinished, kStepLimit, kSolverError };
+
+struct SimulationSummary {
+  SimulationStatus status = SimulationStatus::kFinished;
+  std::string message;
+  double final_time = 0.0;
+  Eigen::VectorXd final_state;  // physical (x, v)
+  long impacts = 0;
+  long grazes = 0;
+  long zeno_events = 0;
+  long sticking_phases = 0;
+  double sticking_time = 0.0;
+  double first_zeno_time = -1.0;  // accumulation time of the first Zeno sequence
+  double initial_energy = 0.0;
+  double final_energy = 0.0;
+  double energy_drift = 0.0;  // |E(t_end) - E(0)| / E(0)
+  double wall_time_s = 0.0;
+  long steps = 0;
+};
+
+// Throws InputError for a bad model, bad options, or an initial state beyond
+// the obstacle ("simulate.initial_position").
+SimulationSummary Simulate(const Model& model, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
+                           const SimulateOptions& options, const SimulationObserver& observer = {});
+
+}  // namespace nsmodal

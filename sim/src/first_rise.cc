@@ -1,0 +1,81 @@
+#include "nsmodal/first_rise.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <limits>
+
+namespace nsmodal {
+namespace {
+
+// Smallest positive root of c0 + c1 s + c2 s^2 + c3 s^3 + c4 s^4 (c0 < 0, c4 > 0).
+double FirstPositiveRootQuartic(const double c[5]) {
+  Eigen::Matrix4d comp = Eigen::Matrix4d::Zero();
+  for (int i = 0; i < 3; ++i) comp(i + 1, i) = 1.0;
+  for (int i = 0; i < 4; ++i) comp(i, 3) = -c[i] / c[4];
+  const Eigen::Vector4cd roots = comp.eigenvalues();
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 4; ++i) {
+    const double re = roots[i].real();
+    if (re > 0.0 && std::abs(roots[i].imag()) <= 1e-9 * std::abs(roots[i])) best = std::min(best, re);
+  }
+  return best;
+}
+
+}  // namespace
+
+FirstRiseResult FirstRise(const SinusoidSum& g, double horizon, double tol) {
+  FirstRiseResult out;
+  const double l2 = g.bound[2], l4 = g.bound[4];
+  const double w_max = g.omega.size() > 0 ? g.omega.maxCoeff() : 1.0;
+  double s = 0.0;
+  double d[4];
+  g.Derivatives(0.0, d);
+  bool armed = d[0] < -2.0 * tol;
+  int no_progress = 0;
+  while (true) {
+    ++out.steps;
+    if (armed ? d[0] >= -tol : d[0] > tol) {
+      out.found = true;
+      out.s = s;
+      // A transversal crossing within the band: one Newton step puts it at
+      // machine precision (its error is ~ L2 (g/g')^2 / g').
+      if (armed && d[1] > 0.0 && -d[0] < d[1] * horizon) out.s = std::min(horizon, s - d[0] / d[1]);
+      return out;
+    }
+    const double level = armed ? 0.0 : tol;
+    const double g0 = d[0] - level;  // < 0
+    double sigma;
+    if (l2 <= 0.0) {
+      sigma = std::numeric_limits<double>::infinity();  // constant signal below level
+    } else {
+      sigma = (-d[1] + std::sqrt(d[1] * d[1] - 2.0 * l2 * g0)) / l2;
+      if (sigma * w_max < 1e-3 && l4 > 0.0 && d[1] * d[1] < -2.0 * l2 * g0) {
+        // Near a tangency (the slope does not dominate the curvature bound) the
+        // quadratic bound is too pessimistic: the quartic one uses the actual
+        // curvature and third derivative. Near a transversal crossing the
+        // quadratic step is already Newton-like and converges quadratically.
+        const double c[5] = {g0, d[1], 0.5 * d[2], d[3] / 6.0, l4 / 24.0};
+        sigma = std::max(sigma, FirstPositiveRootQuartic(c));
+      }
+    }
+    if (!(sigma > 1e-15 * std::max(1.0, s))) {
+      if (++no_progress > 1000) {
+        out.stalled = true;
+        out.s = s;
+        return out;
+      }
+      sigma = 1e-15 * std::max(1.0, s);
+    } else {
+      no_progress = 0;
+    }
+    s += sigma;
+    if (s >= horizon) {
+      out.s = horizon;
+      return out;
+    }
+    g.Derivatives(s, d);
+    if (!armed && d[0] < -2.0 * tol) armed = true;
+  }
+}
+
+}  // namespace nsmodal

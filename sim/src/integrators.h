@@ -1,0 +1,41 @@
+#pragma once
+// The three integrators behind Simulate() (simulate.h). Internal.
+#include <Eigen/Dense>
+
+#include "nsmodal/contact.h"
+#include "nsmodal/simulate.h"
+
+namespace nsmodal::internal {
+
+// Emits trajectory samples at k * sample_dt in (from, to], one call each.
+class Sampler {
+ public:
+  Sampler(const SimulateOptions& options, const SimulationObserver& observer)
+      : dt_(options.sample_dt), t_end_(options.t_end), observer_(observer) {}
+  bool active() const { return dt_ > 0.0 && static_cast<bool>(observer_.on_sample); }
+  // state_at(t) gives the physical state at a sample time t in (from, to].
+  template <typename F>
+  void Emit(double to, F&& state_at) {
+    if (!active()) return;
+    while (true) {
+      const double t = next_ * dt_;
+      if (t > to * (1.0 + 1e-15) || t > t_end_ * (1.0 + 1e-15)) return;
+      observer_.on_sample(t, state_at(t));
+      ++next_;
+    }
+  }
+
+ private:
+  double dt_, t_end_;
+  const SimulationObserver& observer_;
+  long next_ = 0;
+};
+
+SimulationSummary SimulateExact(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
+                                const SimulateOptions& options, const SimulationObserver& observer);
+SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
+                                const SimulateOptions& options, const SimulationObserver& observer);
+SimulationSummary SimulateMoreauJean(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
+                                     const SimulateOptions& options, const SimulationObserver& observer);
+
+}  // namespace nsmodal::internal

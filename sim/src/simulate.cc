@@ -1,0 +1,91 @@
+#include "nsmodal/simulate.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "integrators.h"
+#include "nsmodal/error.h"
+
+namespace nsmodal {
+
+std::string ToString(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::kExact: return "exact";
+    case Integrator::kCvode: return "cvode";
+    case Integrator::kMoreauJean: return "moreau-jean";
+  }
+  return "?";
+}
+
+Integrator ParseIntegrator(const std::string& name, const std::string& field) {
+  if (name == "exact") return Integrator::kExact;
+  if (name == "cvode") return Integrator::kCvode;
+  if (name == "moreau-jean") return Integrator::kMoreauJean;
+  throw InputError(field, "must be exact, cvode or moreau-jean, got '" + name + "'");
+}
+
+void SimulateOptions::Validate() const {
+  auto positive = [](double v, const char* field) {
+    if (!(v > 0.0) || !std::isfinite(v)) throw InputError(field, "must be positive and finite, got " + FormatValue(v));
+  };
+  positive(t_end, "simulate.t_end");
+  if (!(sample_dt >= 0.0) || !std::isfinite(sample_dt)) {
+    throw InputError("simulate.sample_dt", "must be >= 0 and finite, got " + FormatValue(sample_dt));
+  }
+  if (sample_dt > 0.0 && t_end / sample_dt > 1e8) {
+    throw InputError("simulate.sample_dt", "gives more than 1e8 samples over t_end = " + FormatValue(t_end));
+  }
+  positive(root_tol, "simulate.root_tol");
+  if (root_tol >= 1e-3) throw InputError("simulate.root_tol", "must be below 1e-3, got " + FormatValue(root_tol));
+  positive(rtol, "simulate.rtol");
+  positive(atol, "simulate.atol");
+  if (rtol < 1e-15) throw InputError("simulate.rtol", "below 1e-15 is beyond double precision, got " + FormatValue(rtol));
+  if (cvode_method != "bdf" && cvode_method != "adams") {
+    throw InputError("simulate.method", "must be bdf or adams, got '" + cvode_method + "'");
+  }
+  positive(step, "simulate.step");
+  if (integrator == Integrator::kMoreauJean && t_end / step > 1e10) {
+    throw InputError("simulate.step", "gives more than 1e10 steps over t_end = " + FormatValue(t_end));
+  }
+  if (!(theta >= 0.5 && theta <= 1.0)) throw InputError("simulate.theta", "must lie in [0.5, 1], got " + FormatValue(theta));
+  positive(zeno_flight, "simulate.zeno_flight");
+  if (max_steps <= 0) throw InputError("simulate.max_steps", "must be positive");
+}
+
+SimulationSummary Simulate(const Model& model, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
+                           const SimulateOptions& options, const SimulationObserver& observer) {
+  Validate(model);
+  options.Validate();
+  const int n = model.dofs();
+  if (x0.size() != n) {
+    throw InputError("simulate.initial_position", "must have " + std::to_string(n) + " entries, got " +
+                                                      std::to_string(x0.size()));
+  }
+  if (v0.size() != n) {
+    throw InputError("simulate.initial_velocity", "must have " + std::to_string(n) + " entries, got " +
+                                                      std::to_string(v0.size()));
+  }
+  if (!x0.allFinite()) throw InputError("simulate.initial_position", "has a non-finite entry");
+  if (!v0.allFinite()) throw InputError("simulate.initial_velocity", "has a non-finite entry");
+  // Beyond the obstacle by more than round-off of the gap.
+  if (x0[model.contact] > model.gap * (1.0 + 1e-12)) {
+    throw InputError("simulate.initial_position",
+                     "x" + std::to_string(model.contact + 1) + " = " + FormatValue(x0[model.contact]) +
+                         " lies beyond the obstacle at d = " + FormatValue(model.gap));
+  }
+  const ContactModel cm(model);
+  const auto start = std::chrono::steady_clock::now();
+  SimulationSummary s;
+  switch (options.integrator) {
+    case Integrator::kExact: s = internal::SimulateExact(cm, x0, v0, options, observer); break;
+    case Integrator::kCvode: s = internal::SimulateCvode(cm, x0, v0, options, observer); break;
+    case Integrator::kMoreauJean: s = internal::SimulateMoreauJean(cm, x0, v0, options, observer); break;
+  }
+  s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  s.initial_energy = cm.EnergyOf(x0, v0);
+  s.final_energy = cm.EnergyOf(s.final_state.head(n), s.final_state.tail(n));
+  s.energy_drift = s.initial_energy > 0.0 ? std::abs(s.final_energy - s.initial_energy) / s.initial_energy : 0.0;
+  return s;
+}
+
+}  // namespace nsmodal
