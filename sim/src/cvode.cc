@@ -176,7 +176,7 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
   // its true value, so contact decisions use that scale.
   const double xtol = 10.0 * (opt.atol + opt.rtol * d);
   const double vscale = std::sqrt(cm.EnergyOf(x0, v0) * 2.0 * cm.w_cc) + 1e-300;
-  const double vtol = 10.0 * (opt.atol + opt.rtol * vscale);
+  const double vtol_floor = 10.0 * (opt.atol + opt.rtol * vscale);
   bool sticking = false;
   double t = 0.0, stick_start = 0.0;
   long base_steps = 0, next_progress = 0;
@@ -197,6 +197,9 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
   auto handle_contact = [&] {
     const double vc = z[n + c];
     const double ac = cm.FreeContactAcceleration(z.head(n));
+    // With x_c known to ~xtol, a crossing slower than sqrt(2 |a_c| xtol) cannot
+    // be told from a graze (a trajectory peaking within xtol of d).
+    const double vtol = std::max(vtol_floor, std::sqrt(2.0 * std::abs(ac) * xtol));
     if (vc > vtol) {
       ContactEvent ev{t, z, {}};
       cm.ApplyImpact(e, z.tail(n));
@@ -204,11 +207,17 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
       ++sum.impacts;
       if (observer.on_impact) observer.on_impact(ev);
       const double vplus = e * vc;
-      if (vplus <= vtol) {
-        if (ac > 0.0) enter_sticking();
-      } else if (e < 1.0 && ac > 0.0 && 2.0 * vplus / ac < zeno_flight) {
+      // Zeno: CVODE cannot resolve a bounce lower than its position accuracy
+      // (the root function would never move away from zero after the restart),
+      // nor one shorter than zeno_flight.
+      if (e > 0.0 && e < 1.0 && ac > 0.0 &&
+          (vplus * vplus / (2.0 * ac) <= xtol || 2.0 * vplus / ac < zeno_flight)) {
+        const double accumulation = 2.0 * vplus / (ac * (1.0 - e));
         ++sum.zeno_events;
-        if (sum.first_zeno_time < 0.0) sum.first_zeno_time = t + 2.0 * vplus / (ac * (1.0 - e));
+        if (sum.first_zeno_time < 0.0) sum.first_zeno_time = t + accumulation;
+        enter_sticking();
+        stick_start = t + accumulation;  // held from the accumulation time on
+      } else if (vplus <= vtol && ac > 0.0) {
         enter_sticking();
       }
     } else if (ac > 0.0) {
@@ -220,8 +229,8 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
   };
 
   try {
-    if (z[c] >= d - xtol &&
-        (z[n + c] > vtol || (std::abs(z[n + c]) <= vtol && cm.FreeContactAcceleration(z.head(n)) > 0.0))) {
+    if (z[c] >= d - xtol && (z[n + c] > vtol_floor || (std::abs(z[n + c]) <= vtol_floor &&
+                                                       cm.FreeContactAcceleration(z.head(n)) > 0.0))) {
       handle_contact();
     }
     while (t < opt.t_end) {
@@ -238,6 +247,18 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
       double tout = opt.t_end;
       if (sampler.active()) tout = std::min(opt.t_end, (std::floor(t / opt.sample_dt + 1e-9) + 1.0) * opt.sample_dt);
       const int flag = solver.Step(tout, &t);
+      if (!sticking && z[c] > d + xtol) {
+        // Beyond the obstacle with no root reported (two crossings in one
+        // step): locate the rising crossing on the dense output of the step.
+        const double lo = solver.LastStepStart();
+        auto gap = [&](double ts) { return solver.Interpolate(ts)[c] - d; };
+        if (!(gap(lo) < 0.0)) throw std::runtime_error("penetration of the obstacle not bracketed at t = " + std::to_string(t));
+        t = PolishRoot(gap, lo, t);
+        z = solver.Interpolate(t);
+        sampler.Emit(t, [&](double ts) { return solver.Interpolate(ts); });
+        handle_contact();
+        continue;
+      }
       sampler.Emit(t, [&](double ts) {
         return std::abs(ts - t) <= 1e-12 * std::max(1.0, t) ? Eigen::VectorXd(z) : solver.Interpolate(ts);
       });
@@ -251,17 +272,7 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
       if (solver.RootInfo(0) != 0) {
         handle_contact();
       } else if (solver.RootInfo(1) != 0 && z[c] >= d - xtol) {
-        // A maximum of x_c in the contact band, or beyond d: two crossings
-        // hidden in one step. Locate the rising one on the dense output.
-        if (z[c] > d + xtol) {
-          const double lo = solver.LastStepStart();
-          auto gap = [&](double ts) { return solver.Interpolate(ts)[c] - d; };
-          if (gap(lo) < 0.0) {
-            t = PolishRoot(gap, lo, t);
-            z = solver.Interpolate(t);
-          }
-        }
-        handle_contact();
+        handle_contact();  // a maximum of x_c in the contact band: a graze (or held)
       }
     }
   } catch (const std::exception& ex) {

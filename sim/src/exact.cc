@@ -48,13 +48,16 @@ SimulationSummary SimulateExact(const ContactModel& cm, const Eigen::VectorXd& x
         observer.on_impact(ev);
       }
       const double vplus = e * vc;
-      if (vplus <= vtol) {
-        if (ac > 0.0) enter_sticking();
-      } else if (e < 1.0 && ac > 0.0 && 2.0 * vplus / ac < zeno_flight) {
-        // Zeno: the remaining flights 2 e^k v+ / a_c sum to 2 v+ / (a_c (1 - e)).
+      if (e > 0.0 && e < 1.0 && ac > 0.0 && (vplus <= vtol || 2.0 * vplus / ac < zeno_flight)) {
+        // Zeno: the next bounce is below the contact band or shorter than
+        // zeno_flight; the remaining flights 2 e^k v+ / a_c sum to 2 v+ / (a_c (1 - e)).
+        const double accumulation = 2.0 * vplus / (ac * (1.0 - e));
         ++sum.zeno_events;
-        if (sum.first_zeno_time < 0.0) sum.first_zeno_time = t + 2.0 * vplus / (ac * (1.0 - e));
+        if (sum.first_zeno_time < 0.0) sum.first_zeno_time = t + accumulation;
         enter_sticking();
+        sum.sticking_time -= accumulation;  // held from the accumulation time on
+      } else if (vplus <= vtol && ac > 0.0) {
+        enter_sticking();  // plastic (e = 0) or a vanishing rebound: held
       }
     } else if (ac > 0.0) {
       enter_sticking();

@@ -7,7 +7,12 @@
 namespace nsmodal {
 namespace {
 
-// Smallest positive root of c0 + c1 s + c2 s^2 + c3 s^3 + c4 s^4 (c0 < 0, c4 > 0).
+// A step no longer than the smallest positive real root of
+// c0 + c1 s + c2 s^2 + c3 s^3 + c4 s^4 (c0 < 0, c4 > 0): the smallest positive
+// real part among the roots within 45 degrees of the real axis. A double root
+// (the bound touching zero at a tangency) comes out of the eigenvalue solver
+// as a complex pair ~sqrt(eps) off the axis; it must not be skipped, and
+// taking a real part of a complex root is only ever shorter, so safe.
 double FirstPositiveRootQuartic(const double c[5]) {
   Eigen::Matrix4d comp = Eigen::Matrix4d::Zero();
   for (int i = 0; i < 3; ++i) comp(i + 1, i) = 1.0;
@@ -16,7 +21,7 @@ double FirstPositiveRootQuartic(const double c[5]) {
   double best = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 4; ++i) {
     const double re = roots[i].real();
-    if (re > 0.0 && std::abs(roots[i].imag()) <= 1e-9 * std::abs(roots[i])) best = std::min(best, re);
+    if (re > 0.0 && std::abs(roots[i].imag()) <= re) best = std::min(best, re);
   }
   return best;
 }

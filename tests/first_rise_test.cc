@@ -1,0 +1,53 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "nsmodal/first_rise.h"
+
+namespace nsmodal {
+namespace {
+
+SinusoidSum Wave(double offset, std::vector<double> a, std::vector<double> b, std::vector<double> w) {
+  return SinusoidSum(offset, Eigen::Map<Eigen::VectorXd>(a.data(), a.size()),
+                     Eigen::Map<Eigen::VectorXd>(b.data(), b.size()), Eigen::Map<Eigen::VectorXd>(w.data(), w.size()));
+}
+
+TEST(FirstRise, FindsATransversalCrossingToMachinePrecision) {
+  const SinusoidSum g = Wave(-0.5, {-1.0}, {0.0}, {1.0});  // -cos t - 0.5, root at 2 pi / 3
+  const FirstRiseResult r = FirstRise(g, 10.0, 1e-14);
+  ASSERT_TRUE(r.found);
+  EXPECT_NEAR(r.s, 2.0 * M_PI / 3.0, 1e-14);
+}
+
+TEST(FirstRise, CannotStepOverAShortExcursion) {
+  // A slow wave that peaks 1e-9 above zero, plus a fast one that is large
+  // elsewhere: the excursion lasts ~1e-4 and is found.
+  const double peak = 1e-9;
+  // -cos t - 1 + peak: -2 at t = 0, an excursion of height 1e-9 and width
+  // ~9e-5 around t = pi; the root is at pi - acos(1 - peak).
+  const SinusoidSum g = Wave(-1.0 + peak, {-1.0}, {0.0}, {1.0});
+  const FirstRiseResult r = FirstRise(g, 7.0, 1e-15);
+  ASSERT_TRUE(r.found);
+  EXPECT_NEAR(r.s, M_PI - std::acos(1.0 - peak), 1e-9);
+}
+
+TEST(FirstRise, StartingInsideTheBandDoesNotReportTheSameContact) {
+  // g(0) = 0 with g'(0) < 0 (just after an impact): the next root is the one at 2 pi.
+  const SinusoidSum g = Wave(-1.0, {1.0}, {-0.1}, {1.0});  // cos t - 0.1 sin t - 1
+  const FirstRiseResult r = FirstRise(g, 10.0, 1e-14);
+  ASSERT_TRUE(r.found);
+  EXPECT_GT(r.s, 6.0);
+}
+
+TEST(FirstRise, ATangencyFromRestLeavesTheBand) {
+  // g = cos t - 1 touches 0 at t = 0 and 2 pi with zero slope (a release or a
+  // graze): the search must neither stall at 0 nor miss the touch at 2 pi.
+  const SinusoidSum g = Wave(-1.0, {1.0}, {0.0}, {1.0});
+  const FirstRiseResult r = FirstRise(g, 10.0, 1e-14);
+  ASSERT_TRUE(r.found);
+  EXPECT_FALSE(r.stalled);
+  EXPECT_NEAR(r.s, 2.0 * M_PI, 1e-6);  // a double root: located to sqrt(tol)
+}
+
+}  // namespace
+}  // namespace nsmodal
