@@ -15,5 +15,11 @@ echo
 echo "== transitions of the 1-ipp family"
 cat out/paper/one-impact/transitions.csv
 echo
+echo "== simulate a non-periodic start with the three integrators"
+for integrator in exact cvode moreau-jean; do
+  build/cli/nsmodal simulate configs/paper-simulate.toml --integrator "$integrator" --t-end 50 --step 1e-4 \
+    --out "out/paper/simulate-$integrator"
+done
+echo
 echo "== 3 impacts per period: exploratory search (paper section 2.3)"
 build/cli/nsmodal explore "$scene" --impacts 3 --period 1:40:0.5 --grid 24 | head -6

@@ -68,5 +68,32 @@ if "$bin" orbit "$paper" --impacts 2 --period 6 --json >"$tmp/j.json" 2>/dev/nul
 else
   bad "orbit --json failed"
 fi
+# simulate: outputs, flags over the [simulate] table, bad input.
+sim=$src/configs/paper-simulate.toml
+if "$bin" simulate "$sim" --out "$tmp/sim" --t-end 20 >/dev/null 2>&1; then
+  head -1 "$tmp/sim/trajectory.csv" | grep -qx 't,x1,x2,v1,v2,energy' && ok || bad "trajectory.csv header"
+  head -1 "$tmp/sim/impacts.csv" | grep -qx 't,x1_before,x2_before,v1_before,v2_before,x1_after,x2_after,v1_after,v2_after' && ok || bad "impacts.csv header"
+  python3 -c "
+import json; d=json.load(open('$tmp/sim/summary.json'))
+for k in ('final_time','final_state','impacts','sticking_time','energy_drift','wall_time_s','steps'): assert k in d, k
+assert d['final_time'] == 20 and len(d['final_state']) == 4 and d['impacts'] > 0 and d['energy_drift'] < 1e-12
+" && ok || bad "summary.json"
+  [ "$(wc -l <"$tmp/sim/trajectory.csv")" -eq 402 ] && ok || bad "trajectory rows: $(wc -l <"$tmp/sim/trajectory.csv")"
+else
+  bad "simulate failed"
+fi
+for integ in cvode moreau-jean; do
+  "$bin" simulate "$sim" --out "$tmp/sim-$integ" --t-end 20 --integrator $integ --step 1e-4 >/dev/null 2>&1 && ok || bad "simulate --integrator $integ"
+done
+expect_error "simulate.initial_position" "$bin" simulate "$sim" --out "$tmp/s" --x0 0 1.5
+expect_error "simulate.initial_position" "$bin" simulate "$sim" --out "$tmp/s" --x0 0 0 0
+expect_error "\-\-integrator" "$bin" simulate "$sim" --out "$tmp/s" --integrator euler
+expect_error "simulate.rtol" "$bin" simulate "$sim" --out "$tmp/s" --rtol -1
+expect_error "simulate.theta" "$bin" simulate "$sim" --out "$tmp/s" --theta 2
+expect_error "simulate.t_end" "$bin" simulate "$sim" --out "$tmp/s" --t-end 0
+expect_error "simulate.initial_position" "$bin" simulate "$paper" --out "$tmp/s"
+expect_error "simulate.t_end" "$bin" simulate "$(scene badsim '[system]\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\ninitial_position=[0,0]\nt_end=[1]\n')" --out "$tmp/s"
+expect_error "simulate.foo" "$bin" simulate "$(scene badkey '[system]\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\nfoo=1\n')" --out "$tmp/s"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

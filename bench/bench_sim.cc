@@ -1,0 +1,109 @@
+// Benchmarks of the integrators against the targets of issue 3, on one core:
+//   exact: state within 1e-11 of the closed form after 10,000 periods of a
+//          1-impact orbit; >= 1,000,000 impacts per second;
+//   cvode: state error after 100 periods below 1e-7 at rtol = 1e-10, and its
+//          cost per impact next to exact's;
+//   moreau-jean: first-order convergence of the impact times.
+// The orbits are the stable 1-ipp orbits of the paper's system at T = 5 and
+// 7.5 (on an unstable one round-off grows geometrically: DESIGN.md).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+
+#include "nsmodal/flow.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/simulate.h"
+
+namespace nsmodal {
+namespace {
+
+struct OrbitCase {
+  Model model = PaperModel();
+  ModalBasis basis = MakeModalBasis(PaperModel());
+  Orbit orbit;
+  Eigen::VectorXd mid;  // closed form at T/2 (= at kT + T/2)
+  explicit OrbitCase(double period) : orbit(OneImpactOrbit(basis, period)) {
+    Eigen::VectorXd y = orbit.y0;
+    Flow(basis, period / 2, y);
+    mid = PhysicalOf(basis, y);
+  }
+  double Error(const SimulationSummary& s) const { return (s.final_state - mid).norm() / mid.norm(); }
+};
+
+void BM_ExactTenThousandPeriods(benchmark::State& state) {
+  const OrbitCase c(state.range(0) / 10.0);
+  SimulateOptions opt;
+  opt.t_end = 10000 * c.orbit.period + c.orbit.period / 2;
+  opt.sample_dt = 0.0;
+  SimulationSummary s;
+  for (auto _ : state) s = Simulate(c.model, c.orbit.z0.head(2), c.orbit.z0.tail(2), opt);
+  state.counters["state_error"] = c.Error(s);
+  state.counters["impacts_per_s"] = benchmark::Counter(static_cast<double>(s.impacts), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["steps_per_impact"] = static_cast<double>(s.steps) / s.impacts;
+}
+BENCHMARK(BM_ExactTenThousandPeriods)->Arg(50)->Arg(75)->Unit(benchmark::kMillisecond);
+
+void BM_CvodeHundredPeriods(benchmark::State& state) {
+  const OrbitCase c(7.5);
+  SimulateOptions opt;
+  opt.integrator = Integrator::kCvode;
+  opt.cvode_method = state.range(0) == 0 ? "adams" : "bdf";
+  opt.rtol = std::pow(10.0, -static_cast<double>(state.range(1)));
+  opt.atol = 1e-2 * opt.rtol;
+  opt.t_end = 100 * c.orbit.period + c.orbit.period / 2;
+  opt.sample_dt = 0.0;
+  SimulationSummary s;
+  for (auto _ : state) s = Simulate(c.model, c.orbit.z0.head(2), c.orbit.z0.tail(2), opt);
+  state.SetLabel(opt.cvode_method + " rtol=1e-" + std::to_string(state.range(1)));
+  state.counters["state_error"] = c.Error(s);
+  state.counters["us_per_impact"] = 1e6 * s.wall_time_s / s.impacts;
+  state.counters["steps"] = static_cast<double>(s.steps);
+}
+BENCHMARK(BM_CvodeHundredPeriods)
+    ->ArgsProduct({{0, 1}, {8, 10, 12}})
+    ->Unit(benchmark::kMillisecond);
+
+void BM_ExactHundredPeriodsCost(benchmark::State& state) {
+  const OrbitCase c(7.5);
+  SimulateOptions opt;
+  opt.t_end = 100 * c.orbit.period + c.orbit.period / 2;
+  opt.sample_dt = 0.0;
+  SimulationSummary s;
+  for (auto _ : state) s = Simulate(c.model, c.orbit.z0.head(2), c.orbit.z0.tail(2), opt);
+  state.counters["state_error"] = c.Error(s);
+  state.counters["us_per_impact"] = 1e6 * s.wall_time_s / s.impacts;
+}
+BENCHMARK(BM_ExactHundredPeriodsCost)->Unit(benchmark::kMillisecond);
+
+void BM_MoreauJeanImpactTimeConvergence(benchmark::State& state) {
+  // Error of the first impact time of configs/paper-simulate.toml's start.
+  const Model m = PaperModel();
+  const Eigen::Vector2d x0(0.3, 0.2), v0(1.2, 1.5);
+  auto first = [&](Integrator integrator, double h) {
+    SimulateOptions opt;
+    opt.integrator = integrator;
+    opt.step = h;
+    opt.t_end = 2.0;
+    opt.sample_dt = 0.0;
+    double t1 = -1.0;
+    SimulationObserver obs;
+    obs.on_impact = [&](const ContactEvent& ev) {
+      if (t1 < 0.0) t1 = ev.t;
+    };
+    Simulate(m, x0, v0, opt, obs);
+    return t1;
+  };
+  const double ref = first(Integrator::kExact, 1e-3);
+  const double h = std::pow(10.0, -static_cast<double>(state.range(0)));
+  double t1 = 0.0;
+  for (auto _ : state) t1 = first(Integrator::kMoreauJean, h);
+  state.SetLabel("h=1e-" + std::to_string(state.range(0)));
+  state.counters["impact_time_error"] = std::abs(t1 - ref);
+  state.counters["error_over_h"] = std::abs(t1 - ref) / h;
+}
+BENCHMARK(BM_MoreauJeanImpactTimeConvergence)->DenseRange(2, 6)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace nsmodal
+
+BENCHMARK_MAIN();
