@@ -41,6 +41,11 @@ Eigen::MatrixXd ImpactMatrix(const ModalBasis& b, double e) {
 
 SinusoidSum::SinusoidSum(double c, Eigen::VectorXd a_in, Eigen::VectorXd b_in, Eigen::VectorXd omega_in)
     : offset(c), a(std::move(a_in)), b(std::move(b_in)), omega(std::move(omega_in)) {
+  UpdateBounds();
+}
+
+void SinusoidSum::UpdateBounds() {
+  for (double& v : bound) v = 0.0;
   for (int i = 0; i < omega.size(); ++i) {
     const double amp = std::hypot(a[i], b[i]);
     double wk = 1.0;
@@ -58,15 +63,7 @@ ContactSignal::ContactSignal(const ModalBasis& basis, const Eigen::Ref<const Eig
 void ContactSignal::Reset(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y) {
   a = basis.r_over_omega.cwiseProduct(y.head(basis.n));
   b = basis.r_over_omega.cwiseProduct(y.tail(basis.n));
-  for (double& v : bound) v = 0.0;
-  for (int i = 0; i < omega.size(); ++i) {
-    const double amp = std::hypot(a[i], b[i]);
-    double wk = 1.0;
-    for (int k = 0; k < 5; ++k) {
-      bound[k] += wk * amp;
-      wk *= omega[i];
-    }
-  }
+  UpdateBounds();
 }
 
 double SinusoidSum::Position(double t) const {

@@ -100,9 +100,23 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
     const toml::table* sim = node->as_table();
     if (sim == nullptr) throw InputError("simulate", "must be a table");
     SimulateSection& out = scene.simulate;
+    // Numeric keys, each with the member it fills.
+    const std::pair<const char*, std::optional<double> SimulateSection::*> numbers[] = {
+        {"t_end", &SimulateSection::t_end}, {"rtol", &SimulateSection::rtol},
+        {"atol", &SimulateSection::atol},   {"step", &SimulateSection::step},
+        {"theta", &SimulateSection::theta}, {"root_tol", &SimulateSection::root_tol},
+        {"sample_dt", &SimulateSection::sample_dt}};
     for (auto&& [key, value] : *sim) {
       const std::string k(key.str());
       const std::string field = "simulate." + k;
+      bool known = false;
+      for (const auto& [name, member] : numbers) {
+        if (k == name) {
+          out.*member = ReadNumber(value, field);
+          known = true;
+        }
+      }
+      if (known) continue;
       if (k == "initial_position") {
         out.initial_position = ReadVector(value, field);
       } else if (k == "initial_velocity") {
@@ -111,20 +125,6 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
         const auto* str = value.as_string();
         if (str == nullptr) throw InputError(field, "must be a string");
         (k == "integrator" ? out.integrator : out.method) = str->get();
-      } else if (k == "t_end") {
-        out.t_end = ReadNumber(value, field);
-      } else if (k == "rtol") {
-        out.rtol = ReadNumber(value, field);
-      } else if (k == "atol") {
-        out.atol = ReadNumber(value, field);
-      } else if (k == "step") {
-        out.step = ReadNumber(value, field);
-      } else if (k == "theta") {
-        out.theta = ReadNumber(value, field);
-      } else if (k == "root_tol") {
-        out.root_tol = ReadNumber(value, field);
-      } else if (k == "sample_dt") {
-        out.sample_dt = ReadNumber(value, field);
       } else {
         throw InputError(field, "is not a known key");
       }

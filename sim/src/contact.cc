@@ -14,6 +14,17 @@ void ContactModel::ApplyImpact(double e, Eigen::Ref<Eigen::VectorXd> v) const {
   v -= ((1.0 + e) * v[model.contact] / w_cc) * minv_c;
 }
 
+ContactDecision DecideContact(double vc, double ac, double e, const ContactResolution& r) {
+  if (vc <= r.vtol) return {ac > 0.0 ? ContactOutcome::kHold : ContactOutcome::kGraze};
+  const double vplus = e * vc;
+  if (e > 0.0 && e < 1.0 && ac > 0.0 &&
+      (vplus <= r.vtol || vplus * vplus / (2.0 * ac) <= r.height || 2.0 * vplus / ac < r.zeno_flight)) {
+    return {ContactOutcome::kImpactZeno, 2.0 * vplus / (ac * (1.0 - e))};
+  }
+  if (vplus <= r.vtol && ac > 0.0) return {ContactOutcome::kImpactHold};
+  return {ContactOutcome::kImpact};
+}
+
 StickingFlow::StickingFlow(const ContactModel& cm) : cm_(&cm) {
   const Model& m = cm.model;
   const int n = m.dofs();

@@ -193,37 +193,28 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
     stick_start = t;
     ++sum.sticking_phases;
   };
-  // The same contact logic as the exact integrator (simulate.h).
+  // contact.h's logic with CVODE's resolution: x_c is known to ~xtol, so a
+  // crossing slower than sqrt(2 |a_c| xtol) cannot be told from a graze, and a
+  // rebound lower than xtol would never move the root function away from zero
+  // after the restart.
   auto handle_contact = [&] {
-    const double vc = z[n + c];
     const double ac = cm.FreeContactAcceleration(z.head(n));
-    // With x_c known to ~xtol, a crossing slower than sqrt(2 |a_c| xtol) cannot
-    // be told from a graze (a trajectory peaking within xtol of d).
     const double vtol = std::max(vtol_floor, std::sqrt(2.0 * std::abs(ac) * xtol));
-    if (vc > vtol) {
+    const ContactDecision dec = DecideContact(z[n + c], ac, e, {vtol, xtol, zeno_flight});
+    if (dec.outcome == ContactOutcome::kGraze) {
+      ++sum.grazes;
+    } else if (dec.outcome != ContactOutcome::kHold) {
       ContactEvent ev{t, z, {}};
       cm.ApplyImpact(e, z.tail(n));
       ev.after = z;
       ++sum.impacts;
       if (observer.on_impact) observer.on_impact(ev);
-      const double vplus = e * vc;
-      // Zeno: CVODE cannot resolve a bounce lower than its position accuracy
-      // (the root function would never move away from zero after the restart),
-      // nor one shorter than zeno_flight.
-      if (e > 0.0 && e < 1.0 && ac > 0.0 &&
-          (vplus * vplus / (2.0 * ac) <= xtol || 2.0 * vplus / ac < zeno_flight)) {
-        const double accumulation = 2.0 * vplus / (ac * (1.0 - e));
-        ++sum.zeno_events;
-        if (sum.first_zeno_time < 0.0) sum.first_zeno_time = t + accumulation;
-        enter_sticking();
-        stick_start = t + accumulation;  // held from the accumulation time on
-      } else if (vplus <= vtol && ac > 0.0) {
-        enter_sticking();
-      }
-    } else if (ac > 0.0) {
-      enter_sticking();
-    } else {
-      ++sum.grazes;
+    }
+    if (dec.outcome != ContactOutcome::kGraze && dec.outcome != ContactOutcome::kImpact) enter_sticking();
+    if (dec.outcome == ContactOutcome::kImpactZeno) {
+      ++sum.zeno_events;
+      if (sum.first_zeno_time < 0.0) sum.first_zeno_time = t + dec.accumulation;
+      stick_start = t + dec.accumulation;  // held from the accumulation time on
     }
     restart();
   };

@@ -34,11 +34,15 @@ SimulationSummary SimulateExact(const ContactModel& cm, const Eigen::VectorXd& x
     sticking = true;
     ++sum.sticking_phases;
   };
-  // At a contact (x_c within the band): impact, graze or sticking. ac is the
-  // free acceleration of x_c there (the signal's second derivative).
-  auto handle_contact = [&](double vtol, double ac) {
-    const double vc = ContactVelocity(b, y);
-    if (vc > vtol) {
+  // At a contact (x_c within the band of half-width tol): contact.h's logic.
+  // ac is the free acceleration of x_c there (the signal's second derivative).
+  auto handle_contact = [&](double tol, double vtol, double ac) {
+    const ContactDecision dec = DecideContact(ContactVelocity(b, y), ac, e, {vtol, tol, zeno_flight});
+    if (dec.outcome == ContactOutcome::kGraze) {
+      ++sum.grazes;
+      return;
+    }
+    if (dec.outcome != ContactOutcome::kHold) {
       ContactEvent ev;
       if (observer.on_impact) ev = ContactEvent{t, PhysicalOf(b, y), {}};
       Impact(b, e, y);
@@ -47,23 +51,13 @@ SimulationSummary SimulateExact(const ContactModel& cm, const Eigen::VectorXd& x
         ev.after = PhysicalOf(b, y);
         observer.on_impact(ev);
       }
-      const double vplus = e * vc;
-      if (e > 0.0 && e < 1.0 && ac > 0.0 && (vplus <= vtol || 2.0 * vplus / ac < zeno_flight)) {
-        // Zeno: the next bounce is below the contact band or shorter than
-        // zeno_flight; the remaining flights 2 e^k v+ / a_c sum to 2 v+ / (a_c (1 - e)).
-        const double accumulation = 2.0 * vplus / (ac * (1.0 - e));
-        ++sum.zeno_events;
-        if (sum.first_zeno_time < 0.0) sum.first_zeno_time = t + accumulation;
-        enter_sticking();
-        sum.sticking_time -= accumulation;  // held from the accumulation time on
-      } else if (vplus <= vtol && ac > 0.0) {
-        enter_sticking();  // plastic (e = 0) or a vanishing rebound: held
-      }
-    } else if (ac > 0.0) {
-      enter_sticking();
-    } else {
-      ++sum.grazes;
     }
+    if (dec.outcome == ContactOutcome::kImpactZeno) {
+      ++sum.zeno_events;
+      if (sum.first_zeno_time < 0.0) sum.first_zeno_time = t + dec.accumulation;
+      sum.sticking_time -= dec.accumulation;  // held from the accumulation time on
+    }
+    if (dec.outcome != ContactOutcome::kImpact) enter_sticking();
   };
 
   while (t < opt.t_end) {
@@ -83,7 +77,7 @@ SimulationSummary SimulateExact(const ContactModel& cm, const Eigen::VectorXd& x
       const double vtol = std::sqrt(2.0 * g.bound[2] * tol);
       if (t == 0.0 && g.Position(0.0) >= -tol && (g.Velocity(0.0) > vtol || (std::abs(g.Velocity(0.0)) <= vtol &&
                                                                               g.Acceleration(0.0) > 0.0))) {
-        handle_contact(vtol, g.Acceleration(0.0));  // the initial state is a contact
+        handle_contact(tol, vtol, g.Acceleration(0.0));  // the initial state is a contact
         if (sticking) continue;
         g.Reset(b, y);
       }
@@ -105,7 +99,7 @@ SimulationSummary SimulateExact(const ContactModel& cm, const Eigen::VectorXd& x
         sum.message = "impact search stalled at a degenerate tangency at t = " + std::to_string(t);
         break;
       }
-      if (r.found) handle_contact(vtol, g.Acceleration(r.s));
+      if (r.found) handle_contact(tol, vtol, g.Acceleration(r.s));
     } else {
       const SinusoidSum ac = stick.ContactAcceleration(yr);
       SinusoidSum g(-ac.offset, -ac.a, -ac.b, ac.omega);  // release when -a_c rises to 0

@@ -42,6 +42,8 @@ struct SinusoidSum {
   std::pair<double, double> VelocityAcceleration(double t) const;
   // The value and the first three derivatives at t.
   void Derivatives(double t, double out[4]) const;
+  // Recomputes `bound` after a, b or omega changed.
+  void UpdateBounds();
 };
 
 // x_c(t) on one flight segment from state y at t = 0.

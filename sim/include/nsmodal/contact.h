@@ -28,6 +28,27 @@ struct ContactModel {
   }
 };
 
+// The contact logic of the event-driven integrators (simulate.h), given what
+// each integrator can resolve.
+struct ContactResolution {
+  double vtol;         // a contact slower than this is a graze or a hold, not an impact
+  double height;       // a rebound lower than this (v+^2 / 2 a_c) is below resolution
+  double zeno_flight;  // a rebound shorter than this (2 v+ / a_c) is truncated
+};
+enum class ContactOutcome {
+  kGraze,        // no impulse: the free acceleration pulls away
+  kHold,         // arrives at rest, pushed in: sticking, no impact
+  kImpact,       // an impact, then free flight
+  kImpactHold,   // an impact with no rebound (e = 0 or v+ <= vtol), pushed in: sticking
+  kImpactZeno,   // an impact starting an accumulation: summed, then sticking
+};
+struct ContactDecision {
+  ContactOutcome outcome;
+  double accumulation = 0.0;  // kImpactZeno: time to the accumulation point, 2 v+ / (a_c (1 - e))
+};
+// vc: contact velocity before the contact (> 0 moving in); ac: free contact acceleration.
+ContactDecision DecideContact(double vc, double ac, double e, const ContactResolution& r);
+
 // The sticking phase in closed form. With x = Z xi + d e_c (Z: the other
 // dofs), M_r = Z'MZ, K_r = Z'KZ, the held system is M_r xi'' + K_r xi + d Z'K e_c = 0:
 // oscillations of its own modes about xi* = -d K_r^-1 Z'K e_c. The contact
