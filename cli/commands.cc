@@ -243,8 +243,7 @@ int RunSimulate(const SimulateArgs& a) {
   if (bar) bar(1000, 1000);
   nlohmann::json j;
   j["integrator"] = ToString(opt.integrator);
-  j["status"] = s.status == SimulationStatus::kFinished ? "finished"
-                : s.status == SimulationStatus::kStepLimit ? "step_limit" : "solver_error";
+  j["status"] = ToString(s.status);
   j["message"] = s.message;
   j["final_time"] = s.final_time;
   j["final_state"] = std::vector<double>(s.final_state.data(), s.final_state.data() + s.final_state.size());

@@ -117,8 +117,11 @@ class Cvode {
     ud_.sticking = sticking;
     Check(CVodeReInit(mem_, t, y_), "CVodeReInit");
   }
-  // Advances towards tout; returns CV_SUCCESS, CV_ROOT_RETURN or throws.
+  // Advances to tout, never past it (a stop time: roots and samples stay
+  // inside the last step, where the dense output is valid); returns
+  // CV_SUCCESS, CV_TSTOP_RETURN, CV_ROOT_RETURN or throws.
   int Step(double tout, double* t) {
+    Check(CVodeSetStopTime(mem_, tout), "CVodeSetStopTime");
     const int flag = CVode(mem_, tout, y_, t, CV_NORMAL);
     Check(flag, "CVode");
     return flag;
@@ -225,6 +228,10 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
       handle_contact();
     }
     while (t < opt.t_end) {
+      if (observer.stop_requested && observer.stop_requested()) {
+        sum.status = SimulationStatus::kStopped;
+        break;
+      }
       if (base_steps + solver.Steps() >= opt.max_steps) {
         sum.status = SimulationStatus::kStepLimit;
         sum.message = "step limit reached at t = " + std::to_string(t);
@@ -234,9 +241,11 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
         observer.on_progress(t);
         next_progress = sum.impacts + 10000;
       }
-      // Return at the next sample time (CVODE interpolates there) or at a root.
+      // Samples within round-off of t take the current state; then return at
+      // the next sample time (CVODE interpolates there) or at a root.
+      sampler.Emit(t + 1e-12 * std::max(1.0, t), [&](double) { return Eigen::VectorXd(z); });
       double tout = opt.t_end;
-      if (sampler.active()) tout = std::min(opt.t_end, (std::floor(t / opt.sample_dt + 1e-9) + 1.0) * opt.sample_dt);
+      if (sampler.active()) tout = std::min(opt.t_end, sampler.NextTime());
       const int flag = solver.Step(tout, &t);
       if (!sticking && z[c] > d + xtol) {
         // Beyond the obstacle with no root reported (two crossings in one

@@ -61,6 +61,10 @@ SimulationSummary SimulateExact(const ContactModel& cm, const Eigen::VectorXd& x
   };
 
   while (t < opt.t_end) {
+    if (observer.stop_requested && observer.stop_requested()) {
+      sum.status = SimulationStatus::kStopped;
+      break;
+    }
     if (sum.steps >= opt.max_steps) {
       sum.status = SimulationStatus::kStepLimit;
       sum.message = "step limit reached at t = " + std::to_string(t);

@@ -13,6 +13,7 @@ class Sampler {
   Sampler(const SimulateOptions& options, const SimulationObserver& observer)
       : dt_(options.sample_dt), t_end_(options.t_end), observer_(observer) {}
   bool active() const { return dt_ > 0.0 && static_cast<bool>(observer_.on_sample); }
+  double NextTime() const { return next_ * dt_; }
   // state_at(t) gives the physical state at a sample time t in (from, to].
   template <typename F>
   void Emit(double to, F&& state_at) {

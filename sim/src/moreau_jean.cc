@@ -49,6 +49,10 @@ SimulationSummary SimulateMoreauJean(const ContactModel& cm, const Eigen::Vector
       break;
     }
     if (observer.on_progress && k % 1000000 == 0) observer.on_progress(t);
+    if (k % 1024 == 0 && observer.stop_requested && observer.stop_requested()) {
+      sum.status = SimulationStatus::kStopped;
+      break;
+    }
     const Eigen::VectorXd x_prev = x, v_prev = v;
     Eigen::VectorXd v_free = b_v * v + b_x * x;
     double p = 0.0;

@@ -17,6 +17,16 @@ std::string ToString(Integrator integrator) {
   return "?";
 }
 
+std::string ToString(SimulationStatus status) {
+  switch (status) {
+    case SimulationStatus::kFinished: return "finished";
+    case SimulationStatus::kStepLimit: return "step_limit";
+    case SimulationStatus::kSolverError: return "solver_error";
+    case SimulationStatus::kStopped: return "stopped";
+  }
+  return "?";
+}
+
 Integrator ParseIntegrator(const std::string& name, const std::string& field) {
   if (name == "exact") return Integrator::kExact;
   if (name == "cvode") return Integrator::kCvode;

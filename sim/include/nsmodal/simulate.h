@@ -67,9 +67,14 @@ struct SimulationObserver {
   std::function<void(double t, const Eigen::VectorXd& z)> on_sample;  // physical (x, v)
   std::function<void(const ContactEvent&)> on_impact;
   std::function<void(double t)> on_progress;
+  // Checked after every event (and every 1024 steps of Moreau-Jean): true ends
+  // the run early with status kStopped.
+  std::function<bool()> stop_requested;
 };
 
-enum class SimulationStatus { kFinished, kStepLimit, kSolverError };
+enum class SimulationStatus { kFinished, kStepLimit, kSolverError, kStopped };
+
+std::string ToString(SimulationStatus status);  // finished, step_limit, solver_error, stopped
 
 struct SimulationSummary {
   SimulationStatus status = SimulationStatus::kFinished;

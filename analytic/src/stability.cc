@@ -1,0 +1,57 @@
+#include "nsmodal/stability.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "nsmodal/flow.h"
+
+namespace nsmodal {
+namespace {
+
+// f(y) = G y: u_i' = w_i s_i, s_i' = -w_i u_i.
+Eigen::VectorXd Field(const ModalBasis& b, const Eigen::VectorXd& y) {
+  Eigen::VectorXd f(2 * b.n);
+  f.head(b.n) = b.omega.cwiseProduct(y.tail(b.n));
+  f.tail(b.n) = -b.omega.cwiseProduct(y.head(b.n));
+  return f;
+}
+
+}  // namespace
+
+Eigen::MatrixXd SaltationMatrix(const ModalBasis& b, const Eigen::VectorXd& y_minus) {
+  const Eigen::MatrixXd reset = ImpactMatrix(b, 1.0);
+  const Eigen::VectorXd y_plus = reset * y_minus;
+  Eigen::VectorXd normal = Eigen::VectorXd::Zero(2 * b.n);
+  normal.head(b.n) = b.r_over_omega;  // gradient of x_c
+  const Eigen::VectorXd f_minus = Field(b, y_minus);
+  const double rate = normal.dot(f_minus);  // v_c just before the impact
+  return reset + (Field(b, y_plus) - reset * f_minus) * normal.transpose() / rate;
+}
+
+Stability OrbitStability(const ModalBasis& b, const Orbit& orbit, double tol) {
+  Stability out;
+  const int dim = 2 * b.n;
+  Eigen::MatrixXd m = Eigen::MatrixXd::Identity(dim, dim);
+  Eigen::VectorXd y = orbit.y0;
+  double prev = 0.0;
+  std::vector<double> ends = orbit.times;
+  ends.push_back(orbit.period);
+  for (double t : ends) {
+    Flow(b, t - prev, y);
+    m = FlowMatrix(b, t - prev) * m;
+    m = SaltationMatrix(b, y) * m;
+    Impact(b, 1.0, y);
+    prev = t;
+  }
+  out.monodromy = m;
+  Eigen::EigenSolver<Eigen::MatrixXd> es(m);
+  std::vector<std::complex<double>> ev(es.eigenvalues().data(), es.eigenvalues().data() + dim);
+  std::sort(ev.begin(), ev.end(), [](auto x, auto y) { return std::abs(x) > std::abs(y); });
+  out.multipliers = Eigen::Map<Eigen::VectorXcd>(ev.data(), dim);
+  out.max_modulus = std::abs(ev.front());
+  out.growth_per_period = std::log(out.max_modulus);
+  out.stable = out.max_modulus <= 1.0 + tol;
+  return out;
+}
+
+}  // namespace nsmodal

@@ -1,0 +1,74 @@
+#pragma once
+// Validation of analytic periodic orbits by simulation over long horizons.
+//
+// Each orbit (its post-impact state z0 from the kernel of A_m) is simulated
+// from the middle of its first flight, z_mid = S(tau_1 / 2) z0, so that the
+// comparison points k T never coincide with an impact. Per orbit and
+// integrator:
+//   periodicity   deviation_k = |z(k T) - z_mid| / |z_mid| after k periods, and
+//                 the growth rate per period fitted where 1e-12 < dev < 1e-3,
+//                 compared with log |lambda_max| of the monodromy (stability.h);
+//   admissibility exactly m impacts in the first period, at the predicted
+//                 times, and no penetration (largest x_c - d in the samples);
+//   manifold      (1-ipp) the largest distance of the simulated post-impact
+//                 states to the analytic family {z0(T')}: drift along the
+//                 family is allowed, leaving it is not; and a start at
+//                 z0(T (1 + perturbation)), another point of the family;
+//   energy drift.
+// Verdicts (consistent / inconsistent, with the reason):
+//   not admissible: the simulation must break in the first period (an extra
+//                   impact or an impact away from the predicted times);
+//   admissible, stable: the first period as predicted, and the deviation
+//                   after all periods within the integrator's tolerance;
+//   admissible, unstable: the first period as predicted, and the deviation
+//                   grows at the rate the multipliers predict (within 30 %), or
+//                   not at all (a floating-point fixed point of the map).
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "nsmodal/model.h"
+#include "nsmodal/orbit.h"
+#include "nsmodal/simulate.h"
+#include "nsmodal/stability.h"
+
+namespace nsmodal {
+
+struct ValidateOptions {
+  int periods = 1000;
+  std::vector<Integrator> integrators{Integrator::kExact};
+  SimulateOptions simulate;       // tolerances and steps of the integrators
+  double perturbation = 1e-6;     // relative change of T for the on-manifold start
+  double exact_periodicity = 1e-9;  // exact: a stable orbit stays within this
+  void Validate() const;          // throws InputError naming the field
+};
+
+struct OrbitValidation {
+  Orbit orbit;
+  Integrator integrator = Integrator::kExact;
+  Stability stability;
+  std::vector<double> deviation;  // after k = 1, 2, ... periods (as far as the run went)
+  double measured_growth = 0.0;   // per period; 0 when the deviation never grew
+  long impacts = 0;
+  long first_period_impacts = 0;
+  double impact_time_error = 0.0;  // first period, max |t - predicted|
+  double max_penetration = 0.0;    // max x_c - d over the samples
+  double manifold_distance = -1.0;            // 1-ipp only, relative to |z0|
+  double perturbed_manifold_distance = -1.0;  // 1-ipp only
+  double energy_drift = 0.0;
+  double wall_time_s = 0.0;
+  bool consistent = false;
+  std::string reason;
+  double DeviationAt(int k) const { return k >= 1 && k <= static_cast<int>(deviation.size()) ? deviation[k - 1] : -1.0; }
+};
+
+// One orbit with one integrator.
+OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator integrator,
+                              const ValidateOptions& options);
+
+// Every orbit with every integrator, on all cores; progress(done, total).
+std::vector<OrbitValidation> ValidateOrbits(const Model& model, const std::vector<Orbit>& orbits,
+                                            const ValidateOptions& options,
+                                            const std::function<void(long, long)>& progress = {});
+
+}  // namespace nsmodal

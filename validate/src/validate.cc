@@ -1,0 +1,230 @@
+#include "nsmodal/validate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "nsmodal/error.h"
+#include "nsmodal/flow.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/parallel.h"
+
+namespace nsmodal {
+namespace {
+
+std::string Short(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+// Tolerance on the deviation of a stable admissible orbit after K periods.
+// exact: options.exact_periodicity (round-off: ~1e-12 after 10,000 periods,
+// measured). cvode: its phase drift grows ~ linearly with K at a few hundred
+// rtol per period (measured: 1.1e-6 after 100 periods at rtol = 1e-10), so
+// 1e3 rtol K. moreau-jean: first order, ~h per period: 10 h K, capped at 1.
+double PeriodicityTolerance(Integrator integrator, const ValidateOptions& o, int periods) {
+  switch (integrator) {
+    case Integrator::kExact: return o.exact_periodicity;
+    case Integrator::kCvode: return 1e3 * o.simulate.rtol * periods;
+    case Integrator::kMoreauJean: return std::min(1.0, 10.0 * o.simulate.step * periods);
+  }
+  return 0.0;
+}
+
+// Tolerance on impact times in the first period: exact 1e-9 (found to
+// ~1e-15), cvode 1e4 rtol (the root is found on its interpolant), Moreau-Jean
+// 2 h (registered at the end of a step).
+double TimeTolerance(Integrator integrator, const ValidateOptions& o) {
+  switch (integrator) {
+    case Integrator::kExact: return 1e-9;
+    case Integrator::kCvode: return 1e4 * o.simulate.rtol;
+    case Integrator::kMoreauJean: return 2.0 * o.simulate.step;
+  }
+  return 0.0;
+}
+
+// Penetration allowed in the samples and impacts: exact, round-off of d;
+// cvode, 1e3 (atol + rtol d), its position accuracy with room; moreau-jean,
+// an event-capturing scheme, 2 h v_scale (one step of travel at the contact
+// speed scale).
+double PenetrationTolerance(Integrator integrator, const ValidateOptions& o, double gap, double v_scale) {
+  switch (integrator) {
+    case Integrator::kExact: return 1e-9 * gap;
+    case Integrator::kCvode: return 1e3 * (o.simulate.atol + o.simulate.rtol * gap);
+    case Integrator::kMoreauJean: return 2.0 * o.simulate.step * v_scale;
+  }
+  return 0.0;
+}
+
+// Distance of a post-impact state to the 1-ipp family {z0(T')}, T' near T.
+double FamilyDistance(const ModalBasis& b, const Eigen::VectorXd& z, double period) {
+  auto dist = [&](double tp) { return (OneImpactOrbit(b, tp).z0 - z).norm(); };
+  double lo = period * (1.0 - 1e-3), hi = period * (1.0 + 1e-3);
+  for (int i = 0; i < 80; ++i) {  // golden section: the value at the minimum is what counts
+    const double m1 = lo + 0.381966 * (hi - lo), m2 = lo + 0.618034 * (hi - lo);
+    (dist(m1) < dist(m2) ? hi : lo) = dist(m1) < dist(m2) ? m2 : m1;
+  }
+  return dist(0.5 * (lo + hi));
+}
+
+// Largest distance to the family of the post-impact states of a run from z0.
+double ManifoldRun(const Model& model, const ModalBasis& b, const Eigen::VectorXd& z0, double period, int periods,
+                   SimulateOptions opt) {
+  opt.t_end = periods * period + 0.5 * period;
+  opt.sample_dt = 0.0;
+  double worst = 0.0;
+  SimulationObserver obs;
+  obs.on_impact = [&](const ContactEvent& ev) { worst = std::max(worst, FamilyDistance(b, ev.after, period)); };
+  const int n = model.dofs();
+  Simulate(model, z0.head(n), z0.tail(n), opt, obs);
+  return worst / z0.norm();
+}
+
+}  // namespace
+
+void ValidateOptions::Validate() const {
+  if (periods < 1 || periods > 100000000) {
+    throw InputError("validate.periods", "must lie in [1, 1e8], got " + std::to_string(periods));
+  }
+  if (integrators.empty()) throw InputError("validate.integrators", "must name at least one integrator");
+  if (!(perturbation > 0.0 && perturbation < 0.1)) {
+    throw InputError("validate.perturbation", "must lie in (0, 0.1), got " + FormatValue(perturbation));
+  }
+  simulate.Validate();
+}
+
+OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator integrator,
+                              const ValidateOptions& options) {
+  const ModalBasis b = MakeModalBasis(model);
+  const int n = model.dofs();
+  const double period = orbit.period;
+  OrbitValidation v;
+  v.orbit = orbit;
+  v.integrator = integrator;
+  v.stability = OrbitStability(b, orbit);
+
+  // Start in the middle of the first flight, where no comparison point k T
+  // meets an impact. A non-admissible orbit may be beyond the wall there: it
+  // starts at z0 itself, on the wall.
+  const double first_flight = orbit.times.empty() ? period : orbit.times.front();
+  const double t_mid = orbit.admissible ? 0.5 * first_flight : 0.0;
+  Eigen::VectorXd y_mid = orbit.y0;
+  Flow(b, t_mid, y_mid);
+  const Eigen::VectorXd z_mid = PhysicalOf(b, y_mid);
+  std::vector<double> predicted;  // impact times in the first period of the run
+  for (double t : orbit.times) predicted.push_back(t - t_mid);
+  predicted.push_back(period - t_mid);
+
+  SimulateOptions opt = options.simulate;
+  opt.integrator = integrator;
+  opt.t_end = options.periods * period;
+  opt.sample_dt = period;
+  SimulationObserver obs;
+  bool broken = false;
+  obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
+    v.max_penetration = std::max(v.max_penetration, z[model.contact] - model.gap);
+    if (t == 0.0) return;
+    const double dev = (z - z_mid).norm() / z_mid.norm();
+    v.deviation.push_back(dev);
+    broken = broken || dev > 1e-1;  // left the orbit: no need to go on
+  };
+  obs.on_impact = [&](const ContactEvent& ev) {
+    ++v.impacts;
+    v.max_penetration = std::max(v.max_penetration, ev.before[model.contact] - model.gap);
+    if (ev.t < period - t_mid + 0.5 * first_flight) {  // the first period of the run
+      const std::size_t k = static_cast<std::size_t>(v.first_period_impacts++);
+      const double err = k < predicted.size() ? std::abs(ev.t - predicted[k]) : std::numeric_limits<double>::infinity();
+      v.impact_time_error = std::max(v.impact_time_error, err);
+    }
+  };
+  obs.stop_requested = [&] { return broken; };
+  const SimulationSummary sum = Simulate(model, z_mid.head(n), z_mid.tail(n), opt, obs);
+  v.energy_drift = sum.energy_drift;
+  v.wall_time_s = sum.wall_time_s;
+
+  // Growth fitted from the first period where the deviation exceeds ten times
+  // the integrator's own floor (its deviation after one period, or 1e-13) to
+  // the last below 1e-2 (saturation); at least three periods are needed.
+  int first = -1, last = -1;
+  const double floor = v.deviation.empty() ? 0.0 : std::max(1e-13, v.deviation.front());
+  for (int k = 0; k < static_cast<int>(v.deviation.size()); ++k) {
+    if (first < 0 && v.deviation[k] > 10.0 * floor) first = k;
+    if (v.deviation[k] < 1e-2) last = k;
+  }
+  const bool growth_measurable = first >= 0 && last >= first + 3;
+  if (growth_measurable) v.measured_growth = std::log(v.deviation[last] / v.deviation[first]) / (last - first);
+
+  if (orbit.impacts == 1 && integrator == Integrator::kExact) {
+    const int manifold_periods = std::min(options.periods, 20);
+    v.manifold_distance = ManifoldRun(model, b, orbit.z0, period, manifold_periods, opt);
+    const Orbit shifted = OneImpactOrbit(b, period * (1.0 + options.perturbation));
+    v.perturbed_manifold_distance = ManifoldRun(model, b, shifted.z0, shifted.period, manifold_periods, opt);
+  }
+
+  // Verdict.
+  const double ttol = TimeTolerance(integrator, options);
+  const double v_scale = std::sqrt(2.0 * orbit.energy * b.r_norm2);
+  const double ptol = PenetrationTolerance(integrator, options, model.gap, v_scale);
+  const bool first_period_ok =
+      v.first_period_impacts == orbit.impacts && v.impact_time_error <= ttol && v.max_penetration <= ptol;
+  const std::string who = ToString(integrator);
+  if (sum.status == SimulationStatus::kSolverError || sum.status == SimulationStatus::kStepLimit) {
+    v.consistent = false;
+    v.reason = who + " stopped: " + sum.message;
+  } else if (!orbit.admissible) {
+    v.consistent = !first_period_ok;
+    v.reason = v.consistent ? "breaks as predicted (not admissible): " + std::to_string(v.first_period_impacts) +
+                                  " impacts in the first period"
+                            : "not admissible, yet the first period looks admissible to " + who;
+  } else if (!first_period_ok) {
+    v.consistent = false;
+    v.reason = "first period: " + std::to_string(v.first_period_impacts) + " impacts (expected " +
+               std::to_string(orbit.impacts) + "), time error " + Short(v.impact_time_error) +
+               ", penetration " + Short(v.max_penetration);
+  } else if (v.stability.stable) {
+    const double tol = PeriodicityTolerance(integrator, options, options.periods);
+    const double final_dev = v.deviation.empty() ? 0.0 : v.deviation.back();
+    v.consistent = !broken && static_cast<int>(v.deviation.size()) == options.periods && final_dev <= tol;
+    v.reason = v.consistent ? "stable and periodic: deviation " + Short(final_dev) + " after " +
+                                  std::to_string(options.periods) + " periods"
+                            : "stable orbit drifted: deviation " + Short(final_dev) + " > " +
+                                  Short(tol);
+  } else {
+    const double predicted_rate = v.stability.growth_per_period;
+    const double max_dev = v.deviation.empty() ? 0.0 : *std::max_element(v.deviation.begin(), v.deviation.end());
+    if (max_dev <= 1e-12) {
+      v.consistent = true;
+      v.reason = "unstable, but round-off never grew (a floating-point fixed point of the map)";
+    } else if (!growth_measurable) {
+      v.consistent = true;
+      v.reason = "unstable; growth not measurable above " + who + "'s error floor (" + Short(floor) +
+                 " after one period): first period as predicted";
+    } else if (v.measured_growth > 0.0 && std::abs(v.measured_growth - predicted_rate) <= 0.3 * predicted_rate) {
+      v.consistent = true;
+      v.reason = "unstable: deviation grows " + Short(v.measured_growth) + " per period, multipliers predict " +
+                 Short(predicted_rate);
+    } else {
+      v.consistent = false;
+      v.reason = "unstable: measured growth " + Short(v.measured_growth) + " per period, predicted " +
+                 Short(predicted_rate);
+    }
+  }
+  return v;
+}
+
+std::vector<OrbitValidation> ValidateOrbits(const Model& model, const std::vector<Orbit>& orbits,
+                                            const ValidateOptions& options,
+                                            const std::function<void(long, long)>& progress) {
+  options.Validate();
+  const long per_orbit = static_cast<long>(options.integrators.size());
+  std::vector<OrbitValidation> out(orbits.size() * per_orbit);
+  ParallelFor(
+      static_cast<long>(out.size()), 0,
+      [&](long i) { out[i] = ValidateOrbit(model, orbits[i / per_orbit], options.integrators[i % per_orbit], options); },
+      progress);
+  return out;
+}
+
+}  // namespace nsmodal
