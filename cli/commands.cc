@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -20,6 +21,7 @@
 #include "nsmodal/parallel.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate.h"
+#include "nsmodal/validate.h"
 #include "nsmodal/transitions.h"
 #include "nsmodal/two_impact.h"
 
@@ -184,6 +186,123 @@ int RunOrbits(const OrbitsArgs& a) {
     tr << "T,kind,energy\n";
     for (const Transition& t : transitions) tr << t.period << "," << ToString(t.kind) << "," << t.energy << "\n";
     std::cout << "wrote " << transitions.size() << " transitions to " << a.out << "/transitions.csv\n";
+  }
+  return 0;
+}
+
+int RunValidate(const ValidateArgs& a) {
+  const Scene scene = LoadScene(a.scene);
+  const ValidateSection& sec = scene.validate;
+  if (scene.model.restitution != 1.0) {
+    throw InputError("system.restitution", "periodic orbits with impacts exist only for e = 1, got " +
+                                               FormatValue(scene.model.restitution));
+  }
+  const std::string period_text = a.period ? *a.period : sec.period ? *sec.period : "";
+  if (period_text.empty()) throw InputError("--period", "is missing: give it with --period or validate.period");
+  const PeriodRange range = ParsePeriodRange(period_text);
+  const std::vector<int> impacts = a.impacts ? *a.impacts : sec.impacts ? *sec.impacts : std::vector<int>{1, 2};
+  for (int m : impacts) {
+    if (m != 1 && m != 2) throw InputError("--impacts", "takes 1 and/or 2, got " + std::to_string(m));
+  }
+  ValidateOptions opt;
+  opt.periods = a.periods ? *a.periods : sec.periods ? *sec.periods : 1000;
+  opt.integrators.clear();
+  for (const std::string& name :
+       a.integrators ? *a.integrators : sec.integrators ? *sec.integrators : std::vector<std::string>{"exact"}) {
+    opt.integrators.push_back(ParseIntegrator(name, a.integrators ? "--integrators" : "validate.integrators"));
+  }
+  opt.simulate.rtol = a.rtol ? *a.rtol : 1e-10;
+  opt.simulate.atol = a.atol ? *a.atol : 1e-12;
+  opt.simulate.step = a.step ? *a.step : 1e-4;
+  opt.Validate();
+  const ModalBasis b = MakeModalBasis(scene.model);
+
+  // The potential orbits of the grid, admissible or not.
+  const std::vector<double> periods = range.Values();
+  std::vector<std::vector<Orbit>> per_period(periods.size());
+  ParallelFor(static_cast<long>(periods.size()), a.threads, [&](long i) {
+    for (int m : impacts) {
+      if (m == 1) {
+        Orbit o = OneImpactOrbit(b, periods[i]);
+        if (o.potential) per_period[i].push_back(o);
+      } else {
+        for (Orbit& o : TwoImpactOrbits(b, periods[i])) {
+          if (o.potential) per_period[i].push_back(o);
+        }
+      }
+    }
+  });
+  std::vector<Orbit> orbits;
+  for (auto& list : per_period) orbits.insert(orbits.end(), list.begin(), list.end());
+  const std::vector<OrbitValidation> results = ValidateOrbits(scene.model, orbits, opt, ProgressBar("validate"));
+
+  std::ofstream csv = OpenOut(a.out, "validation.csv");
+  csv << "T,t2,impacts_per_period,integrator,admissible,stable,max_multiplier,predicted_growth,measured_growth,"
+         "deviation_1,deviation_10,deviation_100,deviation_final,periods_run,impacts,first_period_impacts,"
+         "impact_time_error,max_penetration,manifold_distance,perturbed_manifold_distance,energy_drift,wall_time_s,"
+         "consistent,reason\n";
+  nlohmann::json summary;
+  std::map<std::string, std::array<long, 3>> counts;  // checked, consistent, inconsistent
+  std::vector<const OrbitValidation*> inconsistent, admissible_exact_failures;
+  for (const OrbitValidation& v : results) {
+    const std::string name = ToString(v.integrator);
+    csv << v.orbit.period << ",";
+    if (!v.orbit.times.empty()) csv << v.orbit.times[0];
+    csv << "," << v.orbit.impacts << "," << name << "," << v.orbit.admissible << "," << v.stability.stable << ","
+        << v.stability.max_modulus << "," << v.stability.growth_per_period << "," << v.measured_growth << ","
+        << v.DeviationAt(1) << "," << v.DeviationAt(10) << "," << v.DeviationAt(100) << ","
+        << (v.deviation.empty() ? -1.0 : v.deviation.back()) << "," << v.deviation.size() << "," << v.impacts << ","
+        << v.first_period_impacts << "," << v.impact_time_error << "," << v.max_penetration << ","
+        << v.manifold_distance << "," << v.perturbed_manifold_distance << "," << v.energy_drift << ","
+        << v.wall_time_s << "," << v.consistent << ",\"" << v.reason << "\"\n";
+    auto& c = counts[name];
+    ++c[0];
+    ++c[v.consistent ? 1 : 2];
+    if (!v.consistent) inconsistent.push_back(&v);
+    if (!v.consistent && v.orbit.admissible && v.integrator == Integrator::kExact) admissible_exact_failures.push_back(&v);
+  }
+  auto describe = [](const OrbitValidation& v) {
+    return nlohmann::json{{"T", v.orbit.period},
+                          {"t2", v.orbit.times.empty() ? nlohmann::json() : nlohmann::json(v.orbit.times[0])},
+                          {"integrator", ToString(v.integrator)},
+                          {"admissible", v.orbit.admissible},
+                          {"stable", v.stability.stable},
+                          {"deviation_final", v.deviation.empty() ? -1.0 : v.deviation.back()},
+                          {"reason", v.reason}};
+  };
+  summary["orbits"] = orbits.size();
+  summary["periods"] = opt.periods;
+  for (const auto& [name, c] : counts) {
+    summary["integrators"][name] = {{"checked", c[0]}, {"consistent", c[1]}, {"inconsistent", c[2]}};
+  }
+  summary["inconsistent"] = nlohmann::json::array();
+  for (const OrbitValidation* v : inconsistent) summary["inconsistent"].push_back(describe(*v));
+  // Worst stable admissible orbits per integrator: the largest final deviation.
+  for (Integrator integrator : opt.integrators) {
+    std::vector<const OrbitValidation*> stable;
+    for (const OrbitValidation& v : results) {
+      if (v.integrator == integrator && v.orbit.admissible && v.stability.stable && !v.deviation.empty()) {
+        stable.push_back(&v);
+      }
+    }
+    std::sort(stable.begin(), stable.end(),
+              [](const auto* x, const auto* y) { return x->deviation.back() > y->deviation.back(); });
+    nlohmann::json worst = nlohmann::json::array();
+    for (std::size_t k = 0; k < std::min<std::size_t>(5, stable.size()); ++k) worst.push_back(describe(*stable[k]));
+    summary["worst_stable"][ToString(integrator)] = worst;
+  }
+  std::ofstream(std::filesystem::path(a.out) / "summary.json") << summary.dump(2) << "\n";
+  std::cout << "validated " << orbits.size() << " orbits over " << opt.periods << " periods:";
+  for (const auto& [name, c] : counts) std::cout << "  " << name << " " << c[1] << "/" << c[0] << " consistent";
+  std::cout << "\nwrote " << a.out << "/validation.csv and " << a.out << "/summary.json\n";
+  for (const OrbitValidation* v : inconsistent) {
+    std::cout << "  inconsistent: T = " << v->orbit.period << (v->orbit.times.empty() ? "" : " t2 = " + FormatValue(v->orbit.times[0]))
+              << " (" << ToString(v->integrator) << "): " << v->reason << "\n";
+  }
+  if (!admissible_exact_failures.empty()) {
+    std::cerr << "error: " << admissible_exact_failures.size()
+              << " admissible orbit(s) failed to validate with the exact integrator (see above)\n";
+    return 4;
   }
   return 0;
 }

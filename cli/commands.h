@@ -41,7 +41,18 @@ struct SimulateArgs {
   std::optional<std::vector<double>> x0, v0;
 };
 
+struct ValidateArgs {
+  std::string scene, out;
+  std::optional<std::string> period;
+  std::optional<std::vector<int>> impacts;
+  std::optional<int> periods;
+  std::optional<std::vector<std::string>> integrators;
+  std::optional<double> rtol, atol, step;
+  int threads = 0;
+};
+
 int RunOrbits(const OrbitsArgs& a);
+int RunValidate(const ValidateArgs& a);
 int RunSimulate(const SimulateArgs& a);
 int RunOrbit(const OrbitArgs& a);
 int RunExplore(const ExploreArgs& a);

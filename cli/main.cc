@@ -51,6 +51,19 @@ int main(int argc, char** argv) {
   c_sim->add_option("--x0", simulate.x0, "Initial position (N values)")->expected(1, 1000);
   c_sim->add_option("--v0", simulate.v0, "Initial velocity (N values)")->expected(1, 1000);
 
+  ValidateArgs validate;
+  auto* c_val = app.add_subcommand("validate", "Validate analytic orbits by long simulations (batch)");
+  c_val->add_option("scene", validate.scene, "Scene file (TOML); an optional [validate] table")->required();
+  c_val->add_option("--out", validate.out, "Output directory")->required();
+  c_val->add_option("--period", validate.period, "Period grid FROM:TO:STEP");
+  c_val->add_option("--impacts", validate.impacts, "Impacts per period: 1, 2 or both (1 2)")->expected(1, 2);
+  c_val->add_option("--periods", validate.periods, "Periods simulated per orbit (default 1000)");
+  c_val->add_option("--integrators", validate.integrators, "exact, cvode, moreau-jean (default exact)")->expected(1, 3);
+  c_val->add_option("--rtol", validate.rtol, "CVODE relative tolerance (default 1e-10)");
+  c_val->add_option("--atol", validate.atol, "CVODE absolute tolerance (default 1e-12)");
+  c_val->add_option("--step", validate.step, "Moreau-Jean step (default 1e-4)");
+  c_val->add_option("--threads", validate.threads, "Worker threads (0: all cores)")->default_val(0);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -61,6 +74,7 @@ int main(int argc, char** argv) {
     if (*c_orbit) return RunOrbit(orbit);
     if (*c_explore) return RunExplore(explore);
     if (*c_sim) return RunSimulate(simulate);
+    if (*c_val) return RunValidate(validate);
   } catch (const nsmodal::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;

@@ -95,5 +95,19 @@ expect_error "simulate.initial_position" "$bin" simulate "$paper" --out "$tmp/s"
 expect_error "simulate.t_end" "$bin" simulate "$(scene badsim '[system]\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\ninitial_position=[0,0]\nt_end=[1]\n')" --out "$tmp/s"
 expect_error "simulate.foo" "$bin" simulate "$(scene badkey '[system]\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\nfoo=1\n')" --out "$tmp/s"
 
+# validate: outputs, exit status, bad input.
+if "$bin" validate "$paper" --out "$tmp/val" --period 5:8:1 --periods 50 --integrators exact cvode >/dev/null 2>&1; then
+  head -1 "$tmp/val/validation.csv" | grep -q '^T,t2,impacts_per_period,integrator,admissible,stable,' && ok || bad "validation.csv header"
+  python3 -c "
+import json; d=json.load(open('$tmp/val/summary.json'))
+assert d['integrators']['exact']['inconsistent'] == 0 and d['integrators']['exact']['checked'] > 4
+" && ok || bad "validate summary.json"
+else
+  bad "validate failed"
+fi
+expect_error "\-\-period" "$bin" validate "$paper" --out "$tmp/v"
+expect_error "\-\-integrators" "$bin" validate "$paper" --out "$tmp/v" --period 5:6:1 --integrators rk4
+expect_error "validate.periods" "$bin" validate "$paper" --out "$tmp/v" --period 5:6:1 --periods 0
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -1,5 +1,6 @@
 #include "nsmodal/scene.h"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <toml++/toml.h>
@@ -95,7 +96,7 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
   if (const toml::node* n = sys->get("gap")) model.gap = ReadNumber(*n, "system.gap");
   if (const toml::node* n = sys->get("restitution")) model.restitution = ReadNumber(*n, "system.restitution");
   Validate(model);
-  Scene scene{source, model, {}};
+  Scene scene{source, model, {}, {}};
   if (const toml::node* node = root.get("simulate")) {
     const toml::table* sim = node->as_table();
     if (sim == nullptr) throw InputError("simulate", "must be a table");
@@ -130,8 +131,44 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
       }
     }
   }
+  if (const toml::node* node = root.get("validate")) {
+    const toml::table* val = node->as_table();
+    if (val == nullptr) throw InputError("validate", "must be a table");
+    for (auto&& [key, value] : *val) {
+      const std::string k(key.str());
+      const std::string field = "validate." + k;
+      if (k == "period") {
+        const auto* str = value.as_string();
+        if (str == nullptr) throw InputError(field, "must be a string FROM:TO:STEP");
+        scene.validate.period = str->get();
+      } else if (k == "periods") {
+        const double p = ReadNumber(value, field);
+        if (p != std::floor(p) || p < 1 || p > 1e8) throw InputError(field, "must be an integer in [1, 1e8], got " + FormatValue(p));
+        scene.validate.periods = static_cast<int>(p);
+      } else if (k == "impacts") {
+        std::vector<int> list;
+        for (double x : ReadVector(value, field)) {
+          if (x != 1 && x != 2) throw InputError(field, "entries must be 1 or 2, got " + FormatValue(x));
+          list.push_back(static_cast<int>(x));
+        }
+        scene.validate.impacts = list;
+      } else if (k == "integrators") {
+        const toml::array* arr = value.as_array();
+        if (arr == nullptr) throw InputError(field, "must be an array of strings");
+        std::vector<std::string> list;
+        for (std::size_t i = 0; i < arr->size(); ++i) {
+          const auto* str = arr->get(i)->as_string();
+          if (str == nullptr) throw InputError(field, "entry " + std::to_string(i + 1) + " must be a string");
+          list.push_back(str->get());
+        }
+        scene.validate.integrators = list;
+      } else {
+        throw InputError(field, "is not a known key");
+      }
+    }
+  }
   for (auto&& [key, value] : root) {
-    if (key.str() != "system" && key.str() != "simulate") {
+    if (key.str() != "system" && key.str() != "simulate" && key.str() != "validate") {
       throw InputError(std::string(key.str()), "is not a known table");
     }
   }

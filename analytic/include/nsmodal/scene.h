@@ -21,6 +21,12 @@
 //   theta = 0.5                # moreau-jean
 //   root_tol = 1e-14           # exact
 //   sample_dt = 0.01           # trajectory output
+//
+//   [validate]                 # optional; the validate command's flags override it
+//   period = "2:20:0.5"        # FROM:TO:STEP
+//   impacts = [1, 2]
+//   periods = 1000
+//   integrators = ["exact", "cvode"]
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,10 +42,18 @@ struct SimulateSection {
   std::optional<std::string> integrator, method;
 };
 
+struct ValidateSection {
+  std::optional<std::string> period;
+  std::optional<std::vector<int>> impacts;
+  std::optional<int> periods;
+  std::optional<std::vector<std::string>> integrators;
+};
+
 struct Scene {
   std::string source;  // file name, for messages
   Model model;
   SimulateSection simulate;
+  ValidateSection validate;
 };
 
 // Throws InputError naming the field ("scene" for a file that cannot be read
