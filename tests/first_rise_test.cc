@@ -49,5 +49,32 @@ TEST(FirstRise, ATangencyFromRestLeavesTheBand) {
   EXPECT_NEAR(r.s, 2.0 * M_PI, 1e-6);  // a double root: located to sqrt(tol)
 }
 
+TEST(FirstRise, AGrazeThatEndsAboveTheBandIsNotReportedAgain) {
+  // After a graze decided at g slightly above +tol, rising slowly to a peak
+  // 5e-5 higher at t = 0.01: the search must not fire at s = 0 again (the
+  // exact integrator looped forever there) but go on to the next rise,
+  // after t = 2 pi - 0.01.
+  const double tol = 1e-4;
+  const SinusoidSum g = Wave(-1.0 + 2.0 * tol, {std::cos(0.01)}, {std::sin(0.01)}, {1.0});  // cos(t - 0.01) - 1 + 2 tol
+  ASSERT_GT(g.Position(0.0), tol);
+  const FirstRiseResult r = FirstRise(g, 10.0, tol);
+  ASSERT_TRUE(r.found);
+  EXPECT_GT(r.s, 2.0 * M_PI - 0.1);
+}
+
+TEST(FirstRise, TheNewtonFinishDoesNotJumpOverASlowTangency) {
+  // -cos t - 1 + peak with peak = -0.9 tol: a touch inside the band, no
+  // crossing. The armed search enters the band at slope ~sqrt(0.2 tol), where
+  // a Newton step of tol / g' ~ 2.2 sqrt(tol) would jump past the peak at pi
+  // and out of the band on the far side. The returned time must stay in the
+  // band.
+  const double tol = 1e-4, peak = -0.9 * tol;
+  const SinusoidSum g = Wave(-1.0 + peak, {-1.0}, {0.0}, {1.0});
+  const FirstRiseResult r = FirstRise(g, 7.0, tol);
+  ASSERT_TRUE(r.found);
+  EXPECT_GE(g.Position(r.s), -tol);
+  EXPECT_LE(r.s, M_PI);
+}
+
 }  // namespace
 }  // namespace nsmodal

@@ -36,18 +36,26 @@ FirstRiseResult FirstRise(const SinusoidSum& g, double horizon, double tol) {
   double d[4];
   g.Derivatives(0.0, d);
   bool armed = d[0] < -2.0 * tol;
+  // Unarmed, a contact is a rise tol above the start (or above the band), so
+  // a start already past +tol (a graze's slow excursion) cannot fire at s = 0.
+  const double rise = std::max(tol, d[0] + tol);
   int no_progress = 0;
   while (true) {
     ++out.steps;
-    if (armed ? d[0] >= -tol : d[0] > tol) {
+    if (armed ? d[0] >= -tol : d[0] > rise) {
       out.found = true;
       out.s = s;
       // A transversal crossing within the band: one Newton step puts it at
-      // machine precision (its error is ~ L2 (g/g')^2 / g').
-      if (armed && d[1] > 0.0 && -d[0] < d[1] * horizon) out.s = std::min(horizon, s - d[0] / d[1]);
+      // machine precision (its error is ~ L2 (g/g')^2 / g'). Only when the
+      // slope beats the curvature bound, g' > sqrt(2 L2 tol): then the step
+      // is at most sqrt(tol / (2 L2)) and cannot jump over a slow tangency
+      // (a slower crossing is a graze to the contact logic anyway).
+      if (armed && d[1] * d[1] > 2.0 * l2 * tol && -d[0] < d[1] * horizon) {
+        out.s = std::min(horizon, s - d[0] / d[1]);
+      }
       return out;
     }
-    const double level = armed ? 0.0 : tol;
+    const double level = armed ? 0.0 : rise;
     const double g0 = d[0] - level;  // < 0
     double sigma;
     if (l2 <= 0.0) {

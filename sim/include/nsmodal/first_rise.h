@@ -13,9 +13,9 @@
 // Trigger rule (as Drake's witness functions): the search is armed once
 // g < -2 tol; armed, it stops at g >= -tol; unarmed (starting inside the
 // contact band |g| <= tol, right after an impact, a graze or a release) it
-// stops only at g > tol, and steps with level = +tol to leave the band, so a
-// contact is never reported twice. A transversal crossing found inside the
-// band is finished by one Newton step.
+// stops only at g > max(tol, g(0) + tol), and steps with that level, so a
+// contact is never reported twice and never at s = 0. A transversal crossing
+// (g' > sqrt(2 L2 tol)) found inside the band is finished by one Newton step.
 #include "nsmodal/flow.h"
 
 namespace nsmodal {
