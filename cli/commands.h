@@ -51,7 +51,13 @@ struct ValidateArgs {
   int threads = 0;
 };
 
+struct BenchArgs {
+  std::string scene, out;
+  bool quick = false;
+};
+
 int RunOrbits(const OrbitsArgs& a);
+int RunBench(const BenchArgs& a);
 int RunValidate(const ValidateArgs& a);
 int RunSimulate(const SimulateArgs& a);
 int RunOrbit(const OrbitArgs& a);

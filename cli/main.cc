@@ -64,6 +64,12 @@ int main(int argc, char** argv) {
   c_val->add_option("--step", validate.step, "Moreau-Jean step (default 1e-4)");
   c_val->add_option("--threads", validate.threads, "Worker threads (0: all cores)")->default_val(0);
 
+  BenchArgs bench;
+  auto* c_bench = app.add_subcommand("bench", "Speed against accuracy of the integrators, and grazing failures");
+  c_bench->add_option("scene", bench.scene, "Scene file (the paper's system: configs/paper.toml)")->required();
+  c_bench->add_option("--out", bench.out, "Output directory")->required();
+  c_bench->add_flag("--quick", bench.quick, "Fewer settings and a 100-period long case");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -75,6 +81,7 @@ int main(int argc, char** argv) {
     if (*c_explore) return RunExplore(explore);
     if (*c_sim) return RunSimulate(simulate);
     if (*c_val) return RunValidate(validate);
+    if (*c_bench) return RunBench(bench);
   } catch (const nsmodal::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;

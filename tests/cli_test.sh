@@ -109,5 +109,22 @@ expect_error "\-\-period" "$bin" validate "$paper" --out "$tmp/v"
 expect_error "\-\-integrators" "$bin" validate "$paper" --out "$tmp/v" --period 5:6:1 --integrators rk4
 expect_error "validate.periods" "$bin" validate "$paper" --out "$tmp/v" --period 5:6:1 --periods 0
 
+# bench: the work-precision contract (quick mode), charts, and its scene check.
+if "$bin" bench "$paper" --out "$tmp/bench" --quick >"$tmp/bench.txt" 2>/dev/null; then
+  [ "$(head -1 "$tmp/bench/work_precision.csv")" = "case,integrator,setting,error,cpu_s,impacts,steps" ] && ok ||
+    bad "work_precision.csv header"
+  for c in smooth near-grazing high-energy long zeno; do
+    grep -q "^$c,exact," "$tmp/bench/work_precision.csv" && grep -q "^$c,moreau-jean," "$tmp/bench/work_precision.csv" &&
+      grep -q "^$c,cvode-adams," "$tmp/bench/work_precision.csv" && ok || bad "work_precision.csv lacks case $c"
+    if command -v gnuplot >/dev/null; then
+      [ -s "$tmp/bench/work_precision_$c.png" ] && [ -s "$tmp/bench/work_precision_$c.svg" ] && ok || bad "chart $c"
+    fi
+  done
+  grep -q "^moreau-jean  step=1e-02" "$tmp/bench.txt" && ok || bad "bench grazing table"
+else
+  bad "bench --quick failed"
+fi
+expect_error "scene" "$bin" bench "$(scene other '[system]\nmasses=[1,2]\nsprings=[1,1]\n')" --out "$tmp/b"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -1,0 +1,216 @@
+#include "nsmodal/work_precision.h"
+
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <set>
+
+#include "nsmodal/admissibility.h"
+#include "nsmodal/flow.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/parallel.h"
+#include "nsmodal/simulate.h"
+#include "nsmodal/transitions.h"
+
+namespace nsmodal {
+namespace {
+
+double ThreadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+struct Case {
+  std::string name;
+  Model model;
+  Eigen::VectorXd x0, v0;
+  double t_end;
+  bool long_horizon = false;
+};
+
+// A stable orbit's start and a horizon ending mid-flight (no impact at t_end).
+Case OrbitCase(const std::string& name, double period, int periods) {
+  const Model m = PaperModel();
+  const ModalBasis b = MakeModalBasis(m);
+  const Orbit o = OneImpactOrbit(b, period);
+  return {name, m, o.z0.head(2), o.z0.tail(2), periods * period + 0.5 * period, periods > 1000};
+}
+
+std::vector<Case> Cases() {
+  const ModalBasis b = MakeModalBasis(PaperModel());
+  const double tg = OneImpactTransitions(b, 9.0, 9.3, 0.01).front().period;
+  const double ts = SingularPeriods(b, 4.8, 4.9).front();
+  std::vector<Case> cases{OrbitCase("smooth", 7.5, 10), OrbitCase("near-grazing", tg - 1e-3, 3),
+                          OrbitCase("high-energy", ts + 0.01, 3), OrbitCase("long", 7.5, 10000)};
+  Model zeno = PaperModel();
+  zeno.restitution = 0.5;
+  Eigen::VectorXd x0(2), v0(2);
+  x0 << 1.5, 1.0;
+  v0 << 0.0, 0.01;
+  cases.push_back({"zeno", zeno, x0, v0, 1.0});
+  return cases;
+}
+
+struct Setting {
+  std::string integrator, label;
+  double value;
+  std::function<void(SimulateOptions&)> apply;
+};
+
+std::vector<Setting> Settings(bool long_horizon, bool quick) {
+  std::vector<Setting> out;
+  const std::vector<double> root_tols = quick ? std::vector<double>{1e-6, 1e-14} : std::vector<double>{1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14};
+  for (double r : root_tols) {
+    out.push_back({"exact", "root_tol", r, [r](SimulateOptions& o) {
+                     o.integrator = Integrator::kExact;
+                     o.root_tol = r;
+                   }});
+  }
+  const std::vector<double> rtols = quick ? std::vector<double>{1e-6, 1e-10} : std::vector<double>{1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
+  for (const char* method : {"adams", "bdf"}) {
+    for (double r : rtols) {
+      out.push_back({std::string("cvode-") + method, "rtol", r, [r, method](SimulateOptions& o) {
+                       o.integrator = Integrator::kCvode;
+                       o.cvode_method = method;
+                       o.rtol = r;
+                       o.atol = 1e-2 * r;
+                     }});
+    }
+  }
+  std::vector<double> steps = quick ? std::vector<double>{1e-2, 1e-3} : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5};
+  for (double h : steps) {
+    if (long_horizon && h < 1e-4) continue;  // 7.5e8 steps at 1e-4 already
+    out.push_back({"moreau-jean", "step", h, [h](SimulateOptions& o) {
+                     o.integrator = Integrator::kMoreauJean;
+                     o.step = h;
+                   }});
+  }
+  return out;
+}
+
+std::string Label(const Setting& s) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%s=%.0e", s.label.c_str(), s.value);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<WorkPrecisionRow> RunWorkPrecision(const WorkPrecisionOptions& options) {
+  std::vector<Case> cases = Cases();
+  for (Case& c : cases) {
+    if (options.quick && c.long_horizon) c.t_end = 100 * 7.5 + 3.75;
+  }
+  // References first (exact at its tightest root tolerance), then every
+  // (case, setting) run as one job; CPU time is per thread, so running the
+  // jobs side by side does not charge one run for another.
+  std::vector<SimulationSummary> refs(cases.size());
+  const auto base_options = [&](const Case& c) {
+    SimulateOptions o;
+    o.t_end = c.t_end;
+    o.sample_dt = 0.0;
+    o.root_tol = 1e-14;
+    return o;
+  };
+  ParallelFor(static_cast<long>(cases.size()), options.threads, [&](long i) {
+    refs[i] = Simulate(cases[i].model, cases[i].x0, cases[i].v0, base_options(cases[i]));
+  });
+  std::vector<std::pair<size_t, Setting>> jobs;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    for (const Setting& s : Settings(cases[i].long_horizon, options.quick)) jobs.emplace_back(i, s);
+  }
+  // The long horizon first: its runs are the slowest, and the others fill in.
+  std::stable_partition(jobs.begin(), jobs.end(), [&](const auto& j) { return cases[j.first].long_horizon; });
+  std::vector<WorkPrecisionRow> rows(jobs.size());
+  ParallelFor(
+      static_cast<long>(jobs.size()), options.threads,
+      [&](long j) {
+        const Case& c = cases[jobs[j].first];
+        const Setting& s = jobs[j].second;
+        const SimulationSummary& ref = refs[jobs[j].first];
+        SimulateOptions opt = base_options(c);
+        s.apply(opt);
+        const double t0 = ThreadCpuSeconds();
+        const SimulationSummary r = Simulate(c.model, c.x0, c.v0, opt);
+        const double cpu = ThreadCpuSeconds() - t0;
+        const double err = r.status == SimulationStatus::kFinished
+                               ? (r.final_state - ref.final_state).norm() / ref.final_state.norm()
+                               : INFINITY;
+        rows[j] = {c.name, s.integrator, Label(s), s.value, err, cpu, r.impacts, r.steps};
+      },
+      options.progress);
+  // Back to the order of the cases.
+  auto rank = [&](const WorkPrecisionRow& r) {
+    for (size_t i = 0; i < cases.size(); ++i) {
+      if (cases[i].name == r.case_name) return i;
+    }
+    return cases.size();
+  };
+  std::stable_sort(rows.begin(), rows.end(), [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
+  return rows;
+}
+
+std::vector<GrazingRow> RunGrazingFailures(const WorkPrecisionOptions& options) {
+  std::vector<GrazingRow> rows;
+  const Model m = PaperModel();
+  const ModalBasis b = MakeModalBasis(m);
+  const double tg = OneImpactTransitions(b, 9.0, 9.3, 0.01).front().period;
+  const bool below_admissible = OneImpactOrbit(b, tg - 1e-6).admissible;
+  const std::vector<double> deltas = options.quick ? std::vector<double>{1e-4, 1e-7} : std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8};
+  for (double delta : deltas) {
+    for (int sign : {-1, 1}) {
+      const double period = tg + sign * delta;
+      const Orbit o = OneImpactOrbit(b, period);
+      const std::string side = (sign < 0) == below_admissible ? "below" : "above";
+      SimulateOptions base;
+      base.t_end = 0.999 * period;  // one period, stopping short of the nominal impact
+      base.sample_dt = 0.0;
+      const long expected = Simulate(m, o.z0.head(2), o.z0.tail(2), base).impacts;
+      for (const Setting& s : Settings(false, options.quick)) {
+        SimulateOptions opt = base;
+        s.apply(opt);
+        const SimulationSummary r = Simulate(m, o.z0.head(2), o.z0.tail(2), opt);
+        rows.push_back({delta, side, s.integrator, Label(s), r.impacts, expected, o.max_excess});
+      }
+    }
+  }
+  return rows;
+}
+
+std::vector<GrazingLimit> SummarizeGrazing(const std::vector<GrazingRow>& rows) {
+  std::vector<GrazingLimit> out;
+  auto find = [&](const GrazingRow& r) -> GrazingLimit& {
+    for (GrazingLimit& l : out) {
+      if (l.integrator == r.integrator && l.setting == r.setting) return l;
+    }
+    out.push_back({r.integrator, r.setting, INFINITY, INFINITY});
+    return out.back();
+  };
+  for (const GrazingRow& r : rows) find(r);  // the settings in their order
+  // Walk each side from the largest |clearance| down; the limit is the last
+  // one reached before the first failure.
+  std::vector<const GrazingRow*> sorted;
+  for (const GrazingRow& r : rows) sorted.push_back(&r);
+  std::stable_sort(sorted.begin(), sorted.end(), [](const GrazingRow* a, const GrazingRow* b) {
+    return std::abs(a->clearance) > std::abs(b->clearance);
+  });
+  std::set<std::string> failed;  // integrator|setting|side that already failed
+  for (const GrazingRow* r : sorted) {
+    GrazingLimit& l = find(*r);
+    const bool above = r->side == "above";
+    const std::string key = r->integrator + "|" + r->setting + "|" + r->side;
+    if (failed.count(key) != 0) continue;
+    if (r->impacts != r->expected_impacts) {
+      failed.insert(key);
+      continue;
+    }
+    (above ? l.shallowest_excursion : l.smallest_clearance) = std::abs(r->clearance);
+  }
+  return out;
+}
+
+}  // namespace nsmodal
