@@ -1,6 +1,6 @@
 #pragma once
-// Charts with gnuplot: DIR/NAME.gp is written and run twice, for NAME.png
-// (pngcairo) and NAME.svg. The data files stay beside it.
+// Charts with gnuplot: DIR/NAME.png.gp and DIR/NAME.svg.gp are written and run
+// from DIR (pngcairo and svg terminals); the data files stay beside them.
 #include <string>
 
 namespace nsmodal::cli {

@@ -153,17 +153,33 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
   v.energy_drift = sum.energy_drift;
   v.wall_time_s = sum.wall_time_s;
 
-  // Growth fitted from the first period where the deviation exceeds ten times
-  // the integrator's own floor (its deviation after one period, or 1e-13) to
-  // the last below 1e-2 (saturation); at least three periods are needed.
+  // Growth: the least-squares slope of log(deviation) per period, from the
+  // first period where the deviation exceeds ten times the integrator's own
+  // floor (its deviation after one period, or 1e-13) to the last below 1e-2
+  // (saturation). Measurable only over at least three periods and two
+  // decades: above a large floor (Moreau-Jean's ~1e-4) the deviation is
+  // dominated by the integrator's drift along the orbit, which grows
+  // polynomially, not at the multipliers' rate.
   int first = -1, last = -1;
   const double floor = v.deviation.empty() ? 0.0 : std::max(1e-13, v.deviation.front());
   for (int k = 0; k < static_cast<int>(v.deviation.size()); ++k) {
     if (first < 0 && v.deviation[k] > 10.0 * floor) first = k;
     if (v.deviation[k] < 1e-2) last = k;
   }
-  const bool growth_measurable = first >= 0 && last >= first + 3;
-  if (growth_measurable) v.measured_growth = std::log(v.deviation[last] / v.deviation[first]) / (last - first);
+  const bool growth_measurable =
+      first >= 0 && last >= first + 3 && v.deviation[last] >= 100.0 * v.deviation[first];
+  if (growth_measurable) {
+    double sk = 0.0, sl = 0.0, skk = 0.0, skl = 0.0;
+    const int count = last - first + 1;
+    for (int k = first; k <= last; ++k) {
+      const double l = std::log(v.deviation[k]);
+      sk += k;
+      sl += l;
+      skk += static_cast<double>(k) * k;
+      skl += k * l;
+    }
+    v.measured_growth = (count * skl - sk * sl) / (count * skk - sk * sk);
+  }
 
   if (orbit.impacts == 1 && integrator == Integrator::kExact) {
     const int manifold_periods = std::min(options.periods, 20);

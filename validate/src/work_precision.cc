@@ -44,7 +44,9 @@ std::vector<Case> Cases() {
   const ModalBasis b = MakeModalBasis(PaperModel());
   const double tg = OneImpactTransitions(b, 9.0, 9.3, 0.01).front().period;
   const double ts = SingularPeriods(b, 4.8, 4.9).front();
-  std::vector<Case> cases{OrbitCase("smooth", 7.5, 10), OrbitCase("near-grazing", tg - 1e-3, 3),
+  // The admissible side of the grazing transition (x_c peaks ~3.5e-3 below d).
+  const double near_grazing = OneImpactOrbit(b, tg + 1e-3).admissible ? tg + 1e-3 : tg - 1e-3;
+  std::vector<Case> cases{OrbitCase("smooth", 7.5, 10), OrbitCase("near-grazing", near_grazing, 3),
                           OrbitCase("high-energy", ts + 0.01, 3), OrbitCase("long", 7.5, 10000)};
   Model zeno = PaperModel();
   zeno.restitution = 0.5;
@@ -134,9 +136,15 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const WorkPrecisionOptions& optio
         const SimulationSummary& ref = refs[jobs[j].first];
         SimulateOptions opt = base_options(c);
         s.apply(opt);
-        const double t0 = ThreadCpuSeconds();
-        const SimulationSummary r = Simulate(c.model, c.x0, c.v0, opt);
-        const double cpu = ThreadCpuSeconds() - t0;
+        // Fast runs are repeated (up to 10 times, while under 10 ms) and the
+        // least CPU time kept: a cold first run would otherwise dominate.
+        SimulationSummary r;
+        double cpu = INFINITY;
+        for (int rep = 0; rep < 10 && (rep == 0 || cpu < 0.01); ++rep) {
+          const double t0 = ThreadCpuSeconds();
+          r = Simulate(c.model, c.x0, c.v0, opt);
+          cpu = std::min(cpu, ThreadCpuSeconds() - t0);
+        }
         const double err = r.status == SimulationStatus::kFinished
                                ? (r.final_state - ref.final_state).norm() / ref.final_state.norm()
                                : INFINITY;

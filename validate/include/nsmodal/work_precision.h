@@ -7,7 +7,8 @@
 // to the exact integrator at its tightest setting; the cost is the thread's
 // CPU time. Cases (the paper's system unless said):
 //   smooth       a stable 1-ipp orbit (T = 7.5), 10 periods;
-//   near-grazing the 1-ipp orbit 1e-3 below the grazing transition T_G ~ 9.127, 3 periods;
+//   near-grazing the admissible 1-ipp orbit 1e-3 from the grazing transition
+//                T_G ~ 9.127 (x_c peaks 3.5e-3 below d between impacts), 3 periods;
 //   high-energy  the 1-ipp orbit 0.01 above the singular transition T_S ~ 4.834 (E ~ 4e4), 3 periods;
 //   long         the stable orbit of `smooth` over 10,000 periods;
 //   zeno         e = 0.5, an accumulation of impacts, sticking and release, t in [0, 1].
