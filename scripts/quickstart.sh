@@ -21,5 +21,11 @@ for integrator in exact cvode moreau-jean; do
     --out "out/paper/simulate-$integrator"
 done
 echo
+echo "== validate the 1- and 2-ipp orbits of T in [2, 30] by 1,000 periods of simulation (exact, CVODE)"
+build/cli/nsmodal validate "$scene" --period 2:30:0.5 --impacts 1 2 --integrators exact cvode --out out/paper/validate
+echo
+echo "== speed against accuracy, quick version (the full one: nsmodal bench $scene --out DIR)"
+build/cli/nsmodal bench "$scene" --quick --out out/paper/bench | tail -8
+echo
 echo "== 3 impacts per period: exploratory search (paper section 2.3)"
 build/cli/nsmodal explore "$scene" --impacts 3 --period 1:40:0.5 --grid 24 | head -6
