@@ -11,6 +11,7 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -21,6 +22,7 @@
 #include "nsmodal/parallel.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate.h"
+#include "nsmodal/stability.h"
 #include "nsmodal/validate.h"
 #include "nsmodal/work_precision.h"
 #include "plot.h"
@@ -93,19 +95,37 @@ void WriteOrbitHeader(std::ostream& os, int n) {
   os << "T,t2,energy,potential,admissible,periodicity_residual,nc2_residual,nc3_margin,degenerate";
   for (int i = 1; i <= n; ++i) os << ",x" << i;
   for (int i = 1; i <= n; ++i) os << ",v" << i;
+  os << ",stable,max_multiplier";
+  for (int k = 1; k <= 2 * n; ++k) os << ",mu" << k << "_re,mu" << k << "_im";
   os << "\n";
 }
 
-void WriteOrbitRow(std::ostream& os, const Orbit& o) {
+// Floquet multipliers of a potential orbit (stability.h); degenerate (bridge)
+// orbits included: their family is a continuum, so one more multiplier is 1.
+std::optional<Stability> StabilityOf(const ModalBasis& b, const Orbit& o) {
+  if (!o.potential) return std::nullopt;
+  return OrbitStability(b, o);
+}
+
+void WriteOrbitRow(std::ostream& os, const Orbit& o, const std::optional<Stability>& s) {
   os << o.period << ",";
   if (!o.times.empty()) os << o.times[0];
   os << "," << o.energy << "," << o.potential << "," << o.admissible << "," << o.periodicity_residual << ","
      << o.nc2_residual << "," << o.max_excess << "," << o.degenerate;
   for (int i = 0; i < o.z0.size(); ++i) os << "," << o.z0[i];
+  if (s) {
+    os << "," << s->stable << "," << s->max_modulus;
+    for (int k = 0; k < s->multipliers.size(); ++k) {
+      os << "," << s->multipliers[k].real() << "," << s->multipliers[k].imag();
+    }
+  } else {
+    os << ",,";
+    for (int k = 0; k < o.z0.size(); ++k) os << ",,";
+  }
   os << "\n";
 }
 
-nlohmann::json OrbitJson(const Orbit& o) {
+nlohmann::json OrbitJson(const Orbit& o, const std::optional<Stability>& s = std::nullopt) {
   const int n = static_cast<int>(o.z0.size() / 2);
   std::vector<double> x(o.z0.data(), o.z0.data() + n), v(o.z0.data() + n, o.z0.data() + 2 * n);
   nlohmann::json j{{"impacts", o.impacts},
@@ -122,6 +142,14 @@ nlohmann::json OrbitJson(const Orbit& o) {
                    {"v", v},
                    {"reason", o.reason}};
   j["t2"] = o.times.empty() ? nlohmann::json() : nlohmann::json(o.times[0]);
+  if (s) {
+    j["stable"] = s->stable;
+    j["max_multiplier"] = s->max_modulus;
+    j["multipliers"] = nlohmann::json::array();
+    for (int k = 0; k < s->multipliers.size(); ++k) {
+      j["multipliers"].push_back({s->multipliers[k].real(), s->multipliers[k].imag()});
+    }
+  }
   return j;
 }
 
@@ -157,6 +185,7 @@ int RunOrbits(const OrbitsArgs& a) {
   const ModalBasis b = AnalysisBasis(a.scene);
   const std::vector<double> periods = range.Values();
   std::vector<std::vector<Orbit>> results(periods.size());
+  std::vector<std::vector<std::optional<Stability>>> stability(periods.size());
   TwoImpactOptions two;
   two.t2_step = a.t2_step;
   ParallelFor(
@@ -167,16 +196,17 @@ int RunOrbits(const OrbitsArgs& a) {
         } else {
           results[i] = TwoImpactOrbits(b, periods[i], two);
         }
+        for (const Orbit& o : results[i]) stability[i].push_back(StabilityOf(b, o));
       },
       ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits"));
   std::ofstream out = OpenOut(a.out, "orbits.csv");
   WriteOrbitHeader(out, b.n);
   long rows = 0, admissible = 0;
-  for (const auto& list : results) {
-    for (const Orbit& o : list) {
-      WriteOrbitRow(out, o);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    for (std::size_t k = 0; k < results[i].size(); ++k) {
+      WriteOrbitRow(out, results[i][k], stability[i][k]);
       ++rows;
-      admissible += o.admissible;
+      admissible += results[i][k].admissible;
     }
   }
   std::cout << "wrote " << rows << " orbits (" << admissible << " admissible) to " << a.out << "/orbits.csv\n";
@@ -474,7 +504,7 @@ int RunOrbit(const OrbitArgs& a) {
   }
   if (a.json) {
     nlohmann::json arr = nlohmann::json::array();
-    for (const Orbit& o : orbits) arr.push_back(OrbitJson(o));
+    for (const Orbit& o : orbits) arr.push_back(OrbitJson(o, StabilityOf(b, o)));
     std::cout << nlohmann::json{{"orbits", arr}}.dump(2) << "\n";
     return 0;
   }
@@ -495,6 +525,14 @@ int RunOrbit(const OrbitArgs& a) {
     std::cout << "\n  v(0+) =";
     for (int i = 0; i < b.n; ++i) std::cout << " " << o.z0[b.n + i];
     std::cout << "\n";
+    if (const std::optional<Stability> s = StabilityOf(b, o)) {
+      std::cout << "  " << (s->stable ? "stable" : "unstable") << ", Floquet multipliers";
+      for (int k = 0; k < s->multipliers.size(); ++k) {
+        std::cout << " " << s->multipliers[k].real() << (s->multipliers[k].imag() < 0 ? "-" : "+")
+                  << std::abs(s->multipliers[k].imag()) << "i";
+      }
+      std::cout << "\n";
+    }
     if (!o.reason.empty()) std::cout << "  " << o.reason << "\n";
   }
   return 0;

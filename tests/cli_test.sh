@@ -48,7 +48,15 @@ expect_error "impacts" "$bin" explore "$paper" --impacts 2 --period 1:2:0.5
 
 # orbits.csv and transitions.csv contracts.
 if "$bin" orbits "$paper" --impacts 1 --period 2:12:0.01 --out "$tmp/one" >/dev/null 2>&1; then
-  head -1 "$tmp/one/orbits.csv" | grep -q '^T,t2,energy,potential,admissible,periodicity_residual,.*,x1,x2,v1,v2$' && ok || bad "orbits.csv header"
+  head -1 "$tmp/one/orbits.csv" |
+    grep -q '^T,t2,energy,potential,admissible,periodicity_residual,.*,x1,x2,v1,v2,stable,max_multiplier,mu1_re,mu1_im,.*,mu4_im$' &&
+    ok || bad "orbits.csv header"
+  # Stability columns: T = 5 is stable (|lambda| = 1), T = 6.5 unstable (|lambda| = 2.40), see validate_test.
+  python3 -c "
+import csv; r={round(float(x['T']),2): x for x in csv.DictReader(open('$tmp/one/orbits.csv'))}
+assert r[5.0]['stable'] == '1' and abs(float(r[5.0]['max_multiplier']) - 1) < 1e-6
+assert r[6.5]['stable'] == '0' and abs(float(r[6.5]['max_multiplier']) - 2.398) < 1e-3
+" && ok || bad "orbits.csv stability columns"
   [ "$(wc -l <"$tmp/one/orbits.csv")" -eq 1002 ] && ok || bad "orbits.csv rows: $(wc -l <"$tmp/one/orbits.csv")"
   head -1 "$tmp/one/transitions.csv" | grep -qx 'T,kind,energy' && ok || bad "transitions.csv header"
   grep -q ',singular,' "$tmp/one/transitions.csv" && grep -q ',modal,' "$tmp/one/transitions.csv" &&
@@ -64,7 +72,7 @@ else
   bad "orbits --impacts 2 failed"
 fi
 if "$bin" orbit "$paper" --impacts 2 --period 6 --json >"$tmp/j.json" 2>/dev/null; then
-  python3 -c "import json,sys; d=json.load(open('$tmp/j.json')); o=d['orbits']; assert len(o) >= 3; assert all(k in o[0] for k in ('T','t2','energy','admissible','periodicity_residual','x','v'))" && ok || bad "orbit --json"
+  python3 -c "import json,sys; d=json.load(open('$tmp/j.json')); o=d['orbits']; assert len(o) >= 3; assert all(k in o[0] for k in ('T','t2','energy','admissible','periodicity_residual','x','v','stable','multipliers'))" && ok || bad "orbit --json"
 else
   bad "orbit --json failed"
 fi

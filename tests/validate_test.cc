@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "nsmodal/error.h"
 #include "nsmodal/one_impact.h"
+#include "nsmodal/roots.h"
 #include "nsmodal/stability.h"
 #include "nsmodal/two_impact.h"
 #include "nsmodal/validate.h"
@@ -32,6 +34,47 @@ TEST(Stability, MultipliersOfAOneImpactOrbitComeInReciprocalPairsWithTrivialOnes
   }
   EXPECT_TRUE(OrbitStability(b, OneImpactOrbit(b, 5.0)).stable);
   EXPECT_FALSE(OrbitStability(b, OneImpactOrbit(b, 6.5)).stable);
+}
+
+// The largest |lambda - 1| over the multipliers that are not the trivial
+// pair (the two closest to 1 are that pair, a Jordan block).
+double NontrivialDistanceToOne(const Stability& s) {
+  std::vector<double> d;
+  for (int i = 0; i < s.multipliers.size(); ++i) d.push_back(std::abs(s.multipliers[i] - 1.0));
+  std::sort(d.begin(), d.end());
+  return d.back();
+}
+
+TEST(Stability, AMultiplierCrossesPlusOneWhereTheOneImpactEnergyIsExtremal) {
+  // Along a conservative family, the nontrivial multiplier pair can only
+  // leave the unit circle through +1 where the period stops being monotone
+  // in the energy (dE/dT = 0). Scan T in [2, 40] away from the singular
+  // periods (E < 100 at both ends of a cell), locate each zero of dE/dT by
+  // Brent on a central difference, and check the crossing there.
+  const ModalBasis b = MakeModalBasis(PaperModel());
+  auto energy = [&](double t) { return OneImpactOrbit(b, t).energy; };
+  auto slope = [&](double t) { return (energy(t + 1e-6) - energy(t - 1e-6)) / 2e-6; };  // error ~ eps E / 1e-6
+  int extrema = 0;
+  for (double t = 2.0; t < 40.0; t += 0.01) {
+    if (!(energy(t) < 100.0 && energy(t + 0.01) < 100.0 && slope(t) * slope(t + 0.01) < 0.0)) continue;
+    const double ts = PolishRoot(slope, t, t + 0.01);
+    ++extrema;
+    const Stability left = OrbitStability(b, OneImpactOrbit(b, ts - 1e-3));
+    const Stability right = OrbitStability(b, OneImpactOrbit(b, ts + 1e-3));
+    EXPECT_NE(left.stable, right.stable) << "T* = " << ts;
+    const Stability& unstable = left.stable ? right : left;
+    // The escaping multiplier is real and > 1 (a +1 crossing, not a flip at -1).
+    EXPECT_GT(unstable.multipliers[0].real(), 1.0) << "T* = " << ts;
+    EXPECT_LT(std::abs(unstable.multipliers[0].imag()), 1e-9) << "T* = " << ts;
+    // At a fold |lambda - 1| ~ sqrt|T - T*|: a thousand times closer, about
+    // 30 times nearer to 1 (at least 10 asked: the slope's own error moves
+    // T* by ~1e-9).
+    const double far = std::max(NontrivialDistanceToOne(left), NontrivialDistanceToOne(right));
+    const double near = std::max(NontrivialDistanceToOne(OrbitStability(b, OneImpactOrbit(b, ts - 1e-6))),
+                                 NontrivialDistanceToOne(OrbitStability(b, OneImpactOrbit(b, ts + 1e-6))));
+    EXPECT_LT(near, 0.1 * far) << "T* = " << ts;
+  }
+  EXPECT_GE(extrema, 10);  // 16 on [2, 40]; far fewer means the scan broke
 }
 
 TEST(Validate, StableAdmissibleOrbitIsPeriodicOverAThousandPeriods) {
