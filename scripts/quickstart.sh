@@ -28,4 +28,7 @@ echo "== speed against accuracy, quick version (the full one: nsmodal bench $sce
 build/cli/nsmodal bench "$scene" --quick --out out/paper/bench | tail -8
 echo
 echo "== 3 impacts per period: exploratory search (paper section 2.3)"
-build/cli/nsmodal explore "$scene" --impacts 3 --period 1:40:0.5 --grid 24 | head -6
+# (into a file first: head closing the pipe early would fail the script under pipefail)
+build/cli/nsmodal explore "$scene" --impacts 3 --period 1:40:0.5 --grid 24 >out/paper/explore-3.txt
+head -6 out/paper/explore-3.txt
+echo "(all findings: out/paper/explore-3.txt)"
