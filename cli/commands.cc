@@ -252,15 +252,26 @@ int RunBench(const BenchArgs& a) {
   gcsv.close();
   // One log-log chart per case: error against CPU time, a line per integrator
   // (the reference setting itself, error 0, has no place on a log scale).
-  for (const char* name : {"smooth", "near-grazing", "high-energy", "long", "zeno"}) {
+  std::vector<std::string> case_names, integrators;
+  for (const WorkPrecisionRow& r : rows) {
+    if (std::find(case_names.begin(), case_names.end(), r.case_name) == case_names.end()) {
+      case_names.push_back(r.case_name);
+    }
+    if (std::find(integrators.begin(), integrators.end(), r.integrator) == integrators.end()) {
+      integrators.push_back(r.integrator);
+    }
+  }
+  std::string integrator_list;
+  for (const std::string& i : integrators) integrator_list += (integrator_list.empty() ? "" : " ") + i;
+  for (const std::string& name : case_names) {
     std::ostringstream body;
     body << "set datafile separator ','\nset logscale xy\nset format y '10^{%T}'\nset format x '10^{%T}'\n"
          << "set xlabel 'CPU time per run (s)'\nset ylabel 'relative error of the final state (vs exact, root\\_tol 1e-14)'\n"
          << "set title 'work-precision: " << name << "'\nset key outside right\nset grid\n"
-         << "plot for [i in 'exact cvode-adams cvode-bdf moreau-jean'] 'work_precision.csv' "
+         << "plot for [i in '" << integrator_list << "'] 'work_precision.csv' "
          << "using (strcol(1) eq '" << name << "' && strcol(2) eq i && $4 > 0 ? $5 : 1/0):4 "
          << "with linespoints lw 2 pt 7 title i\n";
-    Plot(a.out, std::string("work_precision_") + name, body.str());
+    Plot(a.out, "work_precision_" + name, body.str());
   }
   // The tables a person reads: error and cost per case, and the grazing limits.
   std::cout << std::left << std::setw(13) << "case" << std::setw(13) << "integrator" << std::setw(16) << "setting"
