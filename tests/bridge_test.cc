@@ -1,0 +1,125 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "fixtures.h"
+#include "nsmodal/admissibility.h"
+#include "nsmodal/bridge.h"
+#include "nsmodal/error.h"
+#include "nsmodal/flow.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/transitions.h"
+#include "nsmodal/two_impact.h"
+
+namespace nsmodal {
+namespace {
+
+// Residuals of orbits built from O(1) orthogonal maps are a few ulp times the
+// number of maps applied (measured <= 3e-15); 1e-12 leaves three orders of room
+// and still fails on any real defect (a wrong kernel vector gives O(1)).
+constexpr double kRoundOff = 1e-12;
+
+std::vector<double> GrazingPeriods(const ModalBasis& b) {
+  std::vector<double> out;
+  for (const Transition& t : OneImpactTransitions(b, 0.5, 40.0, 0.01)) {
+    if (t.kind == TransitionKind::kGrazing) out.push_back(t.period);
+  }
+  return out;
+}
+
+TEST(Bridge, JoinsTheGrazingOrbitToItsTimeShiftAtEveryGrazingTransition) {
+  const ModalBasis b = testing::PaperBasis();
+  const std::vector<double> periods = GrazingPeriods(b);
+  ASSERT_EQ(periods.size(), 3u);  // 9.127, 19.242, 29.307 (README)
+  for (double tg : periods) {
+    const Bridge br = BridgeAt(b, tg);
+    EXPECT_LT(br.degeneracy_residual, kRoundOff) << "T_G = " << tg;
+    ASSERT_GT(br.s_end, 0.0);
+    // The far end is the grazing orbit started at its other graze T - t_g
+    // (x(t) = x(T - t)): the same closed curve, so the same energy.
+    Eigen::VectorXd shifted = br.y_graze;
+    Flow(b, tg - br.graze_time, shifted);
+    const Orbit end = BridgeOrbit(b, br, br.s_end);
+    EXPECT_LT((end.y0 - shifted).norm() / shifted.norm(), kRoundOff) << "T_G = " << tg;
+    // Every orbit of the segment: potential, admissible, period T_G, energy
+    // symmetric about the middle.
+    for (int j = 0; j <= 16; ++j) {
+      const double s = br.s_end * j / 16.0;
+      const Orbit o = BridgeOrbit(b, br, s);
+      EXPECT_TRUE(o.admissible) << "T_G = " << tg << " s = " << s << ": " << o.reason;
+      EXPECT_LT(o.nc2_residual, kRoundOff);
+      EXPECT_LT(o.periodicity_residual, kRoundOff);
+      EXPECT_NEAR(o.energy, BridgeOrbit(b, br, br.s_end - s).energy, kRoundOff * o.energy);
+      EXPECT_GE(o.energy, br.energy_min * (1 - kRoundOff));
+      EXPECT_LE(o.energy, br.energy_max * (1 + kRoundOff));
+    }
+    // Just past either end it is no longer admissible: the ends are boundaries.
+    EXPECT_FALSE(BridgeOrbit(b, br, -1e-3 * br.s_end).admissible);
+    EXPECT_FALSE(BridgeOrbit(b, br, 1.001 * br.s_end).admissible);
+  }
+}
+
+TEST(Bridge, WhenTheGrazeIsAtHalfPeriodTheMiddleIsTheHalfPeriodOrbitRunTwice) {
+  const ModalBasis b = testing::PaperBasis();
+  int seen = 0;
+  for (double tg : GrazingPeriods(b)) {
+    const Bridge br = BridgeAt(b, tg);
+    if (std::abs(br.graze_time - 0.5 * tg) > 1e-9 * tg) continue;
+    ++seen;
+    const Orbit half = OneImpactOrbit(b, 0.5 * tg);
+    const Orbit middle = BridgeOrbit(b, br, 0.5 * br.s_end);
+    EXPECT_TRUE(half.admissible);
+    EXPECT_LT((middle.y0 - half.y0).norm() / half.y0.norm(), kRoundOff);
+    EXPECT_NEAR(br.energy_min, half.energy, kRoundOff * half.energy);
+    EXPECT_NEAR(br.energy_max, OneImpactOrbit(b, tg).energy, kRoundOff * br.energy_max);
+  }
+  EXPECT_EQ(seen, 1);  // T_G = 19.242 on the paper's system (Fig. 15)
+}
+
+TEST(Bridge, MiddleOfTheBridgeLiesOnATwoImpactBranch) {
+  // At T_G = 9.127 the graze is at t_g = 1.08, not T/2: the lowest orbit of the
+  // bridge is a genuine 2-ipp orbit, continued on both sides of T_G by roots
+  // t2 of det A_2 whose orbits' energies tend to it.
+  const ModalBasis b = testing::PaperBasis();
+  const double tg = GrazingPeriods(b).front();
+  const Bridge br = BridgeAt(b, tg);
+  ASSERT_GT(std::abs(br.graze_time - 0.5 * tg), 1.0);
+  const double e_mid = BridgeOrbit(b, br, 0.5 * br.s_end).energy;
+  EXPECT_NEAR(e_mid, br.energy_min, kRoundOff * e_mid);
+  for (double dt : {-1e-4, 1e-4, -1e-6, 1e-6}) {
+    double nearest = INFINITY;
+    for (const Orbit& o : TwoImpactOrbits(b, tg + dt)) {
+      if (std::abs(o.times[0] - br.graze_time) < 0.01 && o.admissible) nearest = std::abs(o.energy - e_mid);
+    }
+    // The branch is smooth through T_G: energy moves by O(dT) (slope ~0.1
+    // measured), so 10 |dT| bounds it.
+    EXPECT_LT(nearest, 10.0 * std::abs(dt)) << "dT = " << dt;
+  }
+}
+
+TEST(Bridge, TheAsymmetricGrazingOrbitIsAlsoAThreeImpactOrbit) {
+  // Paper Fig. 9: an orbit with one impact and two grazes (t_g and T - t_g)
+  // is admissible as a 1-ipp and as a 3-ipp orbit.
+  const ModalBasis b = testing::PaperBasis();
+  const double tg = GrazingPeriods(b).front();
+  const Bridge br = BridgeAt(b, tg);
+  const Orbit three = EvaluateOrbit(b, br.y_graze, {br.graze_time, tg - br.graze_time}, tg);
+  EXPECT_TRUE(three.potential);
+  EXPECT_TRUE(three.admissible) << three.reason;
+  EXPECT_LT(three.nc2_residual, kRoundOff);
+  EXPECT_TRUE(OneImpactOrbit(b, tg).admissible);
+}
+
+TEST(Bridge, APeriodThatDoesNotGrazeIsRefusedNamingIt) {
+  const ModalBasis b = testing::PaperBasis();
+  try {
+    BridgeAt(b, 7.5);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("period"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("7.5"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace nsmodal
