@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fixtures.h"
+#include "nsmodal/error.h"
 #include "nsmodal/return_map.h"
 #include "nsmodal/two_impact.h"
 
@@ -112,6 +113,61 @@ TEST(TwoImpact, HalfPeriodRootIsTheOneImpactOrbitRunTwice) {
     }
     EXPECT_LT((two.y0 - y).norm(), 1e-10 * y.norm()) << "T = " << period;
   }
+}
+
+TEST(TwoImpact, ContinuationFollowsTheRootCurveThroughItsFoldsAndAgreesWithTheGrid) {
+  // The branch through the 3 T_1 linear mode (paper Figs. 11-12): from
+  // (t2, T) = (2.87, 8.866) the curve turns back at T ~ 8.615 and again at
+  // T ~ 9.181. A grid in T sees each fold only as two roots merging.
+  const ModalBasis b = testing::PaperBasis();
+  double t2 = 0.0;
+  for (double r : TwoImpactRoots(b, 8.866)) {
+    if (std::abs(r - 2.87) < 0.01) t2 = r;
+  }
+  ASSERT_GT(t2, 0.0);
+  BranchOptions opt;
+  opt.step = 0.02;
+  opt.period_min = 8.0;
+  opt.period_max = 9.6;
+  const std::vector<BranchPoint> branch = TwoImpactBranch(b, t2, 8.866, opt);
+  ASSERT_GT(branch.size(), 100u);
+  // Every 10th point is a root that the grid search finds at that T too.
+  for (std::size_t k = 0; k < branch.size(); k += 10) {
+    double nearest = INFINITY;
+    for (double r : TwoImpactRoots(b, branch[k].period)) nearest = std::min(nearest, std::abs(r - branch[k].t2));
+    EXPECT_LT(nearest, kRootTarget) << "t2 = " << branch[k].t2 << " T = " << branch[k].period;
+  }
+  // Steps are the asked arclength (Newton's correction is orthogonal to the
+  // predictor, so the chord is at least the step and not much more).
+  for (std::size_t k = 1; k < branch.size(); ++k) {
+    const double chord = std::hypot(branch[k].t2 - branch[k - 1].t2, branch[k].period - branch[k - 1].period);
+    EXPECT_GE(chord, opt.step * (1 - 1e-9));
+    EXPECT_LT(chord, 1.1 * opt.step);
+  }
+  // The fold below: T has an interior minimum along the branch near 8.615,
+  // with the curve continuing on both sides of it.
+  std::size_t fold = 0;
+  for (std::size_t k = 0; k < branch.size(); ++k) {
+    if (branch[k].t2 < 3.0 && branch[k].period < branch[fold].period) fold = k;
+  }
+  ASSERT_GT(fold, 10u);
+  ASSERT_LT(fold + 10, branch.size());
+  EXPECT_NEAR(branch[fold].period, 8.615, 0.005);
+  EXPECT_GT(branch[fold - 10].period, branch[fold].period);
+  EXPECT_GT(branch[fold + 10].period, branch[fold].period);
+  // Below the fold the grid has no root near it; just above, two.
+  auto count_near = [&](double period) {
+    int n = 0;
+    for (double r : TwoImpactRoots(b, period)) n += std::abs(r - branch[fold].t2) < 0.5;
+    return n;
+  };
+  EXPECT_EQ(count_near(branch[fold].period - 0.01), 0);
+  EXPECT_EQ(count_near(branch[fold].period + 0.01), 2);
+}
+
+TEST(TwoImpact, ContinuationRefusesAStartThatIsNotARoot) {
+  const ModalBasis b = testing::PaperBasis();
+  EXPECT_THROW(TwoImpactBranch(b, 1.0, 8.0), InputError);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <gsl/gsl_min.h>
 #include <memory>
 
+#include "nsmodal/error.h"
 #include "nsmodal/flow.h"
 #include "nsmodal/return_map.h"
 #include "nsmodal/roots.h"
@@ -133,6 +134,66 @@ Orbit TwoImpactOrbitAt(const ModalBasis& b, double t2, double period, const TwoI
 std::vector<Orbit> TwoImpactOrbits(const ModalBasis& b, double period, const TwoImpactOptions& options) {
   std::vector<Orbit> out;
   for (double t2 : TwoImpactRoots(b, period, options)) out.push_back(TwoImpactOrbitAt(b, t2, period, options));
+  return out;
+}
+
+namespace {
+
+// grad F by central differences: F is a polynomial in trigonometric functions
+// of t2 and T with O(1) coefficients, so h = 1e-6 gives ~1e-10 relative error,
+// enough for Newton's direction and the tangent.
+Eigen::Vector2d IndicatorGradient(const ModalBasis& b, double t2, double period) {
+  const double h = 1e-6;
+  return {(TwoImpactIndicator(b, t2 + h, period) - TwoImpactIndicator(b, t2 - h, period)) / (2 * h),
+          (TwoImpactIndicator(b, t2, period + h) - TwoImpactIndicator(b, t2, period - h)) / (2 * h)};
+}
+
+// Newton on {F = 0, tangent . (p - pred) = 0} from pred; false if it fails.
+bool Correct(const ModalBasis& b, const Eigen::Vector2d& tangent, Eigen::Vector2d& p) {
+  const Eigen::Vector2d pred = p;
+  for (int it = 0; it < 20; ++it) {
+    const double f = TwoImpactIndicator(b, p[0], p[1]);
+    const Eigen::Vector2d g = IndicatorGradient(b, p[0], p[1]);
+    Eigen::Matrix2d j;
+    j << g[0], g[1], tangent[0], tangent[1];
+    const Eigen::Vector2d r(f, tangent.dot(p - pred));
+    const Eigen::Vector2d dp = j.partialPivLu().solve(-r);
+    if (!dp.allFinite()) return false;
+    p += dp;
+    if (dp.norm() < 1e-14 * (1.0 + p.norm())) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<BranchPoint> TwoImpactBranch(const ModalBasis& b, double t2, double period, const BranchOptions& options) {
+  if (!(SmallestSingularValue(b, t2, period) < options.kernel_tol)) {
+    throw InputError("t2", "(t2, T) = (" + std::to_string(t2) + ", " + std::to_string(period) +
+                               ") is not a root of det A_2: no branch to follow");
+  }
+  std::vector<BranchPoint> sides[2];
+  for (int side = 0; side < 2; ++side) {
+    Eigen::Vector2d p(t2, period);
+    Eigen::Vector2d g = IndicatorGradient(b, p[0], p[1]);
+    Eigen::Vector2d tangent = Eigen::Vector2d(-g[1], g[0]).normalized() * (side == 0 ? 1.0 : -1.0);
+    double s = 0.0;
+    for (int k = 0; k < options.max_points; ++k) {
+      Eigen::Vector2d q = p + options.step * tangent;
+      if (!Correct(b, tangent, q)) break;
+      if (!(q[0] > 0.0 && q[0] < q[1] && q[1] > options.period_min && q[1] < options.period_max)) break;
+      if (!(SmallestSingularValue(b, q[0], q[1]) < options.kernel_tol)) break;
+      s += (q - p).norm();
+      sides[side].push_back({q[0], q[1], side == 0 ? s : -s});
+      g = IndicatorGradient(b, q[0], q[1]);
+      Eigen::Vector2d next = Eigen::Vector2d(-g[1], g[0]).normalized();
+      tangent = next.dot(tangent) >= 0.0 ? next : Eigen::Vector2d(-next);  // keep the direction
+      p = q;
+    }
+  }
+  std::vector<BranchPoint> out(sides[1].rbegin(), sides[1].rend());
+  out.push_back({t2, period, 0.0});
+  out.insert(out.end(), sides[0].begin(), sides[0].end());
   return out;
 }
 

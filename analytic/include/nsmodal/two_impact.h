@@ -46,4 +46,29 @@ Orbit TwoImpactOrbitAt(const ModalBasis& b, double t2, double period, const TwoI
 // Every potential 2-ipp orbit of period T (one per root t2).
 std::vector<Orbit> TwoImpactOrbits(const ModalBasis& b, double period, const TwoImpactOptions& options = {});
 
+// Pseudo-arclength continuation of the NC1 root curve through (t2, T): the
+// zero set of the signed indicator F(t2, T) (return_map.h), followed in
+// arclength of the (t2, T) plane, so it passes the folds where T turns back
+// (the grid of TwoImpactRoots sees a fold only as two roots merging).
+// Predictor along the tangent (perpendicular to grad F, by central
+// differences), corrector Newton on {F = 0, tangent . (p - p_pred) = 0}.
+struct BranchOptions {
+  double step = 0.01;       // arclength between points in the (t2, T) plane
+  int max_points = 2000;    // in each direction
+  double period_min = 0.0;  // stop on leaving period_min < T < period_max
+  double period_max = 1e300;
+  // Stop at a point that is not a root (sigma_min(A_2) above this, e.g. the
+  // curve met a -1 crossing) or where Newton needs more than 20 iterations.
+  double kernel_tol = 1e-10;
+  TwoImpactOptions orbit;
+};
+struct BranchPoint {
+  double t2 = 0.0, period = 0.0;
+  double arclength = 0.0;  // signed, 0 at the start
+};
+// Points of the curve through the root (t2, T), ordered by arclength, in both
+// directions from it. The start must be a root (sigma_min(A_2) < kernel_tol).
+std::vector<BranchPoint> TwoImpactBranch(const ModalBasis& b, double t2, double period,
+                                         const BranchOptions& options = {});
+
 }  // namespace nsmodal
