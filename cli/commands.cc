@@ -25,6 +25,7 @@
 #include "nsmodal/stability.h"
 #include "nsmodal/validate.h"
 #include "nsmodal/work_precision.h"
+#include "common.h"
 #include "plot.h"
 #include "nsmodal/transitions.h"
 #include "nsmodal/two_impact.h"
@@ -46,18 +47,6 @@ double ParseNumber(const std::string& s, const std::string& field, const std::st
   return v;
 }
 
-// Periodic orbits with impacts exist only for e = 1 (paper section 1).
-ModalBasis AnalysisBasis(const std::string& scene_path) {
-  const Scene scene = LoadScene(scene_path);
-  if (scene.model.restitution != 1.0) {
-    throw InputError("system.restitution",
-                     "periodic orbits with impacts exist only for e = 1 (energy is lost at every impact "
-                     "when e < 1, paper section 1); got " +
-                         FormatValue(scene.model.restitution));
-  }
-  return MakeModalBasis(scene.model);
-}
-
 void CheckImpacts(int impacts) {
   if (impacts != 1 && impacts != 2) {
     throw InputError("--impacts", "orbits and orbit compute 1 or 2 impacts per period, got " +
@@ -69,28 +58,6 @@ void CheckT2Step(double step) {
   if (!(step > 0.0) || !std::isfinite(step)) throw InputError("--t2-step", "must be positive, got " + FormatValue(step));
 }
 
-std::function<void(long, long)> ProgressBar(const std::string& label) {
-  if (!isatty(STDERR_FILENO)) return {};
-  return [label](long done, long count) {
-    const int width = 40;
-    const int filled = count > 0 ? static_cast<int>(width * done / count) : width;
-    std::fprintf(stderr, "\r%s [%s%s] %ld/%ld", label.c_str(), std::string(filled, '#').c_str(),
-                 std::string(width - filled, '.').c_str(), done, count);
-    if (done == count) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
-  };
-}
-
-std::ofstream OpenOut(const std::string& dir, const std::string& name) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw InputError("--out", "cannot create directory '" + dir + "': " + ec.message());
-  std::ofstream out(std::filesystem::path(dir) / name);
-  if (!out) throw InputError("--out", "cannot write '" + dir + "/" + name + "'");
-  out << std::setprecision(17);
-  return out;
-}
-
 void WriteOrbitHeader(std::ostream& os, int n) {
   os << "T,t2,energy,potential,admissible,periodicity_residual,nc2_residual,nc3_margin,degenerate";
   for (int i = 1; i <= n; ++i) os << ",x" << i;
@@ -98,13 +65,6 @@ void WriteOrbitHeader(std::ostream& os, int n) {
   os << ",stable,max_multiplier";
   for (int k = 1; k <= 2 * n; ++k) os << ",mu" << k << "_re,mu" << k << "_im";
   os << "\n";
-}
-
-// Floquet multipliers of a potential orbit (stability.h); degenerate (bridge)
-// orbits included: their family is a continuum, so one more multiplier is 1.
-std::optional<Stability> StabilityOf(const ModalBasis& b, const Orbit& o) {
-  if (!o.potential) return std::nullopt;
-  return OrbitStability(b, o);
 }
 
 void WriteOrbitRow(std::ostream& os, const Orbit& o, const std::optional<Stability>& s) {
@@ -154,6 +114,48 @@ nlohmann::json OrbitJson(const Orbit& o, const std::optional<Stability>& s = std
 }
 
 }  // namespace
+
+// Periodic orbits with impacts exist only for e = 1 (paper section 1).
+ModalBasis AnalysisBasis(const std::string& scene_path) {
+  const Scene scene = LoadScene(scene_path);
+  if (scene.model.restitution != 1.0) {
+    throw InputError("system.restitution",
+                     "periodic orbits with impacts exist only for e = 1 (energy is lost at every impact "
+                     "when e < 1, paper section 1); got " +
+                         FormatValue(scene.model.restitution));
+  }
+  return MakeModalBasis(scene.model);
+}
+
+std::function<void(long, long)> ProgressBar(const std::string& label) {
+  if (!isatty(STDERR_FILENO)) return {};
+  return [label](long done, long count) {
+    const int width = 40;
+    const int filled = count > 0 ? static_cast<int>(width * done / count) : width;
+    std::fprintf(stderr, "\r%s [%s%s] %ld/%ld", label.c_str(), std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), done, count);
+    if (done == count) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  };
+}
+
+std::ofstream OpenOut(const std::string& dir, const std::string& name) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError("--out", "cannot create directory '" + dir + "': " + ec.message());
+  std::ofstream out(std::filesystem::path(dir) / name);
+  if (!out) throw InputError("--out", "cannot write '" + dir + "/" + name + "'");
+  out << std::setprecision(17);
+  return out;
+}
+
+// Floquet multipliers of a potential orbit (stability.h); degenerate (bridge)
+// orbits included: their family is a continuum, so one more multiplier is 1.
+std::optional<Stability> StabilityOf(const ModalBasis& b, const Orbit& o) {
+  if (!o.potential) return std::nullopt;
+  return OrbitStability(b, o);
+}
+
 
 std::vector<double> PeriodRange::Values() const {
   std::vector<double> out;

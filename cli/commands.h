@@ -56,6 +56,14 @@ struct BenchArgs {
   bool quick = false;
 };
 
+// Flags of `figures`: the paper's Figs. 2-15 redrawn (figures.cc).
+struct FiguresArgs {
+  std::string scene, out;
+  std::optional<std::string> period;  // FROM:TO:STEP of the sweeps (default step:4 T_max:0.01)
+  int threads = 0;
+};
+
+int RunFigures(const FiguresArgs& a);
 int RunOrbits(const OrbitsArgs& a);
 int RunBench(const BenchArgs& a);
 int RunValidate(const ValidateArgs& a);

@@ -70,6 +70,13 @@ int main(int argc, char** argv) {
   c_bench->add_option("--out", bench.out, "Output directory")->required();
   c_bench->add_flag("--quick", bench.quick, "Fewer settings and a 100-period long case");
 
+  FiguresArgs figures;
+  auto* c_fig = app.add_subcommand("figures", "Redraw the paper's Figs. 2-15 (PNG, SVG and CSV) with stability");
+  c_fig->add_option("scene", figures.scene, "Scene file (the paper's system: configs/paper.toml)")->required();
+  c_fig->add_option("--out", figures.out, "Output directory")->required();
+  c_fig->add_option("--period", figures.period, "FROM:TO:STEP of the 1-ipp and 2-ipp sweeps (default 0.01:4 T_max:0.01)");
+  c_fig->add_option("--threads", figures.threads, "Worker threads (0: all cores)")->default_val(0);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -82,6 +89,7 @@ int main(int argc, char** argv) {
     if (*c_sim) return RunSimulate(simulate);
     if (*c_val) return RunValidate(validate);
     if (*c_bench) return RunBench(bench);
+    if (*c_fig) return RunFigures(figures);
   } catch (const nsmodal::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;

@@ -134,5 +134,40 @@ else
 fi
 expect_error "scene" "$bin" bench "$(scene other '[system]\nmasses=[1,2]\nsprings=[1,1]\n')" --out "$tmp/b"
 
+# figures: every figure's data (and charts when gnuplot is there), on a
+# shorter sweep that still holds two grazing transitions (9.127, 19.242).
+if "$bin" figures "$paper" --out "$tmp/fig" --period 0.05:20:0.05 >"$tmp/fig.txt" 2>"$tmp/fig.err"; then
+  for f in fig02_not_admissible fig03_one_impact fig03_transitions fig04_modal_transition fig05_grazing_transition \
+    fig06_det_a2 fig06_roots fig07_two_impact fig08_fep fig08_bridges fig09_two_grazes fig10_one_impact_mode \
+    fig11_two_impact_mode fig13_bridge_orbits fig14_bridge_section fig15_bridge_fep fig15_bridge; do
+    [ -s "$tmp/fig/$f.csv" ] && ok || bad "figures: $f.csv missing"
+  done
+  if command -v gnuplot >/dev/null; then
+    grep -q "^14 figures drawn" "$tmp/fig.txt" && ok || bad "figures: not all drawn: $(tail -1 "$tmp/fig.txt")"
+    for f in fig02_not_admissible fig03_one_impact_energy fig06_det_a2 fig08_fep fig12_two_impact_mode fig15_bridge_fep; do
+      [ -s "$tmp/fig/$f.png" ] && [ -s "$tmp/fig/$f.svg" ] && ok || bad "figures: $f chart"
+    done
+  fi
+  # Paper Fig. 6: roots t2 != T/2 exactly for T in {3, 4, 5, 6, 9}.
+  away=$(awk -F, 'NR > 1 && $3 == 0 { print $1 }' "$tmp/fig/fig06_roots.csv" | sort -nu | tr '\n' ' ')
+  [ "$away" = "3 4 5 6 9 " ] && ok || bad "figures: Fig. 6 periods with roots off T/2: '$away'"
+  # The paper's bridge (graze at T/2): its lowest energy is the 1-ipp orbit of
+  # period T_G/2, computed here by another command; both print 17 digits of
+  # quantities exact to ~1e-15, so 1e-12 relative.
+  read -r tg emin < <(awk -F, '$1 > 19 && $1 < 20 { print $1, $3 }' "$tmp/fig/fig08_bridges.csv")
+  if [ -n "${tg:-}" ]; then
+    half=$(awk -v t="$tg" 'BEGIN { printf "%.17g", t / 2 }')
+    e=$("$bin" orbit "$paper" --period "$half" --json | awk -F': ' '/"energy"/ { gsub(",", "", $2); print $2; exit }')
+    awk -v a="$emin" -v b="$e" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-12 * b) }' && ok ||
+      bad "figures: bridge bottom $emin vs 1-ipp energy at T_G/2 $e"
+  else
+    bad "figures: no bridge near T = 19.24 in fig08_bridges.csv"
+  fi
+else
+  bad "figures failed: $(cat "$tmp/fig.err")"
+fi
+expect_error "--period" "$bin" figures "$paper" --out "$tmp/f2" --period 1:x:0.1
+expect_error "system.restitution" "$bin" figures "$(scene e05 '[system]\nmasses=[1,1]\nsprings=[1,1]\nrestitution=0.5\n')" --out "$tmp/f3"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -2,23 +2,16 @@
 
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "nsmodal/admissibility.h"
 #include "nsmodal/error.h"
 #include "nsmodal/flow.h"
+#include "nsmodal/model.h"
 #include "nsmodal/one_impact.h"
 #include "nsmodal/return_map.h"
 
 namespace nsmodal {
 namespace {
-
-std::string Format(double v) {
-  std::ostringstream os;
-  os.precision(17);
-  os << v;
-  return os.str();
-}
 
 bool AdmissibleAt(const ModalBasis& b, const Bridge& br, double s) { return BridgeOrbit(b, br, s).admissible; }
 
@@ -34,9 +27,9 @@ Bridge BridgeAt(const ModalBasis& b, double grazing_period) {
   // A grazing orbit reaches d at an interior maximum; 1e-9 d leaves room for
   // the transition's own error (~1e-15 in T, quadratic in the excess).
   if (!one.potential || !(std::abs(seg.max_excess) <= 1e-9 * b.gap)) {
-    throw InputError("period", "T = " + Format(grazing_period) +
+    throw InputError("period", "T = " + FormatValue(grazing_period) +
                                    " is not a grazing transition of the 1-ipp family (largest interior x_c - d = " +
-                                   Format(seg.max_excess) + ")");
+                                   FormatValue(seg.max_excess) + ")");
   }
   Bridge br;
   br.period = grazing_period;
@@ -61,8 +54,8 @@ Bridge BridgeAt(const ModalBasis& b, double grazing_period) {
   const double probe = 1e-3 * scale;
   const bool plus = AdmissibleAt(b, br, probe), minus = AdmissibleAt(b, br, -probe);
   if (plus == minus) {
-    throw InputError("period", "T = " + Format(grazing_period) + ": the continuum of 2-ipp orbits at the graze t = " +
-                                   Format(br.graze_time) + " is admissible on " + (plus ? "both sides" : "neither side") +
+    throw InputError("period", "T = " + FormatValue(grazing_period) + ": the continuum of 2-ipp orbits at the graze t = " +
+                                   FormatValue(br.graze_time) + " is admissible on " + (plus ? "both sides" : "neither side") +
                                    " of the grazing orbit; no bridge");
   }
   if (minus) br.direction = -br.direction;
@@ -80,8 +73,8 @@ Bridge BridgeAt(const ModalBasis& b, double grazing_period) {
     lo = s;
   }
   if (std::isinf(hi)) {
-    throw InputError("period", "T = " + Format(grazing_period) + ": the bridge stays admissible up to s = " +
-                                   Format(lo) + " (energy " + Format(BridgeOrbit(b, br, lo).energy) + "); unbounded");
+    throw InputError("period", "T = " + FormatValue(grazing_period) + ": the bridge stays admissible up to s = " +
+                                   FormatValue(lo) + " (energy " + FormatValue(BridgeOrbit(b, br, lo).energy) + "); unbounded");
   }
   for (int i = 0; i < 200 && hi - lo > 4 * std::numeric_limits<double>::epsilon() * hi; ++i) {
     const double mid = 0.5 * (lo + hi);

@@ -1,0 +1,29 @@
+#pragma once
+// Helpers shared by the commands (commands.cc, figures.cc).
+#include <fstream>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "nsmodal/modal_basis.h"
+#include "nsmodal/orbit.h"
+#include "nsmodal/stability.h"
+
+namespace nsmodal::cli {
+
+// The scene's modal basis; refuses e != 1 (periodic orbits need e = 1),
+// naming system.restitution.
+ModalBasis AnalysisBasis(const std::string& scene_path);
+
+// A progress callback for ParallelFor drawing a bar on stderr, or none when
+// stderr is not a terminal.
+std::function<void(long, long)> ProgressBar(const std::string& label);
+
+// DIR/NAME opened for writing (DIR created), 17 significant digits; throws
+// InputError naming --out.
+std::ofstream OpenOut(const std::string& dir, const std::string& name);
+
+// Floquet multipliers of a potential orbit; none for an orbit that is not.
+std::optional<Stability> StabilityOf(const ModalBasis& b, const Orbit& o);
+
+}  // namespace nsmodal::cli

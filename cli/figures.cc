@@ -1,0 +1,754 @@
+// nsmodal figures: the paper's Figs. 2-15 redrawn from the project's own
+// computations. Each figure is DIR/figNN_name.{csv,png,svg} (+ the gnuplot
+// scripts), the CSV holding exactly what is drawn. Trajectory CSVs hold one
+// orbit per block, blocks separated by a blank line (gnuplot's convention for
+// separate curves). Which orbits are drawn is chosen from the scene's own
+// transitions, so another system gets the corresponding figures.
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "commands.h"
+#include "common.h"
+#include "nsmodal/admissibility.h"
+#include "nsmodal/bridge.h"
+#include "nsmodal/error.h"
+#include "nsmodal/flow.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/parallel.h"
+#include "nsmodal/return_map.h"
+#include "nsmodal/scene.h"
+#include "nsmodal/trajectory.h"
+#include "nsmodal/transitions.h"
+#include "nsmodal/two_impact.h"
+#include "plot.h"
+
+namespace nsmodal::cli {
+namespace {
+
+// Colours shared by every frequency-energy plot: stable and unstable parts of
+// the 1-ipp (blues) and 2-ipp (oranges) families.
+constexpr const char* kOneStable = "#1f5fb4";
+constexpr const char* kOneUnstable = "#8ec1ee";
+constexpr const char* kTwoStable = "#d95f02";
+constexpr const char* kTwoUnstable = "#fdbf6f";
+constexpr const char* kDilated = "#2ca02c";
+constexpr const char* kPotential = "#c8c8c8";
+constexpr int kSamples = 200;  // per flight of a drawn trajectory
+
+struct Context {
+  ModalBasis b;
+  int contact = 0;  // physical index of the contact dof
+  int other = 0;    // the dof on the first axis of the phase sections (paper: x_1)
+  std::string dir;
+  std::vector<double> periods;
+  std::vector<Orbit> one;
+  std::vector<std::optional<Stability>> one_stability;
+  std::vector<std::vector<Orbit>> two;
+  std::vector<std::vector<std::optional<Stability>>> two_stability;
+  std::vector<Transition> transitions;
+  std::vector<Bridge> bridges;
+  int drawn = 0, failed = 0;
+};
+
+std::string Name(int index, const char* what) { return "x_" + std::to_string(index + 1) + (what ? what : ""); }
+
+// Label helpers, in the paper's SI units.
+std::string XcLabel(const Context& c) { return "contact displacement x_{" + std::to_string(c.contact + 1) + "} (m)"; }
+
+// The data files must be closed (flushed) before this is called.
+void Draw(Context& c, const std::string& name, const std::string& body) {
+  (Plot(c.dir, name, "set datafile separator ','\nset grid\n" + body) ? c.drawn : c.failed) += 1;
+  std::cout << "  " << name << "\n";
+}
+
+bool IsStable(const std::optional<Stability>& s) { return s && s->stable; }
+
+bool IsHalfPeriodRoot(const Orbit& o) { return std::abs(o.times[0] - 0.5 * o.period) <= 1e-9 * o.period; }
+
+// Trajectory rows of one orbit: label, T, then OrbitTrajectory's columns.
+void WriteTrajectoryHeader(std::ostream& os, const Context& c) {
+  os << "curve,T,t";
+  for (int i = 1; i <= c.b.n; ++i) os << ",x" << i;
+  for (int i = 1; i <= c.b.n; ++i) os << ",v" << i;
+  os << "\n";
+}
+void WriteTrajectory(std::ostream& os, const std::string& label, double period, const Eigen::MatrixXd& tr) {
+  for (long r = 0; r < tr.rows(); ++r) {
+    os << label << "," << period;
+    for (long k = 0; k < tr.cols(); ++k) os << "," << tr(r, k);
+    os << "\n";
+  }
+  os << "\n";
+}
+
+// Columns of a trajectory CSV (1-based for gnuplot): t, x_i, v_i.
+int TCol() { return 3; }
+int XCol(const Context&, int dof) { return 4 + dof; }
+int VCol(const Context& c, int dof) { return 4 + c.b.n + dof; }
+
+// The linear mode i grazing d at t = 0 (x_c = d cos(w_i t)): the limit of the
+// 1-ipp family at a modal transition T = k T_i (eq. 24), as a 1-ipp orbit.
+Orbit GrazingMode(const ModalBasis& b, int mode, double period) {
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(2 * b.n);
+  y[mode] = b.gap / b.r_over_omega[mode];
+  return EvaluateOrbit(b, y, {}, period);
+}
+
+// The mode whose multiple is the modal period T (T = k T_i).
+int ModeOf(const ModalBasis& b, double period) {
+  const Eigen::VectorXd ti = b.Periods();
+  int best = 0;
+  double err = INFINITY;
+  for (int i = 0; i < b.n; ++i) {
+    const double k = std::round(period / ti[i]);
+    const double e = std::abs(period - k * ti[i]);
+    if (k >= 1 && e < err) {
+      err = e;
+      best = i;
+    }
+  }
+  return best;
+}
+
+// Energy range of a frequency-energy plot: from half the lowest potential
+// energy up to 100 times the highest admissible one, at most four decades
+// (energies diverge at singular transitions).
+std::pair<double, double> EnergyRange(const Context& c) {
+  double lo = INFINITY, hi = 0.0;
+  for (const Orbit& o : c.one) {
+    if (o.potential) lo = std::min(lo, o.energy);
+    if (o.admissible) hi = std::max(hi, o.energy);
+  }
+  for (const auto& list : c.two) {
+    for (const Orbit& o : list) {
+      if (o.potential) lo = std::min(lo, o.energy);
+      if (o.admissible) hi = std::max(hi, o.energy);
+    }
+  }
+  if (!(hi > 0.0)) hi = 1.0;
+  if (!std::isfinite(lo)) lo = 1e-3 * hi;
+  return {0.5 * lo, std::min(100.0 * hi, 1e4 * lo)};
+}
+
+std::string EnergyAxes(const Context& c) {
+  const auto [lo, hi] = EnergyRange(c);
+  std::ostringstream os;
+  os << "set logscale y\nset format y '10^{%T}'\nset yrange [" << lo << ":" << hi << "]\n"
+     << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n";
+  return os.str();
+}
+
+// Fig. 2: a potential 2-ipp orbit that is not admissible.
+void Figure2(Context& c) {
+  const Orbit* pick = nullptr;
+  for (const auto& list : c.two) {
+    for (const Orbit& o : list) {
+      if (o.potential && !o.admissible && !IsHalfPeriodRoot(o) && o.max_excess > 0.05 * c.b.gap &&
+          o.max_excess < c.b.gap) {
+        pick = &o;
+        break;
+      }
+    }
+    if (pick) break;
+  }
+  if (!pick) {
+    std::cout << "  fig02: no potential, non-admissible 2-ipp orbit in the sweep; skipped\n";
+    return;
+  }
+  std::ofstream out = OpenOut(c.dir, "fig02_not_admissible.csv");
+  WriteTrajectoryHeader(out, c);
+  WriteTrajectory(out, "x", pick->period, OrbitTrajectory(c.b, *pick, kSamples));
+  std::ostringstream body;
+  body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n"
+       << "set title \"Fig. 2: potential, not admissible 2-ipp orbit, T = " << pick->period << ", t_2 = "
+       << pick->times[0] << "\\nNC2 holds at the impacts; NC3 fails: x_c exceeds d by " << pick->max_excess << "\"\n"
+       << "set key below\n"
+       << "plot 'fig02_not_admissible.csv' using " << TCol() << ":" << XCol(c, c.contact)
+       << " with lines lw 2 lc rgb '#1f5fb4' title 'x_c(t)', " << c.b.gap
+       << " with lines dt 2 lc rgb 'black' title 'obstacle d'";
+  out.close();
+  Draw(c, "fig02_not_admissible", body.str());
+}
+
+// Fig. 3: 1-ipp energies, admissible zones coloured by stability, transitions.
+void Figure3(Context& c) {
+  std::ofstream out = OpenOut(c.dir, "fig03_one_impact.csv");
+  out << "T,energy,potential,admissible,stable,max_multiplier\n";
+  for (std::size_t i = 0; i < c.one.size(); ++i) {
+    const Orbit& o = c.one[i];
+    out << o.period << "," << o.energy << "," << o.potential << "," << o.admissible << ","
+        << IsStable(c.one_stability[i]) << ",";
+    if (c.one_stability[i]) out << c.one_stability[i]->max_modulus;
+    out << "\n";
+  }
+  std::ofstream tr = OpenOut(c.dir, "fig03_transitions.csv");
+  tr << "T,kind,energy\n";
+  std::ostringstream arrows;
+  for (const Transition& t : c.transitions) {
+    tr << t.period << "," << ToString(t.kind) << "," << t.energy << "\n";
+    if (t.kind != TransitionKind::kGrazing) {
+      arrows << "set arrow from " << t.period << ", graph 0 to " << t.period << ", graph 1 nohead lw 1 "
+             << (t.kind == TransitionKind::kSingular ? "dt 2 lc rgb '#7b3294'" : "dt 3 lc rgb '#008837'") << "\n";
+    }
+  }
+  std::ostringstream body;
+  body << EnergyAxes(c) << arrows.str() << "set key below\n"
+       << "set title 'Fig. 3: energies of the T-periodic 1-ipp orbits'\n"
+       << "plot 'fig03_one_impact.csv' using 1:($3 == 1 ? $2 : 1/0) with points pt 7 ps 0.25 lc rgb '" << kPotential
+       << "' title 'potential', "
+       << "'' using 1:($4 == 1 && $5 == 1 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '" << kOneStable
+       << "' title 'admissible, stable', "
+       << "'' using 1:($4 == 1 && $5 == 0 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '#d62728'"
+       << " title 'admissible, unstable', "
+       << "'fig03_transitions.csv' using 1:(strcol(2) eq 'grazing' ? $3 : 1/0) with points pt 6 ps 1.5 lw 2 lc rgb "
+          "'black' title 'grazing transition T_G', "
+       << "1/0 with lines dt 2 lc rgb '#7b3294' title 'singular transition T_S', "
+       << "1/0 with lines dt 3 lc rgb '#008837' title 'linear modal transition k T_i'";
+  out.close();
+  tr.close();
+  Draw(c, "fig03_one_impact_energy", body.str());
+}
+
+// A modal transition T = k T_i that bounds an admissible zone, and the side of
+// it where the 1-ipp orbits are admissible (+1 right, -1 left, 0 none). The
+// first with k >= 2 is preferred, as in the paper (2 T_1, Figs. 4 and 10):
+// next to k = 1 the zone often runs into a singular transition.
+struct ModalPick {
+  double period = 0.0;
+  int side = 0;
+  double width = 0.0;  // distance to the next transition on that side
+};
+ModalPick PickModal(const Context& c) {
+  const Eigen::VectorXd ti = c.b.Periods();
+  ModalPick first;
+  for (std::size_t k = 0; k < c.transitions.size(); ++k) {
+    const Transition& t = c.transitions[k];
+    if (t.kind != TransitionKind::kModal) continue;
+    const double eps = 1e-4 * t.period;
+    const int side = OneImpactOrbit(c.b, t.period + eps).admissible ? 1
+                     : OneImpactOrbit(c.b, t.period - eps).admissible ? -1
+                                                                       : 0;
+    if (side == 0) continue;
+    const double neighbour = side > 0 ? (k + 1 < c.transitions.size() ? c.transitions[k + 1].period : c.periods.back())
+                                      : (k > 0 ? c.transitions[k - 1].period : c.periods.front());
+    const ModalPick p{t.period, side, std::abs(neighbour - t.period)};
+    if (t.period > 1.5 * ti[ModeOf(c.b, t.period)]) return p;
+    if (first.side == 0) first = p;
+  }
+  return first;
+}
+
+// Fig. 4: the linear modal transition: admissible on one side, not on the
+// other, the grazing linear mode at the transition.
+void Figure4(Context& c, const ModalPick& m) {
+  if (m.side == 0) {
+    std::cout << "  fig04: no modal transition bounds an admissible zone; skipped\n";
+    return;
+  }
+  const double eps = std::min(0.02 * m.period, 0.5 * m.width);
+  std::ofstream out = OpenOut(c.dir, "fig04_modal_transition.csv");
+  WriteTrajectoryHeader(out, c);
+  const Orbit in = OneImpactOrbit(c.b, m.period + m.side * eps), beyond = OneImpactOrbit(c.b, m.period - m.side * eps);
+  const Orbit mode = GrazingMode(c.b, ModeOf(c.b, m.period), m.period);
+  WriteTrajectory(out, "admissible", in.period, OrbitTrajectory(c.b, in, kSamples));
+  WriteTrajectory(out, "modal", mode.period, OrbitTrajectory(c.b, mode, kSamples));
+  WriteTrajectory(out, "not_admissible", beyond.period, OrbitTrajectory(c.b, beyond, kSamples));
+  std::ostringstream body;
+  body << "set xlabel 'normalised time t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
+       << "set title 'Fig. 4: linear modal transition at T = " << m.period << " (1-ipp)'\n"
+       << "plot 'fig04_modal_transition.csv' using (strcol(1) eq 'admissible' ? $3/$2 : 1/0):" << XCol(c, c.contact)
+       << " with lines lw 2 lc rgb '#1f5fb4' title 'T = " << in.period << " (admissible)', "
+       << "'' using (strcol(1) eq 'modal' ? $3/$2 : 1/0):" << XCol(c, c.contact)
+       << " with lines lw 2 lc rgb 'black' title 'T = " << m.period << " (grazing linear mode)', "
+       << "'' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" << XCol(c, c.contact)
+       << " with lines lw 2 lc rgb '#d62728' title 'T = " << beyond.period << " (x_c > d: not admissible)', "
+       << c.b.gap << " with lines dt 2 lc rgb 'gray40' title 'd'";
+  out.close();
+  Draw(c, "fig04_modal_transition", body.str());
+}
+
+const Bridge* PaperBridge(const Context& c) {
+  // The paper's case first: the graze at half the period.
+  for (const Bridge& br : c.bridges) {
+    if (std::abs(br.graze_time - 0.5 * br.period) <= 1e-9 * br.period) return &br;
+  }
+  return c.bridges.empty() ? nullptr : &c.bridges.front();
+}
+
+// Fig. 5: the 1-ipp orbit at a grazing transition.
+void Figure5(Context& c) {
+  if (c.bridges.empty()) {
+    std::cout << "  fig05: no grazing transition in the sweep; skipped\n";
+    return;
+  }
+  const Bridge& br = c.bridges.front();
+  const Orbit o = OneImpactOrbit(c.b, br.period);
+  std::ofstream out = OpenOut(c.dir, "fig05_grazing_transition.csv");
+  WriteTrajectoryHeader(out, c);
+  WriteTrajectory(out, "grazing", o.period, OrbitTrajectory(c.b, o, kSamples));
+  std::ostringstream body;
+  body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
+       << "set title 'Fig. 5: grazing transition T_G = " << br.period << ": x_c touches d at t = " << br.graze_time
+       << "'\nplot 'fig05_grazing_transition.csv' using " << TCol() << ":" << XCol(c, c.contact)
+       << " with lines lw 2 lc rgb '#1f5fb4' title 'x_c(t), T = T_G', " << c.b.gap
+       << " with lines dt 2 lc rgb 'black' title 'd'";
+  out.close();
+  Draw(c, "fig05_grazing_transition", body.str());
+}
+
+// Fig. 6: det A_2(t2, T) against t2 for T = 1..10, with its roots.
+void Figure6(Context& c) {
+  std::ofstream out = OpenOut(c.dir, "fig06_det_a2.csv");
+  std::ofstream roots = OpenOut(c.dir, "fig06_roots.csv");
+  out << "T,t2,det\n";
+  roots << "T,t2,half_period\n";
+  for (int period = 1; period <= 10; ++period) {
+    for (int j = 1; j < 1000; ++j) {
+      const double t2 = period * j / 1000.0;
+      out << period << "," << t2 << "," << MatrixA(c.b, {t2}, period).determinant() << "\n";
+    }
+    out << "\n";
+    for (double r : TwoImpactRoots(c.b, period)) {
+      roots << period << "," << r << "," << (std::abs(r - 0.5 * period) <= 1e-9 * period) << "\n";
+    }
+  }
+  std::ostringstream body;
+  body << "set multiplot layout 2,5 title 'Fig. 6: det A_2(t_2, T) against t_2; roots (t_2, T) marked'\n"
+       << "unset key\nset xlabel 't_2 (s)'\n";
+  for (int period = 1; period <= 10; ++period) {
+    body << "set title 'T = " << period << "'\nset xrange [0:" << period << "]\nset xtics " << 0.5 * period
+         << "\n"
+         << "plot 'fig06_det_a2.csv' using ($1 == " << period << " ? $2 : 1/0):3 with lines lw 1.5 lc rgb '#1f5fb4', "
+         << "'fig06_roots.csv' using ($1 == " << period << " ? $2 : 1/0):(0) with points pt 7 ps 0.8 lc rgb "
+         << "'#d62728'\n";
+  }
+  body << "unset multiplot";
+  out.close();
+  roots.close();
+  Draw(c, "fig06_det_a2", body.str());
+}
+
+// The 2-ipp sweep as CSV: every potential orbit with its stability.
+void WriteTwoImpact(const Context& c, std::ostream& out) {
+  out << "T,t2,energy,potential,admissible,stable,max_multiplier,half_period\n";
+  for (std::size_t i = 0; i < c.two.size(); ++i) {
+    for (std::size_t k = 0; k < c.two[i].size(); ++k) {
+      const Orbit& o = c.two[i][k];
+      if (!o.potential) continue;
+      out << o.period << "," << o.times[0] << "," << o.energy << "," << o.potential << "," << o.admissible << ","
+          << IsStable(c.two_stability[i][k]) << ",";
+      if (c.two_stability[i][k]) out << c.two_stability[i][k]->max_modulus;
+      out << "," << IsHalfPeriodRoot(o) << "\n";
+    }
+  }
+}
+
+// Fig. 7: 2-ipp energies over (T, t2).
+void Figure7(Context& c) {
+  std::ofstream out = OpenOut(c.dir, "fig07_two_impact.csv");
+  WriteTwoImpact(c, out);
+  const auto [lo, hi] = EnergyRange(c);
+  std::ostringstream body;
+  body << "set xlabel 'period T (s)'\nset ylabel 'time of the second impact t_2 (s)'\nset zlabel 'energy E (J)' "
+          "rotate\nset logscale z\nset format z '10^{%T}'\nset zrange ["
+       << lo << ":" << hi << "]\nset xyplane at " << lo << "\nset view 60,35\nset key top left\n"
+       << "set title 'Fig. 7: energies of the T-periodic 2-ipp orbits over (T, t_2)'\n"
+       << "splot 'fig07_two_impact.csv' using 1:2:3 with points pt 7 ps 0.15 lc rgb '" << kPotential
+       << "' title 'potential', "
+       << "'' using 1:2:($5 == 1 && $6 == 1 ? $3 : 1/0) with points pt 7 ps 0.3 lc rgb '" << kTwoStable
+       << "' title 'admissible, stable', "
+       << "'' using 1:2:($5 == 1 && $6 == 0 ? $3 : 1/0) with points pt 7 ps 0.3 lc rgb '" << kTwoUnstable
+       << "' title 'admissible, unstable'";
+  out.close();
+  Draw(c, "fig07_two_impact_energy", body.str());
+}
+
+void WriteBridges(const Context& c, std::ostream& out) {
+  out << "T,graze_time,energy_min,energy_max,s_end\n";
+  for (const Bridge& br : c.bridges) {
+    out << br.period << "," << br.graze_time << "," << br.energy_min << "," << br.energy_max << "," << br.s_end
+        << "\n";
+  }
+}
+
+// The layers of a combined frequency-energy plot from a CSV with columns
+// family,T,t2,energy,stable and a bridges CSV.
+std::string FepLayers(const std::string& csv, const std::string& bridges, double point_size) {
+  std::ostringstream os;
+  const std::string ps = std::to_string(point_size);
+  os << "plot '" << csv << "' using 2:(strcol(1) eq '2-ipp' && $5 == 1 ? $4 : 1/0) with points pt 7 ps " << ps
+     << " lc rgb '" << kTwoStable << "' title '2-ipp, stable', "
+     << "'' using 2:(strcol(1) eq '2-ipp' && $5 == 0 ? $4 : 1/0) with points pt 7 ps " << ps << " lc rgb '"
+     << kTwoUnstable << "' title '2-ipp, unstable', "
+     << "'' using 2:(strcol(1) eq '1-ipp' && $5 == 1 ? $4 : 1/0) with points pt 7 ps " << ps << " lc rgb '"
+     << kOneStable << "' title '1-ipp, stable', "
+     << "'' using 2:(strcol(1) eq '1-ipp' && $5 == 0 ? $4 : 1/0) with points pt 7 ps " << ps << " lc rgb '"
+     << kOneUnstable << "' title '1-ipp, unstable', "
+     << "'' using 2:(strcol(1) eq '2-ipp-half' ? $4 : 1/0) with points pt 7 ps " << point_size * 0.5
+     << " lc rgb '" << kDilated << "' title '2-ipp with t_2 = T/2 (1-ipp dilated x2)', "
+     << "'" << bridges << "' using 1:3:(0):($4-$3) with vectors nohead lw 3 lc rgb 'black' title 'bridge'";
+  return os.str();
+}
+
+void WriteFepRow(std::ostream& out, const char* family, const Orbit& o, const std::optional<Stability>& s) {
+  out << family << "," << o.period << "," << (o.times.empty() ? 0.0 : o.times[0]) << "," << o.energy << ","
+      << IsStable(s) << "\n";
+}
+
+// Fig. 8: the combined frequency-energy plot.
+void Figure8(Context& c) {
+  std::ofstream out = OpenOut(c.dir, "fig08_fep.csv");
+  out << "family,T,t2,energy,stable\n";
+  for (std::size_t i = 0; i < c.one.size(); ++i) {
+    if (c.one[i].admissible) WriteFepRow(out, "1-ipp", c.one[i], c.one_stability[i]);
+  }
+  for (std::size_t i = 0; i < c.two.size(); ++i) {
+    for (std::size_t k = 0; k < c.two[i].size(); ++k) {
+      const Orbit& o = c.two[i][k];
+      if (!o.admissible) continue;
+      WriteFepRow(out, IsHalfPeriodRoot(o) ? "2-ipp-half" : "2-ipp", o, c.two_stability[i][k]);
+    }
+  }
+  std::ofstream br = OpenOut(c.dir, "fig08_bridges.csv");
+  WriteBridges(c, br);
+  std::ostringstream body;
+  body << EnergyAxes(c) << "set key below\n"
+       << "set title 'Fig. 8: admissible 1-ipp and 2-ipp orbits (frequency-energy plot)'\n"
+       << FepLayers("fig08_fep.csv", "fig08_bridges.csv", 0.35);
+  out.close();
+  br.close();
+  Draw(c, "fig08_fep", body.str());
+}
+
+// Fig. 9: a 1-ipp orbit with two grazes, admissible as a 3-ipp orbit too.
+void Figure9(Context& c) {
+  for (const Bridge& br : c.bridges) {
+    if (std::abs(br.graze_time - 0.5 * br.period) <= 1e-9 * br.period) continue;
+    const Orbit one = OneImpactOrbit(c.b, br.period);
+    const Orbit three = EvaluateOrbit(c.b, br.y_graze, {br.graze_time, br.period - br.graze_time}, br.period);
+    if (!three.admissible) continue;
+    std::ofstream out = OpenOut(c.dir, "fig09_two_grazes.csv");
+    WriteTrajectoryHeader(out, c);
+    WriteTrajectory(out, "x", one.period, OrbitTrajectory(c.b, one, kSamples));
+    std::ostringstream body;
+    body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
+         << "set title \"Fig. 9: one impact and two grazes (t = " << br.graze_time << ", "
+         << br.period - br.graze_time << "), T = " << br.period
+         << "\\nadmissible as a 1-ipp and as a 3-ipp orbit (NC2 residual " << three.nc2_residual << ")\"\n"
+         << "set arrow from " << br.graze_time << ", graph 0 to " << br.graze_time
+         << ", graph 1 nohead dt 3 lc rgb 'gray50'\n"
+         << "set arrow from " << br.period - br.graze_time << ", graph 0 to " << br.period - br.graze_time
+         << ", graph 1 nohead dt 3 lc rgb 'gray50'\n"
+         << "plot 'fig09_two_grazes.csv' using " << TCol() << ":" << XCol(c, c.contact)
+         << " with lines lw 2 lc rgb '#1f5fb4' title 'x_c(t)', " << c.b.gap
+         << " with lines dt 2 lc rgb 'black' title 'd'";
+    out.close();
+    Draw(c, "fig09_two_grazes", body.str());
+    return;
+  }
+  std::cout << "  fig09: no grazing orbit admissible as a 3-ipp orbit in the sweep; skipped\n";
+}
+
+// The phase section of Figs. 10, 12, 14: (x_other, x_c, v_c), the paper's
+// (x_1, x_2, v_2). A one-dof system has no x_other: time takes its place.
+std::string SectionAxes(const Context& c) {
+  std::ostringstream os;
+  os << "set xlabel '" << (c.b.n > 1 ? Name(c.other, " (m)") : std::string("t (s)")) << "'\nset ylabel '"
+     << Name(c.contact, " (m)") << "'\nset zlabel 'v_{" << c.contact + 1 << "} (m/s)' rotate\nset view 65,40\n";
+  return os.str();
+}
+int SectionXCol(const Context& c) { return c.b.n > 1 ? XCol(c, c.other) : TCol(); }
+std::string SectionUsing(const Context& c) {
+  return std::to_string(SectionXCol(c)) + ":" + std::to_string(XCol(c, c.contact)) + ":" +
+         std::to_string(VCol(c, c.contact));
+}
+
+// Fig. 10: the 1-ipp nonsmooth mode next to the modal transition of Fig. 4.
+void Figure10(Context& c, const ModalPick& m) {
+  if (m.side == 0) {
+    std::cout << "  fig10: no modal transition bounds an admissible zone; skipped\n";
+    return;
+  }
+  std::ofstream out = OpenOut(c.dir, "fig10_one_impact_mode.csv");
+  WriteTrajectoryHeader(out, c);
+  const Orbit mode = GrazingMode(c.b, ModeOf(c.b, m.period), m.period);
+  WriteTrajectory(out, "modal", m.period, OrbitTrajectory(c.b, mode, kSamples));
+  // Orbits across the zone, stopping where the energy passes 4 times the
+  // mode's (towards a singular transition it diverges).
+  int drawn = 0;
+  for (int k = 1; k <= 24; ++k) {
+    const Orbit o = OneImpactOrbit(c.b, m.period + m.side * m.width * k / 25.0);
+    if (!o.admissible || o.energy > 4.0 * mode.energy) break;
+    WriteTrajectory(out, "orbit", o.period, OrbitTrajectory(c.b, o, kSamples));
+    ++drawn;
+  }
+  std::ostringstream body;
+  body << SectionAxes(c) << "set key top left\n"
+       << "set title 'Fig. 10: " << drawn << " 1-ipp orbits of the nonsmooth mode next to T = " << m.period
+       << "'\nsplot 'fig10_one_impact_mode.csv' using (strcol(1) eq 'orbit' ? $" << SectionXCol(c)
+       << " : 1/0):" << XCol(c, c.contact) << ":" << VCol(c, c.contact) << " with lines lw 1 lc rgb '" << kOneStable
+       << "' title '1-ipp orbits', '' using (strcol(1) eq 'modal' ? $" << SectionXCol(c)
+       << " : 1/0):" << XCol(c, c.contact) << ":" << VCol(c, c.contact)
+       << " with lines lw 3 lc rgb '#d62728' title 'grazing linear mode'";
+  out.close();
+  Draw(c, "fig10_one_impact_mode", body.str());
+}
+
+// Figs. 11-12: the 2-ipp nonsmooth mode through the grazing linear mode of
+// the shortest period T_i, taken at T = 3 T_i with t2 = T_i (a root: the mode
+// grazes d at 0, T_i and 2 T_i), followed by continuation.
+void Figures11And12(Context& c) {
+  const Eigen::VectorXd ti = c.b.Periods();
+  int mode = 0;
+  for (int i = 0; i < c.b.n; ++i) {
+    if (std::abs(c.b.r[i]) > 0.0 && ti[i] < ti[mode]) mode = i;
+  }
+  const double period = 3.0 * ti[mode], t2 = ti[mode];
+  BranchOptions opt;
+  opt.step = 2e-3 * period;
+  opt.period_min = 0.5 * period;
+  opt.period_max = 1.5 * period;
+  std::vector<BranchPoint> branch;
+  try {
+    branch = TwoImpactBranch(c.b, t2, period, opt);
+  } catch (const InputError& e) {
+    std::cout << "  fig11-12: " << e.what() << "; skipped\n";
+    return;
+  }
+  // The admissible run of the branch next to the mode (arclength 0).
+  std::size_t start = 0;
+  while (start < branch.size() && branch[start].arclength < 0.0) ++start;
+  auto admissible = [&](std::size_t k) { return TwoImpactOrbitAt(c.b, branch[k].t2, branch[k].period).admissible; };
+  std::vector<std::size_t> run;
+  for (int dir : {1, -1}) {
+    std::vector<std::size_t> side;
+    for (long k = static_cast<long>(start) + dir; k >= 0 && k < static_cast<long>(branch.size()); k += dir) {
+      if (!admissible(static_cast<std::size_t>(k))) break;
+      side.push_back(static_cast<std::size_t>(k));
+    }
+    if (side.size() > run.size()) run = side;
+  }
+  if (run.empty()) {
+    std::cout << "  fig11-12: no admissible 2-ipp orbit next to the mode at T = " << period << "; skipped\n";
+    return;
+  }
+  std::ofstream out = OpenOut(c.dir, "fig11_two_impact_mode.csv");
+  out << "index,T,t";
+  for (int i = 1; i <= c.b.n; ++i) out << ",x" << i;
+  for (int i = 1; i <= c.b.n; ++i) out << ",v" << i;
+  out << ",t2,energy,arclength\n";
+  const Orbit linear = GrazingMode(c.b, mode, period);
+  auto write = [&](int index, const Orbit& o, double arclength) {
+    const Eigen::MatrixXd tr = OrbitTrajectory(c.b, o, kSamples);
+    for (long r = 0; r < tr.rows(); ++r) {
+      out << index << "," << o.period;
+      for (long k = 0; k < tr.cols(); ++k) out << "," << tr(r, k);
+      out << "," << (o.times.empty() ? 0.0 : o.times[0]) << "," << o.energy << "," << arclength << "\n";
+    }
+    out << "\n";
+  };
+  write(0, linear, 0.0);
+  const int curves = 16;
+  std::ostringstream summary;
+  for (int j = 1; j <= curves; ++j) {
+    const BranchPoint& p = branch[run[(run.size() - 1) * j / curves]];
+    const Orbit o = TwoImpactOrbitAt(c.b, p.t2, p.period);
+    write(j, o, p.arclength);
+    if (j == curves) summary << "last: T = " << o.period << ", t_2 = " << o.times[0];
+  }
+  double tmin = INFINITY, tmax = -INFINITY;
+  for (std::size_t k : run) {
+    tmin = std::min(tmin, branch[k].period);
+    tmax = std::max(tmax, branch[k].period);
+  }
+  std::ostringstream body;
+  body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
+       << "set palette defined (0 '#d62728', 1 '#1f5fb4')\nset cbrange [0:" << curves << "]\nunset colorbox\n"
+       << "set title \"Fig. 11: 2-ipp orbits along the branch from the grazing linear mode, T = 3 T_i = " << period
+       << " (red),\\nto " << summary.str() << " (blue); T spans [" << tmin << ", " << tmax << "]\"\n"
+       << "plot 'fig11_two_impact_mode.csv' using " << TCol() << ":" << XCol(c, c.contact)
+       << ":1 with lines lw 1.5 lc palette notitle, " << c.b.gap << " with lines dt 2 lc rgb 'black' title 'd'";
+  out.close();
+  Draw(c, "fig11_two_impact_orbits", body.str());
+  std::ostringstream body12;
+  body12 << SectionAxes(c) << "set palette defined (0 '#d62728', 1 '#1f5fb4')\nset cbrange [0:" << curves
+         << "]\nunset colorbox\nset title 'Fig. 12: the same 2-ipp orbits in the phase section: a "
+            "nonsmooth mode'\n"
+         << "splot 'fig11_two_impact_mode.csv' using " << SectionUsing(c) << ":1 with lines lw 1.5 lc palette notitle";
+  out.close();
+  Draw(c, "fig12_two_impact_mode", body12.str());
+}
+
+// Figs. 13-15: the bridge.
+void Figures13To15(Context& c) {
+  const Bridge* br = PaperBridge(c);
+  if (!br) {
+    std::cout << "  fig13-15: no grazing transition in the sweep; skipped\n";
+    return;
+  }
+  const double t = br->period;
+  // Fig. 13: x_c(t) along the continuum.
+  {
+    std::ofstream out = OpenOut(c.dir, "fig13_bridge_orbits.csv");
+    WriteTrajectoryHeader(out, c);
+    const Orbit one = OneImpactOrbit(c.b, t);
+    const Eigen::MatrixXd one_tr = OrbitTrajectory(c.b, one, kSamples);
+    WriteTrajectory(out, "one", t, one_tr);
+    WriteTrajectory(out, "one_shifted", t, ShiftTrajectory(one_tr, t - br->graze_time, t));
+    for (const auto& [label, f] : {std::pair<const char*, double>{"s20", 0.2}, {"s50", 0.5}, {"s80", 0.8}}) {
+      WriteTrajectory(out, label, t, OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, f * br->s_end), kSamples));
+    }
+    std::ostringstream body;
+    body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
+         << "set title \"Fig. 13: the continuum of 2-ipp orbits of period T_G = " << t
+         << "\\nbetween the grazing 1-ipp orbit and its shift by " << t - br->graze_time << "\"\n"
+         << "plot 'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" << XCol(c, c.contact)
+         << " with lines lw 3 lc rgb '#1f5fb4' title '1-ipp (s = 0)', "
+         << "'' using (strcol(1) eq 'one_shifted' ? $3 : 1/0):" << XCol(c, c.contact)
+         << " with lines lw 3 dt 2 lc rgb '#1f5fb4' title '1-ipp shifted (s = s_{end})'";
+    const char* colours[] = {"#fdae6b", "#e6550d", "#a63603"};
+    int k = 0;
+    for (int pct : {20, 50, 80}) {
+      body << ", '' using (strcol(1) eq 's" << pct << "' ? $3 : 1/0):" << XCol(c, c.contact)
+           << " with lines lw 1.5 lc rgb '" << colours[k++] << "' title '2-ipp, s = 0." << pct / 10 << " s_{end}'";
+    }
+    body << ", " << c.b.gap << " with lines dt 3 lc rgb 'black' title 'd'";
+    out.close();
+    Draw(c, "fig13_bridge_orbits", body.str());
+  }
+  // Fig. 14: the same in the phase section, with neighbouring 1-ipp orbits.
+  {
+    std::ofstream out = OpenOut(c.dir, "fig14_bridge_section.csv");
+    WriteTrajectoryHeader(out, c);
+    const double eps = 1e-4 * t;
+    const int side = OneImpactOrbit(c.b, t - eps).admissible ? -1 : 1;
+    for (int k = 1; k <= 8; ++k) {
+      const Orbit o = OneImpactOrbit(c.b, t + side * 0.004 * t * k);
+      if (!o.admissible) break;
+      WriteTrajectory(out, "one", o.period, OrbitTrajectory(c.b, o, kSamples));
+    }
+    for (int k = 1; k < 10; ++k) {
+      WriteTrajectory(out, "two", t, OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, br->s_end * k / 10.0), kSamples));
+    }
+    WriteTrajectory(out, "grazing", t, OrbitTrajectory(c.b, OneImpactOrbit(c.b, t), kSamples));
+    const int u = SectionXCol(c);
+    std::ostringstream body;
+    body << SectionAxes(c) << "set key top left\n"
+         << "set title 'Fig. 14: the bridge at T_G = " << t << " in the phase section'\n"
+         << "splot 'fig14_bridge_section.csv' using (strcol(1) eq 'one' ? $" << u << " : 1/0):" << XCol(c, c.contact)
+         << ":" << VCol(c, c.contact) << " with lines lw 1 lc rgb '" << kOneStable << "' title '1-ipp, T near T_G', "
+         << "'' using (strcol(1) eq 'two' ? $" << u << " : 1/0):" << XCol(c, c.contact) << ":" << VCol(c, c.contact)
+         << " with lines lw 1 lc rgb '" << kTwoStable << "' title '2-ipp, T = T_G (bridge)', "
+         << "'' using (strcol(1) eq 'grazing' ? $" << u << " : 1/0):" << XCol(c, c.contact) << ":"
+         << VCol(c, c.contact) << " with lines lw 3 lc rgb '#d62728' title 'grazing 1-ipp orbit'";
+    out.close();
+    Draw(c, "fig14_bridge_section", body.str());
+  }
+  // Fig. 15: zoom of the frequency-energy plot on the bridge.
+  {
+    const double w = 0.01 * t;
+    std::ofstream out = OpenOut(c.dir, "fig15_bridge_fep.csv");
+    out << "family,T,t2,energy,stable\n";
+    double lo = br->energy_min, hi = br->energy_max;
+    for (int j = 0; j <= 400; ++j) {
+      const double p = t - w + 2 * w * j / 400.0;
+      const Orbit one = OneImpactOrbit(c.b, p);
+      if (one.admissible) {
+        WriteFepRow(out, "1-ipp", one, StabilityOf(c.b, one));
+        lo = std::min(lo, one.energy);
+        hi = std::max(hi, one.energy);
+      }
+      for (const Orbit& o : TwoImpactOrbits(c.b, p)) {
+        if (!o.admissible) continue;
+        WriteFepRow(out, IsHalfPeriodRoot(o) ? "2-ipp-half" : "2-ipp", o, StabilityOf(c.b, o));
+        lo = std::min(lo, o.energy);
+        hi = std::max(hi, o.energy);
+      }
+    }
+    std::ofstream bo = OpenOut(c.dir, "fig15_bridge.csv");
+    bo << "T,graze_time,energy_min,energy_max,s_end\n"
+       << t << "," << br->graze_time << "," << br->energy_min << "," << br->energy_max << "," << br->s_end << "\n";
+    const double pad = 0.1 * (hi - lo);
+    std::ostringstream body;
+    body << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key below\n"
+         << "set xrange [" << t - w << ":" << t + w << "]\nset yrange [" << lo - pad << ":" << hi + pad << "]\n"
+         << "set title 'Fig. 15: the bridge at T_G = " << t << ": E from " << br->energy_min << " to "
+         << br->energy_max << "'\n"
+         << FepLayers("fig15_bridge_fep.csv", "fig15_bridge.csv", 0.6);
+    out.close();
+    bo.close();
+    Draw(c, "fig15_bridge_fep", body.str());
+  }
+}
+
+}  // namespace
+
+int RunFigures(const FiguresArgs& a) {
+  const Scene scene = LoadScene(a.scene);
+  Context c;
+  c.b = AnalysisBasis(a.scene);
+  c.contact = scene.model.contact;
+  c.other = c.contact == 0 ? (c.b.n > 1 ? 1 : 0) : 0;
+  c.dir = a.out;
+  const Eigen::VectorXd ti = c.b.Periods();
+  const double step = 0.01;
+  const std::string range =
+      a.period ? *a.period
+               : FormatValue(step) + ":" + FormatValue(std::ceil(4.0 * ti.maxCoeff())) + ":" + FormatValue(step);
+  c.periods = ParsePeriodRange(range).Values();
+  if (c.periods.size() < 2) throw InputError("--period", "needs at least two periods, got '" + range + "'");
+
+  const std::size_t count = c.periods.size();
+  c.one.resize(count);
+  c.one_stability.resize(count);
+  c.two.resize(count);
+  c.two_stability.resize(count);
+  ParallelFor(
+      static_cast<long>(count), a.threads,
+      [&](long i) {
+        c.one[i] = OneImpactOrbit(c.b, c.periods[i]);
+        if (c.one[i].admissible) c.one_stability[i] = StabilityOf(c.b, c.one[i]);
+        c.two[i] = TwoImpactOrbits(c.b, c.periods[i]);
+        for (const Orbit& o : c.two[i]) {
+          c.two_stability[i].push_back(o.admissible ? StabilityOf(c.b, o) : std::nullopt);
+        }
+      },
+      ProgressBar("1- and 2-ipp sweep"));
+  std::vector<bool> adm;
+  for (const Orbit& o : c.one) adm.push_back(o.admissible);
+  c.transitions = OneImpactTransitions(c.b, c.periods, adm);
+  for (const Transition& t : c.transitions) {
+    if (t.kind != TransitionKind::kGrazing) continue;
+    try {
+      c.bridges.push_back(BridgeAt(c.b, t.period));
+    } catch (const InputError& e) {
+      std::cout << "no bridge at the grazing transition T = " << t.period << ": " << e.what() << "\n";
+    }
+  }
+  std::cout << count << " periods from " << c.periods.front() << " to " << c.periods.back() << "; "
+            << c.transitions.size() << " transitions, " << c.bridges.size() << " bridges\n";
+  for (const Bridge& br : c.bridges) {
+    std::cout << "  bridge at T_G = " << br.period << " (graze at t = " << br.graze_time << "): E from "
+              << br.energy_min << " to " << br.energy_max << "\n";
+  }
+  std::cout << "figures in " << c.dir << ":\n";
+  const ModalPick modal = PickModal(c);
+  Figure2(c);
+  Figure3(c);
+  Figure4(c, modal);
+  Figure5(c);
+  Figure6(c);
+  Figure7(c);
+  Figure8(c);
+  Figure9(c);
+  Figure10(c, modal);
+  Figures11And12(c);
+  Figures13To15(c);
+  std::cout << c.drawn << " figures drawn" << (c.failed ? ", " + std::to_string(c.failed) + " failed" : "") << "\n";
+  return c.failed ? 1 : 0;
+}
+
+}  // namespace nsmodal::cli
