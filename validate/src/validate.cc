@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
+
+#include <Eigen/Eigenvalues>
 
 #include "nsmodal/error.h"
 #include "nsmodal/flow.h"
@@ -86,6 +89,75 @@ double ManifoldRun(const Model& model, const ModalBasis& b, const Eigen::VectorX
   return worst / z0.norm();
 }
 
+// Growth of a deviation series: the least-squares slope of log(deviation) per
+// period, from the first period where the deviation exceeds ten times `floor`
+// (the integrator's own floor) to the last below 1e-2 (saturation).
+// Measurable only over at least three periods and two decades: above a large
+// floor (Moreau-Jean's ~1e-4) the deviation is dominated by the integrator's
+// drift along the orbit, which grows polynomially, not at the multipliers'
+// rate.
+std::optional<double> FitGrowth(const std::vector<double>& dev, double floor) {
+  int first = -1, last = -1;
+  for (int k = 0; k < static_cast<int>(dev.size()); ++k) {
+    if (first < 0 && dev[k] > 10.0 * floor) first = k;
+    if (dev[k] < 1e-2) last = k;
+  }
+  if (!(first >= 0 && last >= first + 3 && dev[last] >= 100.0 * dev[first])) return std::nullopt;
+  double sk = 0.0, sl = 0.0, skk = 0.0, skl = 0.0;
+  const int count = last - first + 1;
+  for (int k = first; k <= last; ++k) {
+    const double l = std::log(dev[k]);
+    sk += k;
+    sl += l;
+    skk += static_cast<double>(k) * k;
+    skl += k * l;
+  }
+  return (count * skl - sk * sl) / (count * skk - sk * sk);
+}
+
+// A run of the exact integrator from y_mid + delta |y_mid| u, u a unit vector
+// in the nontrivial Floquet subspace: the real span of the eigenvectors of the
+// monodromy whose multipliers are not the trivial pair at 1. That excludes a
+// time shift along the flow (a constant offset that, seen in |z - z_mid|,
+// makes growth look faster or slower while it is comparable) and a step along
+// the family (which the family, not being isochronous, turns into a drift);
+// it also keeps the energy to first order (y is a left eigenvector for 1).
+// The monodromy is taken at t = 0; S(t_mid) carries u to the start.
+// Returns the deviation from the orbit's z_mid after each period, divided by
+// the initial one.
+std::vector<double> PerturbedRun(const Model& model, const ModalBasis& b, const Stability& stability,
+                                 const Eigen::VectorXd& y_mid, double t_mid, double period, int periods,
+                                 double delta, SimulateOptions opt) {
+  Eigen::EigenSolver<Eigen::MatrixXd> es(stability.monodromy);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(y_mid.size());
+  for (int k = 0; k < es.eigenvalues().size(); ++k) {
+    // The trivial pair is within ~1e-6 of 1 (stability.h: a Jordan block split
+    // by ~sqrt(eps)); 1e-4 keeps any nontrivial multiplier measurably away.
+    if (std::abs(es.eigenvalues()[k] - 1.0) < 1e-4) continue;
+    const Eigen::VectorXcd v = es.eigenvectors().col(k).normalized();
+    u += v.real() + v.imag();
+  }
+  if (u.norm() == 0.0) return {};
+  Flow(b, t_mid, u);  // S(t_mid) is linear: the same map carries perturbations
+  u.normalize();
+  const Eigen::VectorXd z_mid = PhysicalOf(b, y_mid);
+  const Eigen::VectorXd z_start = PhysicalOf(b, y_mid + delta * y_mid.norm() * u);
+  const double initial = (z_start - z_mid).norm();
+  opt.integrator = Integrator::kExact;
+  opt.t_end = periods * period;
+  opt.sample_dt = period;
+  std::vector<double> out;
+  SimulationObserver obs;
+  obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
+    if (t > 0.0) out.push_back((z - z_mid).norm() / initial);
+  };
+  // Saturated (the perturbation reached the orbit's own size): stop.
+  obs.stop_requested = [&] { return !out.empty() && out.back() * initial > 0.1 * z_mid.norm(); };
+  const int n = model.dofs();
+  Simulate(model, z_start.head(n), z_start.tail(n), opt, obs);
+  return out;
+}
+
 }  // namespace
 
 void ValidateOptions::Validate() const {
@@ -153,32 +225,21 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
   v.energy_drift = sum.energy_drift;
   v.wall_time_s = sum.wall_time_s;
 
-  // Growth: the least-squares slope of log(deviation) per period, from the
-  // first period where the deviation exceeds ten times the integrator's own
-  // floor (its deviation after one period, or 1e-13) to the last below 1e-2
-  // (saturation). Measurable only over at least three periods and two
-  // decades: above a large floor (Moreau-Jean's ~1e-4) the deviation is
-  // dominated by the integrator's drift along the orbit, which grows
-  // polynomially, not at the multipliers' rate.
-  int first = -1, last = -1;
   const double floor = v.deviation.empty() ? 0.0 : std::max(1e-13, v.deviation.front());
-  for (int k = 0; k < static_cast<int>(v.deviation.size()); ++k) {
-    if (first < 0 && v.deviation[k] > 10.0 * floor) first = k;
-    if (v.deviation[k] < 1e-2) last = k;
-  }
-  const bool growth_measurable =
-      first >= 0 && last >= first + 3 && v.deviation[last] >= 100.0 * v.deviation[first];
-  if (growth_measurable) {
-    double sk = 0.0, sl = 0.0, skk = 0.0, skl = 0.0;
-    const int count = last - first + 1;
-    for (int k = first; k <= last; ++k) {
-      const double l = std::log(v.deviation[k]);
-      sk += k;
-      sl += l;
-      skk += static_cast<double>(k) * k;
-      skl += k * l;
-    }
-    v.measured_growth = (count * skl - sk * sl) / (count * skk - sk * sk);
+  const std::optional<double> growth = FitGrowth(v.deviation, floor);
+  const bool growth_measurable = growth.has_value();
+  if (growth) v.measured_growth = *growth;
+
+  if (integrator == Integrator::kExact && orbit.admissible) {
+    const std::vector<double> amp =
+        PerturbedRun(model, b, v.stability, y_mid, t_mid, period, options.periods, options.perturbation, opt);
+    v.perturbed_periods = static_cast<int>(amp.size());
+    v.perturbed_amplification = amp.empty() ? 0.0 : *std::max_element(amp.begin(), amp.end());
+    // Relative to the perturbation, the floor is 1 (FitGrowth's "ten times the
+    // floor": growth counts from 10x the initial perturbation).
+    std::vector<double> scaled = amp;
+    for (double& a : scaled) a *= options.perturbation;
+    if (const std::optional<double> g = FitGrowth(scaled, options.perturbation)) v.perturbed_growth = *g;
   }
 
   if (orbit.impacts == 1 && integrator == Integrator::kExact) {

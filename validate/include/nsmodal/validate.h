@@ -14,6 +14,12 @@
 //                 states to the analytic family {z0(T')}: drift along the
 //                 family is allowed, leaving it is not; and a start at
 //                 z0(T (1 + perturbation)), another point of the family;
+//   perturbation  (exact, admissible orbits) a run from a start moved by
+//                 `perturbation` |y| within the nontrivial Floquet subspace
+//                 (no time shift, no step along the family, same energy to
+//                 first order): its largest deviation over the periods
+//                 relative to the initial one (bounded for a stable orbit)
+//                 and its growth rate (log |lambda_max| for an unstable one);
 //   energy drift.
 // Verdicts (consistent / inconsistent, with the reason):
 //   not admissible: the simulation must break in the first period (an extra
@@ -38,7 +44,9 @@ struct ValidateOptions {
   int periods = 1000;
   std::vector<Integrator> integrators{Integrator::kExact};
   SimulateOptions simulate;       // tolerances and steps of the integrators
-  double perturbation = 1e-6;     // relative change of T for the on-manifold start
+  // Relative size of the perturbed starts: of T for the on-manifold start, of
+  // |y| for the off-family one.
+  double perturbation = 1e-6;
   double exact_periodicity = 1e-9;  // exact: a stable orbit stays within this
   void Validate() const;          // throws InputError naming the field
 };
@@ -55,6 +63,10 @@ struct OrbitValidation {
   double max_penetration = 0.0;    // max x_c - d over the samples
   double manifold_distance = -1.0;            // 1-ipp only, relative to |z0|
   double perturbed_manifold_distance = -1.0;  // 1-ipp only
+  // Off-family perturbation (exact, admissible orbits; else 0 and -1).
+  double perturbed_amplification = 0.0;  // max_k |z_k - z_mid| / |z_start - z_mid|
+  double perturbed_growth = 0.0;         // per period; 0 when it never grew two decades
+  int perturbed_periods = -1;            // periods run before saturation (0.1 |z|)
   double energy_drift = 0.0;
   double wall_time_s = 0.0;
   bool consistent = false;
