@@ -15,6 +15,9 @@ echo
 echo "== transitions of the 1-ipp family"
 cat out/paper/one-impact/transitions.csv
 echo
+echo "== the paper's figures 2-15 (PNG, SVG, CSV), frequency-energy plots coloured by stability"
+build/cli/nsmodal figures "$scene" --out out/paper/figures
+echo
 echo "== simulate a non-periodic start with the three integrators"
 for integrator in exact cvode moreau-jean; do
   build/cli/nsmodal simulate configs/paper-simulate.toml --integrator "$integrator" --t-end 50 --step 1e-4 \
