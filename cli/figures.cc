@@ -141,6 +141,24 @@ std::string EnergyAxes(const Context& c) {
   return os.str();
 }
 
+// A chart of x_c(t) over one period of one orbit (Figs. 2, 5, 9): the orbit's
+// samples to DIR/NAME.csv, the chart with the obstacle at d. `title` may hold
+// "\\n" (a gnuplot line break); `extra` is gnuplot set-up drawn under it.
+void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const std::string& title,
+                  const std::string& extra = "") {
+  std::ofstream out = OpenOut(c.dir, name + ".csv");
+  WriteTrajectoryHeader(out, c);
+  WriteTrajectory(out, "x", o.period, OrbitTrajectory(c.b, o, kSamples));
+  out.close();
+  std::ostringstream body;
+  body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset title \"" << title
+       << "\"\n"
+       << extra << "plot '" << name << ".csv' using " << TCol() << ":" << XCol(c, c.contact)
+       << " with lines lw 2 lc rgb '#1f5fb4' title 'x_c(t)', " << c.b.gap
+       << " with lines dt 2 lc rgb 'black' title 'obstacle d'";
+  Draw(c, name, body.str());
+}
+
 // Fig. 2: a potential 2-ipp orbit that is not admissible.
 void Figure2(Context& c) {
   const Orbit* pick = nullptr;
@@ -158,19 +176,10 @@ void Figure2(Context& c) {
     std::cout << "  fig02: no potential, non-admissible 2-ipp orbit in the sweep; skipped\n";
     return;
   }
-  std::ofstream out = OpenOut(c.dir, "fig02_not_admissible.csv");
-  WriteTrajectoryHeader(out, c);
-  WriteTrajectory(out, "x", pick->period, OrbitTrajectory(c.b, *pick, kSamples));
-  std::ostringstream body;
-  body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n"
-       << "set title \"Fig. 2: potential, not admissible 2-ipp orbit, T = " << pick->period << ", t_2 = "
-       << pick->times[0] << "\\nNC2 holds at the impacts; NC3 fails: x_c exceeds d by " << pick->max_excess << "\"\n"
-       << "set key below\n"
-       << "plot 'fig02_not_admissible.csv' using " << TCol() << ":" << XCol(c, c.contact)
-       << " with lines lw 2 lc rgb '#1f5fb4' title 'x_c(t)', " << c.b.gap
-       << " with lines dt 2 lc rgb 'black' title 'obstacle d'";
-  out.close();
-  Draw(c, "fig02_not_admissible", body.str());
+  std::ostringstream title;
+  title << "Fig. 2: potential, not admissible 2-ipp orbit, T = " << pick->period << ", t_2 = " << pick->times[0]
+        << "\\nNC2 holds at the impacts; NC3 fails: x_c exceeds d by " << pick->max_excess;
+  DrawOneOrbit(c, "fig02_not_admissible", *pick, title.str());
 }
 
 // Fig. 3: 1-ipp energies, admissible zones coloured by stability, transitions.
@@ -287,18 +296,9 @@ void Figure5(Context& c) {
     return;
   }
   const Bridge& br = *paper;
-  const Orbit o = OneImpactOrbit(c.b, br.period);
-  std::ofstream out = OpenOut(c.dir, "fig05_grazing_transition.csv");
-  WriteTrajectoryHeader(out, c);
-  WriteTrajectory(out, "grazing", o.period, OrbitTrajectory(c.b, o, kSamples));
-  std::ostringstream body;
-  body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
-       << "set title 'Fig. 5: grazing transition T_G = " << br.period << ": x_c touches d at t = " << br.graze_time
-       << "'\nplot 'fig05_grazing_transition.csv' using " << TCol() << ":" << XCol(c, c.contact)
-       << " with lines lw 2 lc rgb '#1f5fb4' title 'x_c(t), T = T_G', " << c.b.gap
-       << " with lines dt 2 lc rgb 'black' title 'd'";
-  out.close();
-  Draw(c, "fig05_grazing_transition", body.str());
+  std::ostringstream title;
+  title << "Fig. 5: grazing transition T_G = " << br.period << ": x_c touches d at t = " << br.graze_time;
+  DrawOneOrbit(c, "fig05_grazing_transition", OneImpactOrbit(c.b, br.period), title.str());
 }
 
 // Fig. 6: det A_2(t2, T) against t2 for T = 1..10, with its roots.
@@ -432,23 +432,14 @@ void Figure9(Context& c) {
     const Orbit one = OneImpactOrbit(c.b, br.period);
     const Orbit three = EvaluateOrbit(c.b, br.y_graze, {br.graze_time, br.period - br.graze_time}, br.period);
     if (!three.admissible) continue;
-    std::ofstream out = OpenOut(c.dir, "fig09_two_grazes.csv");
-    WriteTrajectoryHeader(out, c);
-    WriteTrajectory(out, "x", one.period, OrbitTrajectory(c.b, one, kSamples));
-    std::ostringstream body;
-    body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
-         << "set title \"Fig. 9: one impact and two grazes (t = " << br.graze_time << ", "
-         << br.period - br.graze_time << "), T = " << br.period
-         << "\\nadmissible as a 1-ipp and as a 3-ipp orbit (NC2 residual " << three.nc2_residual << ")\"\n"
-         << "set arrow from " << br.graze_time << ", graph 0 to " << br.graze_time
-         << ", graph 1 nohead dt 3 lc rgb 'gray50'\n"
-         << "set arrow from " << br.period - br.graze_time << ", graph 0 to " << br.period - br.graze_time
-         << ", graph 1 nohead dt 3 lc rgb 'gray50'\n"
-         << "plot 'fig09_two_grazes.csv' using " << TCol() << ":" << XCol(c, c.contact)
-         << " with lines lw 2 lc rgb '#1f5fb4' title 'x_c(t)', " << c.b.gap
-         << " with lines dt 2 lc rgb 'black' title 'd'";
-    out.close();
-    Draw(c, "fig09_two_grazes", body.str());
+    std::ostringstream title, arrows;
+    title << "Fig. 9: one impact and two grazes (t = " << br.graze_time << ", " << br.period - br.graze_time
+          << "), T = " << br.period << "\\nadmissible as a 1-ipp and as a 3-ipp orbit (NC2 residual "
+          << three.nc2_residual << ")";
+    for (double t : {br.graze_time, br.period - br.graze_time}) {
+      arrows << "set arrow from " << t << ", graph 0 to " << t << ", graph 1 nohead dt 3 lc rgb 'gray50'\n";
+    }
+    DrawOneOrbit(c, "fig09_two_grazes", one, title.str(), arrows.str());
     return;
   }
   std::cout << "  fig09: no grazing orbit admissible as a 3-ipp orbit in the sweep; skipped\n";
