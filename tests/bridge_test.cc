@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 
 #include "fixtures.h"
 #include "nsmodal/admissibility.h"
@@ -8,6 +9,7 @@
 #include "nsmodal/error.h"
 #include "nsmodal/flow.h"
 #include "nsmodal/one_impact.h"
+#include "nsmodal/stability.h"
 #include "nsmodal/transitions.h"
 #include "nsmodal/two_impact.h"
 
@@ -108,6 +110,55 @@ TEST(Bridge, TheAsymmetricGrazingOrbitIsAlsoAThreeImpactOrbit) {
   EXPECT_TRUE(three.admissible) << three.reason;
   EXPECT_LT(three.nc2_residual, kRoundOff);
   EXPECT_TRUE(OneImpactOrbit(b, tg).admissible);
+}
+
+TEST(Bridge, OrbitsInsideTheBridgeAreUnstableExceptItsMiddleWhereAllMultipliersAreOne) {
+  // The bridge is a family of orbits of one period; along it the nontrivial
+  // multiplier pair is real and leaves 1 linearly with |s - s_end / 2|. At the
+  // middle all four multipliers are 1: the bridge crosses the 2-ipp branch
+  // (or, at T_G = 19.242, the dilated 1-ipp branch) there.
+  const ModalBasis b = testing::PaperBasis();
+  for (double tg : GrazingPeriods(b)) {
+    const Bridge br = BridgeAt(b, tg);
+    const Stability middle = OrbitStability(b, BridgeOrbit(b, br, 0.5 * br.s_end));
+    // Jordan blocks at 1 split the computed eigenvalues by ~sqrt(eps) times
+    // their conditioning: measured <= 1.3e-7.
+    for (int k = 0; k < middle.multipliers.size(); ++k) {
+      EXPECT_LT(std::abs(middle.multipliers[k] - 1.0), 1e-6) << "T_G = " << tg;
+    }
+    // Measured >= 1.02 at 0.45 and 0.55; 1e-3 is far above the 1e-6 of the
+    // stability test, so these are unstable by any reading.
+    for (double f : {0.05, 0.25, 0.45, 0.55, 0.75, 0.95}) {
+      const Stability s = OrbitStability(b, BridgeOrbit(b, br, f * br.s_end));
+      EXPECT_FALSE(s.stable) << "T_G = " << tg << " f = " << f;
+      EXPECT_GT(s.max_modulus, 1.0 + 1e-3) << "T_G = " << tg << " f = " << f;
+    }
+  }
+}
+
+TEST(Bridge, ThePaperBridgeIsBornAtAPeriodDoublingOfTheHalfPeriodOrbit) {
+  // At T_G / 2 the 1-ipp orbit's nontrivial pair sits at -1: below it the
+  // orbit is stable, above it a real multiplier < -1 makes it unstable. The
+  // bridge of period T_G is the family of period-doubled orbits born there.
+  const ModalBasis b = testing::PaperBasis();
+  const double tg = GrazingPeriods(b)[1];  // 19.242, the graze at T/2
+  auto nontrivial = [&](double period) {
+    const Stability s = OrbitStability(b, OneImpactOrbit(b, period));
+    std::complex<double> far = 1.0;
+    for (int k = 0; k < s.multipliers.size(); ++k) {
+      if (std::abs(s.multipliers[k] - 1.0) > std::abs(far - 1.0)) far = s.multipliers[k];
+    }
+    return std::make_pair(far, s.stable);
+  };
+  const auto [at, at_stable] = nontrivial(0.5 * tg);
+  EXPECT_LT(std::abs(at + 1.0), 1e-6);  // Jordan-block round-off, as above
+  const auto [below, below_stable] = nontrivial(0.5 * tg - 0.02);
+  const auto [above, above_stable] = nontrivial(0.5 * tg + 0.02);
+  EXPECT_TRUE(below_stable);
+  EXPECT_NEAR(std::abs(below), 1.0, 1e-6);
+  EXPECT_FALSE(above_stable);
+  EXPECT_LT(above.real(), -1.01);  // measured -1.13 at +0.02
+  EXPECT_LT(std::abs(above.imag()), 1e-6);
 }
 
 TEST(Bridge, APeriodThatDoesNotGrazeIsRefusedNamingIt) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "nsmodal/bridge.h"
 #include "nsmodal/error.h"
 #include "nsmodal/one_impact.h"
 #include "nsmodal/roots.h"
@@ -147,6 +148,32 @@ TEST(Validate, AnOffFamilyPerturbationStaysSmallOnStableOrbitsAndGrowsAtTheMulti
   EXPECT_GE(unstable, 5);
   std::printf("worst amplification of a stable orbit %.3g, worst relative rate error %.2g; %d stable, %d unstable\n",
               worst_stable, worst_rate, stable, unstable);
+}
+
+TEST(Validate, SimulationConfirmsTheStabilityOfTheBridgeOrbits) {
+  // The bridge at T_G = 19.242 (bridge.h): 2-ipp orbits of one period,
+  // unstable except the middle (bridge_test). Simulated with the exact
+  // integrator, each keeps its two impacts at the predicted times in the
+  // first period; the unstable ones depart at log|lambda| per period, the
+  // middle one stays periodic for 1000 periods.
+  const Model m = PaperModel();
+  const ModalBasis b = MakeModalBasis(m);
+  const Bridge br = BridgeAt(b, 19.242270772853061);
+  for (double f : {0.1, 0.3, 0.5, 0.7, 0.9}) {
+    const Orbit o = BridgeOrbit(b, br, f * br.s_end);
+    ASSERT_TRUE(o.admissible) << o.reason;
+    const OrbitValidation v = ValidateOrbit(m, o, Integrator::kExact, Options(1000));
+    EXPECT_TRUE(v.consistent) << "s = " << f << " s_end: " << v.reason;
+    EXPECT_EQ(v.first_period_impacts, 2);
+    if (f == 0.5) {
+      EXPECT_EQ(v.impacts, 2000);
+      EXPECT_LT(v.deviation.back(), 1e-9);  // options.exact_periodicity
+    } else {
+      // Same 5 % as the perturbation test above (three decades, once per period).
+      EXPECT_NEAR(v.perturbed_growth, v.stability.growth_per_period, 0.05 * v.stability.growth_per_period)
+          << "s = " << f << " s_end";
+    }
+  }
 }
 
 TEST(Validate, PotentialButNotAdmissibleOrbitsBreak) {
