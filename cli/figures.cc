@@ -53,14 +53,17 @@ struct Context {
   int drawn = 0, failed = 0;
 };
 
-std::string Name(int index, const char* what) { return "x_" + std::to_string(index + 1) + (what ? what : ""); }
-
-// Label helpers, in the paper's SI units.
-std::string XcLabel(const Context& c) { return "contact displacement x_{" + std::to_string(c.contact + 1) + "} (m)"; }
+// Axis labels, in the paper's SI units (gnuplot enhanced text).
+std::string DofLabel(const char* symbol, int dof, const char* unit) {
+  return std::string(symbol) + "_{" + std::to_string(dof + 1) + "} (" + unit + ")";
+}
+std::string XcLabel(const Context& c) { return "contact displacement " + DofLabel("x", c.contact, "m"); }
 
 // The data files must be closed (flushed) before this is called.
 void Draw(Context& c, const std::string& name, const std::string& body) {
-  (Plot(c.dir, name, "set datafile separator ','\nset grid\nset offsets graph 0, graph 0, graph 0.05, graph 0.05\n" + body) ? c.drawn : c.failed) += 1;
+  // Offsets keep a curve that touches d off the frame of an autoscaled axis.
+  const std::string setup = "set datafile separator ','\nset grid\nset offsets graph 0, graph 0, graph 0.05, graph 0.05\n";
+  (Plot(c.dir, name, setup + body) ? c.drawn : c.failed) += 1;
   std::cout << "  " << name << "\n";
 }
 
@@ -449,8 +452,9 @@ void Figure9(Context& c) {
 // (x_1, x_2, v_2). A one-dof system has no x_other: time takes its place.
 std::string SectionAxes(const Context& c) {
   std::ostringstream os;
-  os << "set xlabel '" << (c.b.n > 1 ? Name(c.other, " (m)") : std::string("t (s)")) << "'\nset ylabel '"
-     << Name(c.contact, " (m)") << "'\nset zlabel 'v_{" << c.contact + 1 << "} (m/s)' rotate\nset view 65,40\n";
+  os << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
+     << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s")
+     << "' rotate\nset view 65,40\n";
   return os.str();
 }
 int SectionXCol(const Context& c) { return c.b.n > 1 ? XCol(c, c.other) : TCol(); }
