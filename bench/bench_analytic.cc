@@ -5,12 +5,18 @@
 //   worst periodicity residual |z(T) - z(0)| / |z(0)|            <= 1e-12
 //   2-ipp roots: largest change when the t2 grid is refined 10x  <= 1e-10
 //   transitions: largest change when the T grid is refined 7.7x  <= 1e-9
+// and, for issue 5 (no targets given; cost and accuracy reported):
+//   the three bridges on (0, 40]: cost, worst NC2 degeneracy residual;
+//   continuation of the 2-ipp branch through 3 T1: cost per point, worst
+//   sigma_min(A_2) along it (how far the points are from exact roots).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cmath>
 
+#include "nsmodal/bridge.h"
 #include "nsmodal/one_impact.h"
+#include "nsmodal/return_map.h"
 #include "nsmodal/transitions.h"
 #include "nsmodal/two_impact.h"
 
@@ -93,6 +99,39 @@ void BM_TransitionsTo40(benchmark::State& state) {
   state.counters["worst_location_change"] = worst;
 }
 BENCHMARK(BM_TransitionsTo40)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+void BM_BridgesTo40(benchmark::State& state) {
+  const ModalBasis b = MakeModalBasis(PaperModel());
+  std::vector<double> grazing;
+  for (const Transition& t : OneImpactTransitions(b, 0.05, 40.0, 0.01)) {
+    if (t.kind == TransitionKind::kGrazing) grazing.push_back(t.period);
+  }
+  double worst = 0.0;
+  for (auto _ : state) {
+    for (double tg : grazing) worst = std::max(worst, BridgeAt(b, tg).degeneracy_residual);
+  }
+  state.counters["bridges"] = static_cast<double>(grazing.size());
+  state.counters["worst_degeneracy_residual"] = worst;
+}
+BENCHMARK(BM_BridgesTo40)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+void BM_TwoImpactContinuation(benchmark::State& state) {
+  const ModalBasis b = MakeModalBasis(PaperModel());
+  const double t1 = b.Periods().minCoeff();
+  BranchOptions opt;
+  opt.step = 2e-3 * 3 * t1;
+  opt.period_min = 1.5 * t1;
+  opt.period_max = 4.5 * t1;
+  std::vector<BranchPoint> branch;
+  for (auto _ : state) branch = TwoImpactBranch(b, t1, 3 * t1, opt);
+  double worst = 0.0;
+  for (const BranchPoint& p : branch) {
+    worst = std::max(worst, Eigen::JacobiSVD<Eigen::MatrixXd>(MatrixA(b, {p.t2}, p.period)).singularValues().minCoeff());
+  }
+  state.counters["points"] = static_cast<double>(branch.size());
+  state.counters["worst_sigma_min"] = worst;
+}
+BENCHMARK(BM_TwoImpactContinuation)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace
 }  // namespace nsmodal
