@@ -322,7 +322,7 @@ void Figure6(Context& c) {
   }
   std::ostringstream body;
   body << "set multiplot layout 2,5 title 'Fig. 6: det A_2(t_2, T) against t_2; roots (t_2, T) marked'\n"
-       << "unset key\nset xlabel 't_2 (s)'\n";
+       << "unset key\nset xlabel 't_2 (s)'\nset ylabel 'det A_2'\n";
   for (int period = 1; period <= 10; ++period) {
     body << "set title 'T = " << period << "'\nset xrange [0:" << period << "]\nset xtics " << 0.5 * period
          << "\n"
