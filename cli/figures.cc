@@ -282,12 +282,19 @@ void Figure4(Context& c, const ModalPick& m) {
   Draw(c, "fig04_modal_transition", body.str());
 }
 
+bool IsGrazing(const Bridge& br) { return br.kind == BridgeKind::kGrazing; }
+bool GrazesAtHalfPeriod(const Bridge& br) { return std::abs(br.t2 - 0.5 * br.period) <= 1e-9 * br.period; }
+
+// The grazing bridge of Figs. 5 and 13-15: the paper's case (the graze at half
+// the period) first, else the first grazing one.
 const Bridge* PaperBridge(const Context& c) {
-  // The paper's case first: the graze at half the period.
+  const Bridge* first = nullptr;
   for (const Bridge& br : c.bridges) {
-    if (std::abs(br.graze_time - 0.5 * br.period) <= 1e-9 * br.period) return &br;
+    if (!IsGrazing(br)) continue;
+    if (GrazesAtHalfPeriod(br)) return &br;
+    if (!first) first = &br;
   }
-  return c.bridges.empty() ? nullptr : &c.bridges.front();
+  return first;
 }
 
 // Fig. 5: the 1-ipp orbit at a grazing transition, the one whose bridge
@@ -300,7 +307,7 @@ void Figure5(Context& c) {
   }
   const Bridge& br = *paper;
   std::ostringstream title;
-  title << "Fig. 5: grazing transition T_G = " << br.period << ": x_c touches d at t = " << br.graze_time;
+  title << "Fig. 5: grazing transition T_G = " << br.period << ": x_c touches d at t = " << br.t2;
   DrawOneOrbit(c, "fig05_grazing_transition", OneImpactOrbit(c.b, br.period), title.str());
 }
 
@@ -372,10 +379,10 @@ void Figure7(Context& c) {
 }
 
 void WriteBridges(const Context& c, std::ostream& out) {
-  out << "T,graze_time,energy_min,energy_max,s_end\n";
+  out << "T,t2,energy_min,energy_max,s_begin,s_end,kind\n";
   for (const Bridge& br : c.bridges) {
-    out << br.period << "," << br.graze_time << "," << br.energy_min << "," << br.energy_max << "," << br.s_end
-        << "\n";
+    out << br.period << "," << br.t2 << "," << br.energy_min << "," << br.energy_max << "," << br.s_begin << ","
+        << br.s_end << "," << (IsGrazing(br) ? "grazing" : "period-doubling") << "\n";
   }
 }
 
@@ -431,15 +438,15 @@ void Figure8(Context& c) {
 // Fig. 9: a 1-ipp orbit with two grazes, admissible as a 3-ipp orbit too.
 void Figure9(Context& c) {
   for (const Bridge& br : c.bridges) {
-    if (std::abs(br.graze_time - 0.5 * br.period) <= 1e-9 * br.period) continue;
+    if (!IsGrazing(br) || GrazesAtHalfPeriod(br)) continue;
     const Orbit one = OneImpactOrbit(c.b, br.period);
-    const Orbit three = EvaluateOrbit(c.b, br.y_graze, {br.graze_time, br.period - br.graze_time}, br.period);
+    const Orbit three = EvaluateOrbit(c.b, br.origin, {br.t2, br.period - br.t2}, br.period);
     if (!three.admissible) continue;
     std::ostringstream title, arrows;
-    title << "Fig. 9: one impact and two grazes (t = " << br.graze_time << ", " << br.period - br.graze_time
+    title << "Fig. 9: one impact and two grazes (t = " << br.t2 << ", " << br.period - br.t2
           << "), T = " << br.period << "\\nadmissible as a 1-ipp and as a 3-ipp orbit (NC2 residual "
           << three.nc2_residual << ")";
-    for (double t : {br.graze_time, br.period - br.graze_time}) {
+    for (double t : {br.t2, br.period - br.t2}) {
       arrows << "set arrow from " << t << ", graph 0 to " << t << ", graph 1 nohead dt 3 lc rgb 'gray50'\n";
     }
     DrawOneOrbit(c, "fig09_two_grazes", one, title.str(), arrows.str());
@@ -594,14 +601,14 @@ void Figures13To15(Context& c) {
     const Orbit one = OneImpactOrbit(c.b, t);
     const Eigen::MatrixXd one_tr = OrbitTrajectory(c.b, one, kSamples);
     WriteTrajectory(out, "one", t, one_tr);
-    WriteTrajectory(out, "one_shifted", t, ShiftTrajectory(one_tr, t - br->graze_time, t));
+    WriteTrajectory(out, "one_shifted", t, ShiftTrajectory(one_tr, t - br->t2, t));
     for (const auto& [label, f] : {std::pair<const char*, double>{"s20", 0.2}, {"s50", 0.5}, {"s80", 0.8}}) {
       WriteTrajectory(out, label, t, OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, f * br->s_end), kSamples));
     }
     std::ostringstream body;
     body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
          << "set title \"Fig. 13: the continuum of 2-ipp orbits of period T_G = " << t
-         << "\\nbetween the grazing 1-ipp orbit and its shift by " << t - br->graze_time << "\"\n"
+         << "\\nbetween the grazing 1-ipp orbit and its shift by " << t - br->t2 << "\"\n"
          << "plot 'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" << XCol(c, c.contact)
          << " with lines lw 3 lc rgb '#1f5fb4' title '1-ipp (s = 0)', "
          << "'' using (strcol(1) eq 'one_shifted' ? $3 : 1/0):" << XCol(c, c.contact)
@@ -666,8 +673,9 @@ void Figures13To15(Context& c) {
       }
     }
     std::ofstream bo = OpenOut(c.dir, "fig15_bridge.csv");
-    bo << "T,graze_time,energy_min,energy_max,s_end\n"
-       << t << "," << br->graze_time << "," << br->energy_min << "," << br->energy_max << "," << br->s_end << "\n";
+    bo << "T,t2,energy_min,energy_max,s_begin,s_end,kind\n"
+       << t << "," << br->t2 << "," << br->energy_min << "," << br->energy_max << "," << br->s_begin << ","
+       << br->s_end << ",grazing\n";
     const double pad = 0.1 * (hi - lo);
     std::ostringstream body;
     body << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key below\n"
@@ -691,11 +699,12 @@ int RunFigures(const FiguresArgs& a) {
   c.other = c.contact == 0 ? (c.b.n > 1 ? 1 : 0) : 0;
   c.dir = a.out;
   const Eigen::VectorXd ti = c.b.Periods();
-  const double step = 0.01;
-  const std::string range =
-      a.period ? *a.period
-               : FormatValue(step) + ":" + FormatValue(std::ceil(4.0 * ti.maxCoeff())) + ":" + FormatValue(step);
-  c.periods = ParsePeriodRange(range).Values();
+  const double default_step = 0.01;
+  const std::string range = a.period ? *a.period
+                                     : FormatValue(default_step) + ":" + FormatValue(std::ceil(4.0 * ti.maxCoeff())) +
+                                           ":" + FormatValue(default_step);
+  const PeriodRange sweep = ParsePeriodRange(range);
+  c.periods = sweep.Values();
   if (c.periods.size() < 2) throw InputError("--period", "needs at least two periods, got '" + range + "'");
 
   const std::size_t count = c.periods.size();
@@ -725,11 +734,27 @@ int RunFigures(const FiguresArgs& a) {
       std::cout << "no bridge at the grazing transition T = " << t.period << ": " << e.what() << "\n";
     }
   }
+  // Period doublings of the 1-ipp branch whose doubled orbit lies in the
+  // sweep; those whose bridge is already a grazing one (the paper's, at
+  // T* = T_G / 2) are not repeated.
+  for (double ts : OneImpactPeriodDoublings(c.b, sweep.from, 0.5 * sweep.to, sweep.step)) {
+    bool known = false;
+    for (const Bridge& br : c.bridges) known = known || std::abs(br.period - 2.0 * ts) <= 1e-9 * br.period;
+    if (known) {
+      std::cout << "period doubling at T* = " << ts << ": its bridge is the grazing one at " << 2.0 * ts << "\n";
+      continue;
+    }
+    try {
+      c.bridges.push_back(PeriodDoublingBridge(c.b, ts));
+    } catch (const InputError& e) {
+      std::cout << "period doubling at T* = " << ts << ": no bridge (" << e.what() << ")\n";
+    }
+  }
   std::cout << count << " periods from " << c.periods.front() << " to " << c.periods.back() << "; "
             << c.transitions.size() << " transitions, " << c.bridges.size() << " bridges\n";
   for (const Bridge& br : c.bridges) {
-    std::cout << "  bridge at T_G = " << br.period << " (graze at t = " << br.graze_time << "): E from "
-              << br.energy_min << " to " << br.energy_max << "\n";
+    std::cout << "  " << (IsGrazing(br) ? "grazing" : "period-doubling") << " bridge at T = " << br.period
+              << " (t2 = " << br.t2 << "): E from " << br.energy_min << " to " << br.energy_max << "\n";
   }
   std::cout << "figures in " << c.dir << ":\n";
   const ModalPick modal = PickModal(c);

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <complex>
 
 #include "fixtures.h"
@@ -39,8 +40,8 @@ TEST(Bridge, JoinsTheGrazingOrbitToItsTimeShiftAtEveryGrazingTransition) {
     ASSERT_GT(br.s_end, 0.0);
     // The far end is the grazing orbit started at its other graze T - t_g
     // (x(t) = x(T - t)): the same closed curve, so the same energy.
-    Eigen::VectorXd shifted = br.y_graze;
-    Flow(b, tg - br.graze_time, shifted);
+    Eigen::VectorXd shifted = br.origin;
+    Flow(b, tg - br.t2, shifted);
     const Orbit end = BridgeOrbit(b, br, br.s_end);
     EXPECT_LT((end.y0 - shifted).norm() / shifted.norm(), kRoundOff) << "T_G = " << tg;
     // Every orbit of the segment: potential, admissible, period T_G, energy
@@ -66,7 +67,7 @@ TEST(Bridge, WhenTheGrazeIsAtHalfPeriodTheMiddleIsTheHalfPeriodOrbitRunTwice) {
   int seen = 0;
   for (double tg : GrazingPeriods(b)) {
     const Bridge br = BridgeAt(b, tg);
-    if (std::abs(br.graze_time - 0.5 * tg) > 1e-9 * tg) continue;
+    if (std::abs(br.t2 - 0.5 * tg) > 1e-9 * tg) continue;
     ++seen;
     const Orbit half = OneImpactOrbit(b, 0.5 * tg);
     const Orbit middle = BridgeOrbit(b, br, 0.5 * br.s_end);
@@ -85,13 +86,13 @@ TEST(Bridge, MiddleOfTheBridgeLiesOnATwoImpactBranch) {
   const ModalBasis b = testing::PaperBasis();
   const double tg = GrazingPeriods(b).front();
   const Bridge br = BridgeAt(b, tg);
-  ASSERT_GT(std::abs(br.graze_time - 0.5 * tg), 1.0);
+  ASSERT_GT(std::abs(br.t2 - 0.5 * tg), 1.0);
   const double e_mid = BridgeOrbit(b, br, 0.5 * br.s_end).energy;
   EXPECT_NEAR(e_mid, br.energy_min, kRoundOff * e_mid);
   for (double dt : {-1e-4, 1e-4, -1e-6, 1e-6}) {
     double nearest = INFINITY;
     for (const Orbit& o : TwoImpactOrbits(b, tg + dt)) {
-      if (std::abs(o.times[0] - br.graze_time) < 0.01 && o.admissible) nearest = std::abs(o.energy - e_mid);
+      if (std::abs(o.times[0] - br.t2) < 0.01 && o.admissible) nearest = std::abs(o.energy - e_mid);
     }
     // The branch is smooth through T_G: energy moves by O(dT) (slope ~0.1
     // measured), so 10 |dT| bounds it.
@@ -105,7 +106,7 @@ TEST(Bridge, TheAsymmetricGrazingOrbitIsAlsoAThreeImpactOrbit) {
   const ModalBasis b = testing::PaperBasis();
   const double tg = GrazingPeriods(b).front();
   const Bridge br = BridgeAt(b, tg);
-  const Orbit three = EvaluateOrbit(b, br.y_graze, {br.graze_time, tg - br.graze_time}, tg);
+  const Orbit three = EvaluateOrbit(b, br.origin, {br.t2, tg - br.t2}, tg);
   EXPECT_TRUE(three.potential);
   EXPECT_TRUE(three.admissible) << three.reason;
   EXPECT_LT(three.nc2_residual, kRoundOff);
@@ -159,6 +160,82 @@ TEST(Bridge, ThePaperBridgeIsBornAtAPeriodDoublingOfTheHalfPeriodOrbit) {
   EXPECT_FALSE(above_stable);
   EXPECT_LT(above.real(), -1.01);  // measured -1.13 at +0.02
   EXPECT_LT(std::abs(above.imag()), 1e-6);
+}
+
+TEST(Bridge, PeriodDoublingsOfTheOneImpactBranchAreFoundAndPolished) {
+  // On the admissible 1-ipp branch in [2, 20]: T* = 7.2859, 9.4907 and
+  // 9.6211 = T_G / 2 (README), each with a multiplier at -1.
+  const ModalBasis b = testing::PaperBasis();
+  const std::vector<double> pd = OneImpactPeriodDoublings(b, 2.0, 20.0, 0.01);
+  ASSERT_EQ(pd.size(), 3u);
+  EXPECT_NEAR(pd[0], 7.2859, 1e-4);
+  EXPECT_NEAR(pd[1], 9.4907, 1e-4);
+  // The third is half the paper's grazing transition, to the precision of
+  // both roots (each ~1e-15 relative).
+  EXPECT_NEAR(pd[2], 0.5 * GrazingPeriods(b)[1], 1e-12);
+  for (double ts : pd) {
+    const Stability s = OrbitStability(b, OneImpactOrbit(b, ts));
+    double nearest = INFINITY;
+    for (int k = 0; k < s.multipliers.size(); ++k) nearest = std::min(nearest, std::abs(s.multipliers[k] + 1.0));
+    EXPECT_LT(nearest, 1e-6) << "T* = " << ts;  // a Jordan block at -1: ~sqrt(eps) split
+  }
+}
+
+TEST(Bridge, APeriodDoublingWhoseDirectionLeavesTheContactAloneOpensABridge) {
+  // T* = 7.2859: the -1 eigenvector does not move x_c, so at 2 T* NC2 leaves a
+  // line through the doubled orbit. Its two halves are half-period shifts of
+  // each other (N S(T*) maps origin + s k to origin - s k), so the ends are
+  // symmetric, and origin . k = 0 (eigenvectors of the orthogonal N S(T*) for
+  // +1 and -1), so E(s) = E(origin) + s^2 / 2.
+  const ModalBasis b = testing::PaperBasis();
+  const double ts = OneImpactPeriodDoublings(b, 7.0, 7.5, 0.01).at(0);
+  const Bridge br = PeriodDoublingBridge(b, ts);
+  EXPECT_EQ(br.kind, BridgeKind::kPeriodDoubling);
+  EXPECT_DOUBLE_EQ(br.period, 2.0 * ts);
+  EXPECT_LT(br.degeneracy_residual, kRoundOff);
+  ASSERT_LT(br.s_begin, 0.0);
+  ASSERT_GT(br.s_end, 0.0);
+  EXPECT_NEAR(br.s_begin, -br.s_end, kRoundOff * br.s_end);
+  const double e0 = Energy(br.origin);
+  for (int j = 0; j <= 16; ++j) {
+    const double s = br.s_begin + (br.s_end - br.s_begin) * j / 16.0;
+    const Orbit o = BridgeOrbit(b, br, s);
+    EXPECT_TRUE(o.admissible) << "s = " << s << ": " << o.reason;
+    EXPECT_LT(o.nc2_residual, kRoundOff);
+    EXPECT_LT(o.periodicity_residual, kRoundOff);
+    EXPECT_NEAR(o.energy, e0 + 0.5 * s * s, kRoundOff * o.energy);
+    Eigen::VectorXd shifted = o.y0;
+    Flow(b, ts, shifted);
+    Impact(b, 1.0, shifted);
+    EXPECT_LT((shifted - BridgeOrbit(b, br, -s).y0).norm(), kRoundOff * shifted.norm()) << "s = " << s;
+  }
+  EXPECT_FALSE(BridgeOrbit(b, br, 1.001 * br.s_end).admissible);
+  EXPECT_FALSE(BridgeOrbit(b, br, 1.001 * br.s_begin).admissible);
+  EXPECT_NEAR(br.energy_min, OneImpactOrbit(b, ts).energy, kRoundOff * br.energy_min);
+}
+
+TEST(Bridge, APeriodDoublingThatMovesTheContactIsAPitchforkNotABridge) {
+  // T* = 9.4907: refused, and the 2-ipp roots show the pitchfork instead: a
+  // pair t2 != T/2 on one side of 2 T*, none on the other.
+  const ModalBasis b = testing::PaperBasis();
+  const double ts = OneImpactPeriodDoublings(b, 9.4, 9.55, 0.01).at(0);
+  EXPECT_THROW(PeriodDoublingBridge(b, ts), InputError);
+  auto near_half = [&](double period) {
+    int n = 0;
+    for (double r : TwoImpactRoots(b, period)) n += std::abs(r - 0.5 * period) > 1e-6 && std::abs(r - 0.5 * period) < 0.3;
+    return n;
+  };
+  EXPECT_EQ(near_half(2 * ts - 0.05), 2);
+  EXPECT_EQ(near_half(2 * ts + 0.05), 0);
+}
+
+TEST(Bridge, ThePaperBridgeIsBothAGrazingAndAPeriodDoublingBridge) {
+  const ModalBasis b = testing::PaperBasis();
+  const Bridge graze = BridgeAt(b, GrazingPeriods(b)[1]);
+  const Bridge doubling = PeriodDoublingBridge(b, OneImpactPeriodDoublings(b, 9.55, 9.7, 0.01).at(0));
+  EXPECT_NEAR(doubling.period, graze.period, kRoundOff * graze.period);
+  EXPECT_NEAR(doubling.energy_min, graze.energy_min, kRoundOff * graze.energy_min);
+  EXPECT_NEAR(doubling.energy_max, graze.energy_max, kRoundOff * graze.energy_max);
 }
 
 TEST(Bridge, APeriodThatDoesNotGrazeIsRefusedNamingIt) {

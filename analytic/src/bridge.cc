@@ -9,16 +9,80 @@
 #include "nsmodal/model.h"
 #include "nsmodal/one_impact.h"
 #include "nsmodal/return_map.h"
+#include "nsmodal/roots.h"
+#include "nsmodal/stability.h"
 
 namespace nsmodal {
 namespace {
 
 bool AdmissibleAt(const ModalBasis& b, const Bridge& br, double s) { return BridgeOrbit(b, br, s).admissible; }
 
+// k in ker A_2(t2, T) with x_c(k) = 0, |k| = 1, and the degeneracy residual.
+void LineDirection(const ModalBasis& b, Bridge& br) {
+  const int dim = 2 * b.n;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, {br.t2}, br.period), Eigen::ComputeFullV);
+  const Eigen::VectorXd k1 = svd.matrixV().col(dim - 1);
+  const Eigen::VectorXd k2 = svd.matrixV().col(dim - 2);
+  const double c1 = ContactPosition(b, k1), c2 = ContactPosition(b, k2);
+  br.direction = (c2 * k1 - c1 * k2).normalized();
+  Eigen::VectorXd flown = br.direction;
+  Flow(b, br.t2, flown);
+  br.degeneracy_residual = std::abs(ContactPosition(b, flown));
+}
+
+// The last admissible s from `from` (admissible) going in the direction of
+// `probe` (sign), in steps of `step`, then bisected to round-off. Infinite if
+// still admissible at 1e3 |origin| (energy a million times the origin's).
+double AdmissibleExtent(const ModalBasis& b, const Bridge& br, double from, double step) {
+  const double limit = 1e3 * br.origin.norm();
+  double lo = from, hi = std::numeric_limits<double>::infinity();
+  for (double s = from + step; std::abs(s) <= limit; s += step) {
+    if (!AdmissibleAt(b, br, s)) {
+      hi = s;
+      break;
+    }
+    lo = s;
+  }
+  if (std::isinf(hi)) return std::copysign(std::numeric_limits<double>::infinity(), step);
+  for (int i = 0; i < 200 && std::abs(hi - lo) > 4 * std::numeric_limits<double>::epsilon() * std::abs(hi); ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (AdmissibleAt(b, br, mid) ? lo : hi) = mid;
+  }
+  // The boundary is either an interior maximum reaching d (found above to the
+  // NC3 tolerance, whose excess grows as (s - s_end)^2: ~1e-5 relative) or an
+  // impact becoming a graze, v_c = 0 just after the impact at 0 or just before
+  // the one at t2: linear in s, so solved exactly. The bisection lands within
+  // ~sqrt(1e-10) of such a root.
+  Eigen::VectorXd o2 = br.origin, k2 = br.direction;
+  Flow(b, br.t2, o2);
+  Flow(b, br.t2, k2);
+  for (double s_v : {-ContactVelocity(b, br.origin) / ContactVelocity(b, br.direction),
+                     -ContactVelocity(b, o2) / ContactVelocity(b, k2)}) {
+    if (std::abs(s_v - lo) <= 1e-3 * std::abs(lo) && AdmissibleAt(b, br, s_v)) return s_v;
+  }
+  return lo;
+}
+
+void Energies(Bridge& br) {
+  const auto energy = [&](double s) { return Energy(br.origin + s * br.direction); };
+  br.energy_min = std::min(energy(br.s_begin), energy(br.s_end));
+  br.energy_max = std::max(energy(br.s_begin), energy(br.s_end));
+  const double vertex = -br.origin.dot(br.direction);
+  if (vertex > br.s_begin && vertex < br.s_end) br.energy_min = std::min(br.energy_min, energy(vertex));
+}
+
+void ThrowIfUnbounded(const Bridge& br) {
+  if (std::isinf(br.s_begin) || std::isinf(br.s_end)) {
+    throw InputError("period", "T = " + FormatValue(br.period) +
+                                   ": the continuum of 2-ipp orbits stays admissible to 1e3 times the origin's "
+                                   "size; unbounded");
+  }
+}
+
 }  // namespace
 
 Orbit BridgeOrbit(const ModalBasis& b, const Bridge& bridge, double s) {
-  return EvaluateOrbit(b, bridge.y_graze + s * bridge.direction, {bridge.graze_time}, bridge.period);
+  return EvaluateOrbit(b, bridge.origin + s * bridge.direction, {bridge.t2}, bridge.period);
 }
 
 Bridge BridgeAt(const ModalBasis& b, double grazing_period) {
@@ -32,67 +96,74 @@ Bridge BridgeAt(const ModalBasis& b, double grazing_period) {
                                    FormatValue(seg.max_excess) + ")");
   }
   Bridge br;
+  br.kind = BridgeKind::kGrazing;
   br.period = grazing_period;
-  br.graze_time = seg.t_at_max;
-  br.y_graze = one.y0;
-
-  // ker A_2(t_g, T_G): the two smallest right singular vectors; k is the
-  // combination with x_c = 0.
-  const int dim = 2 * b.n;
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, {br.graze_time}, br.period), Eigen::ComputeFullV);
-  const Eigen::VectorXd k1 = svd.matrixV().col(dim - 1);
-  const Eigen::VectorXd k2 = svd.matrixV().col(dim - 2);
-  const double c1 = ContactPosition(b, k1), c2 = ContactPosition(b, k2);
-  br.direction = (c2 * k1 - c1 * k2).normalized();
-  Eigen::VectorXd flown = br.direction;
-  Flow(b, br.graze_time, flown);
-  br.degeneracy_residual = std::abs(ContactPosition(b, flown));
+  br.t2 = seg.t_at_max;
+  br.origin = one.y0;
+  LineDirection(b, br);
 
   // Which side is admissible: probe at 1e-3 |y_G| (the NC3 excess on the wrong
   // side grows as s^2 ~ 1e-6, far above the admissibility tolerance 1e-10).
-  const double scale = br.y_graze.norm();
-  const double probe = 1e-3 * scale;
+  const double probe = 1e-3 * br.origin.norm();
   const bool plus = AdmissibleAt(b, br, probe), minus = AdmissibleAt(b, br, -probe);
   if (plus == minus) {
-    throw InputError("period", "T = " + FormatValue(grazing_period) + ": the continuum of 2-ipp orbits at the graze t = " +
-                                   FormatValue(br.graze_time) + " is admissible on " + (plus ? "both sides" : "neither side") +
+    throw InputError("period", "T = " + FormatValue(grazing_period) +
+                                   ": the continuum of 2-ipp orbits at the graze t = " + FormatValue(br.t2) +
+                                   " is admissible on " + (plus ? "both sides" : "neither side") +
                                    " of the grazing orbit; no bridge");
   }
   if (minus) br.direction = -br.direction;
+  br.s_begin = 0.0;
+  br.s_end = AdmissibleExtent(b, br, probe, br.origin.norm() / 256.0);
+  ThrowIfUnbounded(br);
+  Energies(br);
+  return br;
+}
 
-  // March to the first non-admissible s (steps of |y_G| / 256; E grows as s^2,
-  // so 1e3 |y_G| means a million times the grazing energy: unbounded), then
-  // bisect the boundary to round-off.
-  const double step = scale / 256.0;
-  double lo = probe, hi = std::numeric_limits<double>::infinity();
-  for (double s = probe + step; s <= 1e3 * scale; s += step) {
-    if (!AdmissibleAt(b, br, s)) {
-      hi = s;
-      break;
-    }
-    lo = s;
+std::vector<double> OneImpactPeriodDoublings(const ModalBasis& b, double from, double to, double step) {
+  const int dim = 2 * b.n;
+  const auto g = [&](double period) {
+    const Orbit o = OneImpactOrbit(b, period);
+    if (!o.admissible) return std::numeric_limits<double>::quiet_NaN();
+    return (OrbitStability(b, o).monodromy + Eigen::MatrixXd::Identity(dim, dim)).determinant();
+  };
+  std::vector<double> out;
+  double t0 = from, g0 = g(from);
+  for (long k = 1; from + k * step <= to + 1e-12 * to; ++k) {
+    const double t1 = from + k * step, g1 = g(t1);
+    // Both ends admissible (a zone boundary is a transition, not a doubling).
+    if (std::isfinite(g0) && std::isfinite(g1) && (g0 < 0.0) != (g1 < 0.0)) out.push_back(PolishRoot(g, t0, t1));
+    t0 = t1;
+    g0 = g1;
   }
-  if (std::isinf(hi)) {
-    throw InputError("period", "T = " + FormatValue(grazing_period) + ": the bridge stays admissible up to s = " +
-                                   FormatValue(lo) + " (energy " + FormatValue(BridgeOrbit(b, br, lo).energy) + "); unbounded");
-  }
-  for (int i = 0; i < 200 && hi - lo > 4 * std::numeric_limits<double>::epsilon() * hi; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (AdmissibleAt(b, br, mid) ? lo : hi) = mid;
-  }
-  br.s_end = lo;
-  // The boundary is either an interior maximum reaching d (found above to the
-  // NC3 tolerance, whose excess grows as (s - s_end)^2: ~1e-5 relative) or the
-  // impact at t = 0 becoming a graze, v_c(0+) = 0: linear in s, so solved
-  // exactly. The bisection lands within ~sqrt(1e-10) of the latter.
-  const double s_v = -ContactVelocity(b, br.y_graze) / ContactVelocity(b, br.direction);
-  if (std::abs(s_v - br.s_end) <= 1e-3 * br.s_end && AdmissibleAt(b, br, s_v)) br.s_end = s_v;
+  return out;
+}
 
-  const double e0 = Energy(br.y_graze), e1 = BridgeOrbit(b, br, br.s_end).energy;
-  const double vertex = -br.y_graze.dot(br.direction);
-  br.energy_min = std::min(e0, e1);
-  br.energy_max = std::max(e0, e1);
-  if (vertex > 0.0 && vertex < br.s_end) br.energy_min = std::min(br.energy_min, Energy(br.y_graze + vertex * br.direction));
+Bridge PeriodDoublingBridge(const ModalBasis& b, double doubling_period) {
+  const Orbit one = OneImpactOrbit(b, doubling_period);
+  if (!one.admissible) {
+    throw InputError("period", "T* = " + FormatValue(doubling_period) + ": the 1-ipp orbit is not admissible (" +
+                                   one.reason + ")");
+  }
+  Bridge br;
+  br.kind = BridgeKind::kPeriodDoubling;
+  br.period = 2.0 * doubling_period;
+  br.t2 = doubling_period;
+  br.origin = one.y0;
+  LineDirection(b, br);
+  // A true line has the residual at round-off (measured <= 3e-15); a
+  // pitchfork has it O(1) (0.15 at T* = 9.4907 on the paper's system).
+  if (!(br.degeneracy_residual <= 1e-9)) {
+    throw InputError("period", "T* = " + FormatValue(doubling_period) +
+                                   ": NC2 does not leave a line at 2 T* (residual " +
+                                   FormatValue(br.degeneracy_residual) +
+                                   "): the period doubling is a pitchfork of the 2-ipp roots, no bridge");
+  }
+  const double step = br.origin.norm() / 256.0;
+  br.s_begin = AdmissibleExtent(b, br, 0.0, -step);
+  br.s_end = AdmissibleExtent(b, br, 0.0, step);
+  ThrowIfUnbounded(br);
+  Energies(br);
   return br;
 }
 

@@ -1,49 +1,77 @@
 #pragma once
-// The bridge between the 1-ipp and 2-ipp nonsmooth modes (paper section 4,
-// Figs. 13-15).
+// Bridges between nonsmooth modes (paper section 4, Figs. 13-15): continua of
+// 2-ipp orbits of one period, vertical segments in the frequency-energy plot.
 //
-// At a grazing transition T_G (transitions.h) the 1-ipp orbit y_G touches d at
-// an interior time t_g with zero velocity: a contact with no effect, so y_G is
-// also a 2-ipp orbit with t2 = t_g, and (t_g, T_G) is a root of det A_2. There
-// ker A_2 has dimension 2 and the two NC2 conditions x_c(0) = d, x_c(t_g) = d
-// coincide, so NC2 leaves a line of initial states:
-//   y(s) = y_G + s k,   k in ker A_2, x_c(k) = 0, |k| = 1,
-// every one a potential 2-ipp orbit of the same period T_G, with energy
-//   E(s) = E_G + s (y_G . k) + s^2 / 2        (E = |y|^2 / 2, modal_basis.h).
-// The admissible ones form the interval s in [0, s_end] (k's sign chosen so),
-// a vertical segment in the frequency-energy plot.
-// The 1-ipp orbit is symmetric, x(t) = x(T - t), so it also grazes at T - t_g;
-// started there it is again a 2-ipp orbit with t2 = t_g. On the paper's system
-// (tests) that time shift is the far end y(s_end), E(s) is symmetric about
-// s_end / 2, and the middle is the lowest-energy orbit of the continuum, which
-// lies on a 2-ipp branch. When t_g = T_G / 2 the shift is half a period and the
-// middle is the 1-ipp orbit of period T_G / 2 run twice: the bridge joins the
-// 1-ipp branch to its factor-2 dilation, the case of the paper (Figs. 13-15).
+// At a root (t2, T) of det A_2, ker A_2 has dimension 2 and NC2 asks
+// x_c(0) = d and x_c(t2) = d of y0 in it. When the two conditions coincide,
+// NC2 leaves a line of initial states
+//   y(s) = y_origin + s k,   k in ker A_2, x_c(k) = 0, |k| = 1,
+// every one a potential 2-ipp orbit of the same period, with energy
+//   E(s) = E(origin) + s (y_origin . k) + s^2 / 2   (E = |y|^2 / 2, modal_basis.h).
+// The admissible ones form an interval [s_begin, s_end] around 0. Two ways to
+// such a line are known:
+//
+// Grazing (BridgeAt). At a grazing transition T_G (transitions.h) the 1-ipp
+// orbit y_G touches d at an interior time t_g with zero velocity: a contact
+// with no effect, so y_G is also a 2-ipp orbit with t2 = t_g. origin = y_G,
+// which is an end: s_begin = 0 (k's sign chosen so). The 1-ipp orbit is
+// symmetric, x(t) = x(T - t), so it also grazes at T - t_g; started there it is
+// again a 2-ipp orbit with t2 = t_g. On the paper's system (tests) that time
+// shift is the far end y(s_end), E(s) is symmetric about s_end / 2, and the
+// middle is the lowest-energy orbit of the continuum, on a 2-ipp branch. When
+// t_g = T_G / 2 the shift is half a period and the middle is the 1-ipp orbit
+// of period T_G / 2 run twice: the bridge joins the 1-ipp branch to its
+// factor-2 dilation, the case of the paper (Figs. 13-15).
+//
+// Period doubling (PeriodDoublingBridge). Where a 1-ipp orbit of period T*
+// has its nontrivial Floquet pair at -1 (stability.h) with an eigenvector
+// that does not move x_c, the orbit run twice is a 2-ipp orbit (t2 = T*,
+// period 2 T*) with coinciding NC2 conditions: origin is that orbit, in the
+// interior of its line (s_begin < 0 < s_end). The paper's bridge is also one
+// of these (T* = T_G / 2). Where the eigenvector moves x_c the period doubling
+// is a pitchfork of the 2-ipp roots instead, and there is no bridge.
 #include <Eigen/Dense>
+#include <vector>
 
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/orbit.h"
 
 namespace nsmodal {
 
+enum class BridgeKind { kGrazing, kPeriodDoubling };
+
 struct Bridge {
-  double period = 0.0;       // T_G
-  double graze_time = 0.0;   // t_g in (0, T_G)
-  Eigen::VectorXd y_graze;   // y_G: the grazing 1-ipp orbit (s = 0)
-  Eigen::VectorXd direction; // k
-  double s_end = 0.0;        // y(s) admissible for s in [0, s_end]
-  // |x_c(S(t_g) k)| / |k|: how far the two NC2 conditions are from coinciding
+  BridgeKind kind = BridgeKind::kGrazing;
+  double period = 0.0;        // T_G, or 2 T*
+  double t2 = 0.0;            // the second impact: t_g, or T*
+  Eigen::VectorXd origin;     // y(0): the grazing 1-ipp orbit, or the T* orbit
+  Eigen::VectorXd direction;  // k
+  double s_begin = 0.0;       // y(s) admissible for s in [s_begin, s_end]
+  double s_end = 0.0;
+  // |x_c(S(t2) k)| / |k|: how far the two NC2 conditions are from coinciding
   // (round-off level on a true bridge).
   double degeneracy_residual = 0.0;
-  double energy_min = 0.0, energy_max = 0.0;  // E over [0, s_end]
+  double energy_min = 0.0, energy_max = 0.0;  // E over [s_begin, s_end]
 };
 
 // The bridge at the grazing transition of period `grazing_period` (as found by
-// OneImpactTransitions, to ~1e-15). Throws std::invalid_argument if the 1-ipp
-// orbit there does not graze (no interior maximum of x_c within 1e-9 d of d).
+// OneImpactTransitions, to ~1e-15). Throws InputError naming "period" if the
+// 1-ipp orbit there does not graze (no interior maximum of x_c within 1e-9 d of
+// d) or the continuum is not admissible on exactly one side of it.
 Bridge BridgeAt(const ModalBasis& b, double grazing_period);
 
-// The potential 2-ipp orbit y(s) of the bridge (times {t_g}, period T_G).
+// Periods T* in [from, to] where an admissible 1-ipp orbit has a Floquet
+// multiplier at -1: sign changes of det(M(T) + I) (a nontrivial pair
+// (lambda, 1/lambda) contributes 2 + lambda + 1/lambda, zero at -1, negative
+// past it) between neighbouring admissible grid points, polished by Brent.
+std::vector<double> OneImpactPeriodDoublings(const ModalBasis& b, double from, double to, double step);
+
+// The bridge of period 2 T* through the 1-ipp orbit of period T* run twice.
+// Throws InputError naming "period" when NC2 does not leave a line there (the
+// period doubling is a pitchfork, no bridge) or the orbit is not admissible.
+Bridge PeriodDoublingBridge(const ModalBasis& b, double doubling_period);
+
+// The potential 2-ipp orbit y(s) of the bridge (times {t2}).
 Orbit BridgeOrbit(const ModalBasis& b, const Bridge& bridge, double s);
 
 }  // namespace nsmodal
