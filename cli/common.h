@@ -7,13 +7,15 @@
 
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/orbit.h"
+#include "nsmodal/scene.h"
 #include "nsmodal/stability.h"
 
 namespace nsmodal::cli {
 
 // The scene's modal basis; refuses e != 1 (periodic orbits need e = 1),
 // naming system.restitution.
-ModalBasis AnalysisBasis(const std::string& scene_path);
+ModalBasis AnalysisBasis(const Scene& scene);
+ModalBasis AnalysisBasis(const std::string& scene_path);  // loads the scene first
 
 // A progress callback for ParallelFor drawing a bar on stderr, or none when
 // stderr is not a terminal.

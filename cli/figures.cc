@@ -69,7 +69,10 @@ void Draw(Context& c, const std::string& name, const std::string& body) {
 
 bool IsStable(const std::optional<Stability>& s) { return s && s->stable; }
 
-bool IsHalfPeriodRoot(const Orbit& o) { return std::abs(o.times[0] - 0.5 * o.period) <= 1e-9 * o.period; }
+// t = T/2 to round-off of the roots (~1e-15 relative): the 2-ipp root that is
+// always there (eq. 26), or a graze at half the period.
+bool AtHalfPeriod(double t, double period) { return std::abs(t - 0.5 * period) <= 1e-9 * period; }
+bool IsHalfPeriodRoot(const Orbit& o) { return AtHalfPeriod(o.times[0], o.period); }
 
 // Trajectory rows of one orbit: label, T, then OrbitTrajectory's columns.
 void WriteTrajectoryHeader(std::ostream& os, const Context& c) {
@@ -283,7 +286,7 @@ void Figure4(Context& c, const ModalPick& m) {
 }
 
 bool IsGrazing(const Bridge& br) { return br.kind == BridgeKind::kGrazing; }
-bool GrazesAtHalfPeriod(const Bridge& br) { return std::abs(br.t2 - 0.5 * br.period) <= 1e-9 * br.period; }
+bool GrazesAtHalfPeriod(const Bridge& br) { return AtHalfPeriod(br.t2, br.period); }
 
 // The grazing bridge of Figs. 5 and 13-15: the paper's case (the graze at half
 // the period) first, else the first grazing one.
@@ -324,7 +327,7 @@ void Figure6(Context& c) {
     }
     out << "\n";
     for (double r : TwoImpactRoots(c.b, period)) {
-      roots << period << "," << r << "," << (std::abs(r - 0.5 * period) <= 1e-9 * period) << "\n";
+      roots << period << "," << r << "," << AtHalfPeriod(r, period) << "\n";
     }
   }
   std::ostringstream body;
@@ -694,7 +697,7 @@ void Figures13To15(Context& c) {
 int RunFigures(const FiguresArgs& a) {
   const Scene scene = LoadScene(a.scene);
   Context c;
-  c.b = AnalysisBasis(a.scene);
+  c.b = AnalysisBasis(scene);
   c.contact = scene.model.contact;
   c.other = c.contact == 0 ? (c.b.n > 1 ? 1 : 0) : 0;
   c.dir = a.out;

@@ -235,8 +235,9 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
         PerturbedRun(model, b, v.stability, y_mid, t_mid, period, options.periods, options.perturbation, opt);
     v.perturbed_periods = static_cast<int>(amp.size());
     v.perturbed_amplification = amp.empty() ? 0.0 : *std::max_element(amp.begin(), amp.end());
-    // Relative to the perturbation, the floor is 1 (FitGrowth's "ten times the
-    // floor": growth counts from 10x the initial perturbation).
+    // amp is relative to the initial perturbation; times `perturbation` it is
+    // on the orbit's scale, where FitGrowth's saturation (1e-2) applies, and
+    // its floor is `perturbation` itself (growth counts from 10x the start).
     std::vector<double> scaled = amp;
     for (double& a : scaled) a *= options.perturbation;
     if (const std::optional<double> g = FitGrowth(scaled, options.perturbation)) v.perturbed_growth = *g;
