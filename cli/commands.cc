@@ -17,8 +17,10 @@
 
 #include "nsmodal/error.h"
 #include "nsmodal/explore.h"
+#include "nsmodal/gnuplot.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/one_impact.h"
+#include "nsmodal/output.h"
 #include "nsmodal/parallel.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate.h"
@@ -28,7 +30,6 @@
 #include "nsmodal/two_impact.h"
 #include "nsmodal/work_precision.h"
 #include "common.h"
-#include "plot.h"
 
 namespace nsmodal::cli {
 namespace {
@@ -140,16 +141,6 @@ std::function<void(long, long)> ProgressBar(const std::string& label) {
   };
 }
 
-std::ofstream OpenOut(const std::string& dir, const std::string& name) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw InputError("--out", "cannot create directory '" + dir + "': " + ec.message());
-  std::ofstream out(std::filesystem::path(dir) / name);
-  if (!out) throw InputError("--out", "cannot write '" + dir + "/" + name + "'");
-  out << std::setprecision(17);
-  return out;
-}
-
 // Floquet multipliers of a potential orbit (stability.h); degenerate (bridge)
 // orbits included: their family is a continuum, so one more multiplier is 1.
 std::optional<Stability> StabilityOf(const ModalBasis& b, const Orbit& o) {
@@ -185,6 +176,7 @@ int RunOrbits(const OrbitsArgs& a) {
   CheckT2Step(a.t2_step);
   const PeriodRange range = ParsePeriodRange(a.period);
   const ModalBasis b = AnalysisBasis(a.scene);
+  const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"orbits.csv", "transitions.csv"});
   const std::vector<double> periods = range.Values();
   std::vector<std::vector<Orbit>> results(periods.size());
   std::vector<std::vector<std::optional<Stability>>> stability(periods.size());
@@ -201,24 +193,26 @@ int RunOrbits(const OrbitsArgs& a) {
         for (const Orbit& o : results[i]) stability[i].push_back(StabilityOf(b, o));
       },
       ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits"));
-  std::ofstream out = OpenOut(a.out, "orbits.csv");
-  WriteOrbitHeader(out, b.n);
+  report::ResultFile out(dir, "orbits.csv");
+  WriteOrbitHeader(out.stream(), b.n);
   long rows = 0, admissible = 0;
   for (std::size_t i = 0; i < results.size(); ++i) {
     for (std::size_t k = 0; k < results[i].size(); ++k) {
-      WriteOrbitRow(out, results[i][k], stability[i][k]);
+      WriteOrbitRow(out.stream(), results[i][k], stability[i][k]);
       ++rows;
       admissible += results[i][k].admissible;
     }
   }
+  out.Commit();
   std::cout << "wrote " << rows << " orbits (" << admissible << " admissible) to " << a.out << "/orbits.csv\n";
   if (a.impacts == 1) {
     std::vector<bool> adm;
     for (const auto& list : results) adm.push_back(list.front().admissible);
     const std::vector<Transition> transitions = OneImpactTransitions(b, periods, adm);
-    std::ofstream tr = OpenOut(a.out, "transitions.csv");
+    report::ResultFile tr(dir, "transitions.csv");
     tr << "T,kind,energy\n";
     for (const Transition& t : transitions) tr << t.period << "," << ToString(t.kind) << "," << t.energy << "\n";
+    tr.Commit();
     std::cout << "wrote " << transitions.size() << " transitions to " << a.out << "/transitions.csv\n";
   }
   return 0;
@@ -233,25 +227,27 @@ int RunBench(const BenchArgs& a) {
                               "9.127 and 4.834, a Zeno start) are defined on the paper's system; use "
                               "configs/paper.toml");
   }
+  const report::OutputDir dir =
+      report::OutputDir::Prepare(a.out, {"work_precision.csv", "grazing.csv", "work_precision_*"});
   WorkPrecisionOptions opt;
   opt.quick = a.quick;
   opt.progress = ProgressBar(a.quick ? "work-precision (quick)" : "work-precision");
   const std::vector<WorkPrecisionRow> rows = RunWorkPrecision(opt);
-  std::ofstream csv = OpenOut(a.out, "work_precision.csv");
+  report::ResultFile csv(dir, "work_precision.csv");
   csv << "case,integrator,setting,error,cpu_s,impacts,steps\n";
   for (const WorkPrecisionRow& r : rows) {
     csv << r.case_name << "," << r.integrator << "," << r.setting << "," << r.error << "," << r.cpu_s << ","
         << r.impacts << "," << r.steps << "\n";
   }
-  csv.close();
+  csv.Commit();
   const std::vector<GrazingRow> grazing = RunGrazingFailures(opt);
-  std::ofstream gcsv = OpenOut(a.out, "grazing.csv");
+  report::ResultFile gcsv(dir, "grazing.csv");
   gcsv << "delta,side,clearance,integrator,setting,impacts,expected_impacts\n";
   for (const GrazingRow& r : grazing) {
     gcsv << r.delta << "," << r.side << "," << r.clearance << "," << r.integrator << "," << r.setting << ","
          << r.impacts << "," << r.expected_impacts << "\n";
   }
-  gcsv.close();
+  gcsv.Commit();
   // One log-log chart per case: error against CPU time, a line per integrator
   // (the reference setting itself, error 0, has no place on a log scale).
   std::vector<std::string> case_names, integrators;
@@ -265,6 +261,7 @@ int RunBench(const BenchArgs& a) {
   }
   std::string integrator_list;
   for (const std::string& i : integrators) integrator_list += (integrator_list.empty() ? "" : " ") + i;
+  int failed_charts = 0;
   for (const std::string& name : case_names) {
     std::ostringstream body;
     body << "set datafile separator ','\nset logscale xy\nset format y '10^{%T}'\nset format x '10^{%T}'\n"
@@ -273,7 +270,11 @@ int RunBench(const BenchArgs& a) {
          << "plot for [i in '" << integrator_list << "'] 'work_precision.csv' "
          << "using (strcol(1) eq '" << name << "' && strcol(2) eq i && $4 > 0 ? $5 : 1/0):4 "
          << "with linespoints lw 2 pt 7 title i\n";
-    Plot(a.out, "work_precision_" + name, body.str());
+    const report::ChartStatus chart = report::DrawChart(dir, "work_precision_" + name, body.str());
+    if (!chart.drawn) {
+      std::cerr << "work_precision_" << name << " not drawn: " << chart.message << "\n";
+      ++failed_charts;
+    }
   }
   // The tables a person reads: error and cost per case, and the grazing limits.
   std::cout << std::left << std::setw(13) << "case" << std::setw(13) << "integrator" << std::setw(16) << "setting"
@@ -297,6 +298,7 @@ int RunBench(const BenchArgs& a) {
   std::cout.flush();
   std::cerr << "wrote " << rows.size() << " work-precision rows and " << grazing.size() << " grazing rows to " << a.out
             << " (work_precision.csv, grazing.csv, work_precision_*.png/svg)\n";
+  if (failed_charts) throw report::OutputError(std::to_string(failed_charts) + " chart(s) could not be drawn");
   return 0;
 }
 
@@ -322,6 +324,7 @@ int RunValidate(const ValidateArgs& a) {
   opt.simulate.atol = a.atol ? *a.atol : 1e-12;
   opt.simulate.step = a.step ? *a.step : 1e-4;
   opt.Validate();
+  const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"validation.csv", "summary.json"});
 
   // The potential orbits of the grid, admissible or not.
   const std::vector<double> periods = range.Values();
@@ -342,7 +345,7 @@ int RunValidate(const ValidateArgs& a) {
   for (auto& list : per_period) orbits.insert(orbits.end(), list.begin(), list.end());
   const std::vector<OrbitValidation> results = ValidateOrbits(scene.model, orbits, opt, ProgressBar("validate"));
 
-  std::ofstream csv = OpenOut(a.out, "validation.csv");
+  report::ResultFile csv(dir, "validation.csv");
   csv << "T,t2,impacts_per_period,integrator,admissible,stable,max_multiplier,predicted_growth,measured_growth,"
          "deviation_1,deviation_10,deviation_100,deviation_final,periods_run,impacts,first_period_impacts,"
          "impact_time_error,max_penetration,manifold_distance,perturbed_manifold_distance,perturbed_amplification,"
@@ -420,7 +423,8 @@ int RunValidate(const ValidateArgs& a) {
                              {"unstable_orbits_rated", rated},
                              {"unstable_rate_within_5_percent", rated_within},
                              {"unstable_worst_relative_rate_error", worst_rate_error}};
-  std::ofstream(std::filesystem::path(a.out) / "summary.json") << summary.dump(2) << "\n";
+  csv.Commit();
+  report::WriteResult(dir, "summary.json", summary.dump(2) + "\n");
   if (stable_runs + rated > 0) {
     std::cout << "perturbed by " << opt.perturbation << " |y| in the nontrivial Floquet subspace (exact): " << stable_runs
               << " stable orbits grew at most x" << worst_amplification << " over " << opt.periods << " periods; "
@@ -464,8 +468,11 @@ int RunSimulate(const SimulateArgs& a) {
   const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(x0v->data(), static_cast<long>(x0v->size()));
   const Eigen::VectorXd v0 = Eigen::Map<const Eigen::VectorXd>(v0v.data(), static_cast<long>(v0v.size()));
 
-  std::ofstream traj = OpenOut(a.out, "trajectory.csv");
-  std::ofstream imp = OpenOut(a.out, "impacts.csv");
+  opt.Validate();
+  Validate(scene.model);
+  const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"trajectory.csv", "impacts.csv", "summary.json"});
+  report::ResultFile traj(dir, "trajectory.csv");
+  report::ResultFile imp(dir, "impacts.csv");
   traj << "t";
   for (int i = 1; i <= n; ++i) traj << ",x" << i;
   for (int i = 1; i <= n; ++i) traj << ",v" << i;
@@ -514,7 +521,9 @@ int RunSimulate(const SimulateArgs& a) {
   j["steps"] = s.steps;
   j["settings"] = {{"t_end", opt.t_end}, {"rtol", opt.rtol}, {"atol", opt.atol}, {"method", opt.cvode_method},
                    {"step", opt.step}, {"theta", opt.theta}, {"root_tol", opt.root_tol}, {"sample_dt", opt.sample_dt}};
-  std::ofstream(std::filesystem::path(a.out) / "summary.json") << j.dump(2) << "\n";
+  traj.Commit();
+  imp.Commit();
+  report::WriteResult(dir, "summary.json", j.dump(2) + "\n");
   std::cout << ToString(opt.integrator) << ": t = " << s.final_time << ", " << s.impacts << " impacts, " << s.grazes
             << " grazes, " << s.zeno_events << " Zeno sequences, sticking " << s.sticking_time << ", energy drift "
             << s.energy_drift << ", " << s.wall_time_s << " s; wrote " << a.out << "/{trajectory.csv,impacts.csv,summary.json}\n";

@@ -1,6 +1,5 @@
 #pragma once
 // Helpers shared by the commands (commands.cc, figures.cc).
-#include <fstream>
 #include <functional>
 #include <optional>
 #include <string>
@@ -20,10 +19,6 @@ ModalBasis AnalysisBasis(const std::string& scene_path);  // loads the scene fir
 // A progress callback for ParallelFor drawing a bar on stderr, or none when
 // stderr is not a terminal.
 std::function<void(long, long)> ProgressBar(const std::string& label);
-
-// DIR/NAME opened for writing (DIR created), 17 significant digits; throws
-// InputError naming --out.
-std::ofstream OpenOut(const std::string& dir, const std::string& name);
 
 // Floquet multipliers of a potential orbit; none for an orbit that is not.
 std::optional<Stability> StabilityOf(const ModalBasis& b, const Orbit& o);

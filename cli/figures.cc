@@ -23,7 +23,8 @@
 #include "nsmodal/trajectory.h"
 #include "nsmodal/transitions.h"
 #include "nsmodal/two_impact.h"
-#include "plot.h"
+#include "nsmodal/gnuplot.h"
+#include "nsmodal/output.h"
 
 namespace nsmodal::cli {
 namespace {
@@ -42,14 +43,14 @@ struct Context {
   ModalBasis b;
   int contact = 0;  // physical index of the contact dof
   int other = 0;    // the dof on the first axis of the phase sections (paper: x_1)
-  std::string dir;
-  std::vector<double> periods;
-  std::vector<Orbit> one;
-  std::vector<std::optional<Stability>> one_stability;
-  std::vector<std::vector<Orbit>> two;
-  std::vector<std::vector<std::optional<Stability>>> two_stability;
-  std::vector<Transition> transitions;
-  std::vector<Bridge> bridges;
+  report::OutputDir dir;
+  std::vector<double> periods{};
+  std::vector<Orbit> one{};
+  std::vector<std::optional<Stability>> one_stability{};
+  std::vector<std::vector<Orbit>> two{};
+  std::vector<std::vector<std::optional<Stability>>> two_stability{};
+  std::vector<Transition> transitions{};
+  std::vector<Bridge> bridges{};
   int drawn = 0, failed = 0;
 };
 
@@ -63,8 +64,9 @@ std::string XcLabel(const Context& c) { return "contact displacement " + DofLabe
 void Draw(Context& c, const std::string& name, const std::string& body) {
   // Offsets keep a curve that touches d off the frame of an autoscaled axis.
   const std::string setup = "set datafile separator ','\nset grid\nset offsets graph 0, graph 0, graph 0.05, graph 0.05\n";
-  (Plot(c.dir, name, setup + body) ? c.drawn : c.failed) += 1;
-  std::cout << "  " << name << "\n";
+  const report::ChartStatus s = report::DrawChart(c.dir, name, setup + body);
+  (s.drawn ? c.drawn : c.failed) += 1;
+  std::cout << "  " << name << (s.drawn ? "" : ": not drawn: " + s.message) << "\n";
 }
 
 bool IsStable(const std::optional<Stability>& s) { return s && s->stable; }
@@ -152,10 +154,10 @@ std::string EnergyAxes(const Context& c) {
 // "\\n" (a gnuplot line break); `extra` is gnuplot set-up drawn under it.
 void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const std::string& title,
                   const std::string& extra = "") {
-  std::ofstream out = OpenOut(c.dir, name + ".csv");
-  WriteTrajectoryHeader(out, c);
-  WriteTrajectory(out, "x", o.period, OrbitTrajectory(c.b, o, kSamples));
-  out.close();
+  report::ResultFile out(c.dir, name + ".csv");
+  WriteTrajectoryHeader(out.stream(), c);
+  WriteTrajectory(out.stream(), "x", o.period, OrbitTrajectory(c.b, o, kSamples));
+  out.Commit();
   std::ostringstream body;
   body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset title \"" << title
        << "\"\n"
@@ -190,7 +192,7 @@ void Figure2(Context& c) {
 
 // Fig. 3: 1-ipp energies, admissible zones coloured by stability, transitions.
 void Figure3(Context& c) {
-  std::ofstream out = OpenOut(c.dir, "fig03_one_impact.csv");
+  report::ResultFile out(c.dir, "fig03_one_impact.csv");
   out << "T,energy,potential,admissible,stable,max_multiplier\n";
   for (std::size_t i = 0; i < c.one.size(); ++i) {
     const Orbit& o = c.one[i];
@@ -199,7 +201,7 @@ void Figure3(Context& c) {
     if (c.one_stability[i]) out << c.one_stability[i]->max_modulus;
     out << "\n";
   }
-  std::ofstream tr = OpenOut(c.dir, "fig03_transitions.csv");
+  report::ResultFile tr(c.dir, "fig03_transitions.csv");
   tr << "T,kind,energy\n";
   std::ostringstream arrows;
   for (const Transition& t : c.transitions) {
@@ -222,8 +224,8 @@ void Figure3(Context& c) {
           "'black' title 'grazing transition T_G', "
        << "1/0 with lines dt 2 lc rgb '#7b3294' title 'singular transition T_S', "
        << "1/0 with lines dt 3 lc rgb '#008837' title 'linear modal transition k T_i'";
-  out.close();
-  tr.close();
+  out.Commit();
+  tr.Commit();
   Draw(c, "fig03_one_impact_energy", body.str());
 }
 
@@ -264,13 +266,13 @@ void Figure4(Context& c, const ModalPick& m) {
     return;
   }
   const double eps = std::min(0.02 * m.period, 0.5 * m.width);
-  std::ofstream out = OpenOut(c.dir, "fig04_modal_transition.csv");
-  WriteTrajectoryHeader(out, c);
+  report::ResultFile out(c.dir, "fig04_modal_transition.csv");
+  WriteTrajectoryHeader(out.stream(), c);
   const Orbit in = OneImpactOrbit(c.b, m.period + m.side * eps), beyond = OneImpactOrbit(c.b, m.period - m.side * eps);
   const Orbit mode = GrazingMode(c.b, ModeOf(c.b, m.period), m.period);
-  WriteTrajectory(out, "admissible", in.period, OrbitTrajectory(c.b, in, kSamples));
-  WriteTrajectory(out, "modal", mode.period, OrbitTrajectory(c.b, mode, kSamples));
-  WriteTrajectory(out, "not_admissible", beyond.period, OrbitTrajectory(c.b, beyond, kSamples));
+  WriteTrajectory(out.stream(), "admissible", in.period, OrbitTrajectory(c.b, in, kSamples));
+  WriteTrajectory(out.stream(), "modal", mode.period, OrbitTrajectory(c.b, mode, kSamples));
+  WriteTrajectory(out.stream(), "not_admissible", beyond.period, OrbitTrajectory(c.b, beyond, kSamples));
   std::ostringstream body;
   body << "set xlabel 'normalised time t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
        << "set title 'Fig. 4: linear modal transition at T = " << m.period << " (1-ipp)'\n"
@@ -281,7 +283,7 @@ void Figure4(Context& c, const ModalPick& m) {
        << "'' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" << XCol(c, c.contact)
        << " with lines lw 2 lc rgb '#d62728' title 'T = " << beyond.period << " (x_c > d: not admissible)', "
        << c.b.gap << " with lines dt 2 lc rgb 'gray40' title 'd'";
-  out.close();
+  out.Commit();
   Draw(c, "fig04_modal_transition", body.str());
 }
 
@@ -316,8 +318,8 @@ void Figure5(Context& c) {
 
 // Fig. 6: det A_2(t2, T) against t2 for T = 1..10, with its roots.
 void Figure6(Context& c) {
-  std::ofstream out = OpenOut(c.dir, "fig06_det_a2.csv");
-  std::ofstream roots = OpenOut(c.dir, "fig06_roots.csv");
+  report::ResultFile out(c.dir, "fig06_det_a2.csv");
+  report::ResultFile roots(c.dir, "fig06_roots.csv");
   out << "T,t2,det\n";
   roots << "T,t2,half_period\n";
   for (int period = 1; period <= 10; ++period) {
@@ -341,8 +343,8 @@ void Figure6(Context& c) {
          << "'#d62728'\n";
   }
   body << "unset multiplot";
-  out.close();
-  roots.close();
+  out.Commit();
+  roots.Commit();
   Draw(c, "fig06_det_a2", body.str());
 }
 
@@ -363,8 +365,8 @@ void WriteTwoImpact(const Context& c, std::ostream& out) {
 
 // Fig. 7: 2-ipp energies over (T, t2).
 void Figure7(Context& c) {
-  std::ofstream out = OpenOut(c.dir, "fig07_two_impact.csv");
-  WriteTwoImpact(c, out);
+  report::ResultFile out(c.dir, "fig07_two_impact.csv");
+  WriteTwoImpact(c, out.stream());
   const auto [lo, hi] = EnergyRange(c);
   std::ostringstream body;
   body << "set xlabel 'period T (s)'\nset ylabel 'time of the second impact t_2 (s)'\nset zlabel 'energy E (J)' "
@@ -377,7 +379,7 @@ void Figure7(Context& c) {
        << "' title 'admissible, stable', "
        << "'' using 1:2:($5 == 1 && $6 == 0 ? $3 : 1/0) with points pt 7 ps 0.3 lc rgb '" << kTwoUnstable
        << "' title 'admissible, unstable'";
-  out.close();
+  out.Commit();
   Draw(c, "fig07_two_impact_energy", body.str());
 }
 
@@ -415,26 +417,26 @@ void WriteFepRow(std::ostream& out, const char* family, const Orbit& o, const st
 
 // Fig. 8: the combined frequency-energy plot.
 void Figure8(Context& c) {
-  std::ofstream out = OpenOut(c.dir, "fig08_fep.csv");
+  report::ResultFile out(c.dir, "fig08_fep.csv");
   out << "family,T,t2,energy,stable\n";
   for (std::size_t i = 0; i < c.one.size(); ++i) {
-    if (c.one[i].admissible) WriteFepRow(out, "1-ipp", c.one[i], c.one_stability[i]);
+    if (c.one[i].admissible) WriteFepRow(out.stream(), "1-ipp", c.one[i], c.one_stability[i]);
   }
   for (std::size_t i = 0; i < c.two.size(); ++i) {
     for (std::size_t k = 0; k < c.two[i].size(); ++k) {
       const Orbit& o = c.two[i][k];
       if (!o.admissible) continue;
-      WriteFepRow(out, IsHalfPeriodRoot(o) ? "2-ipp-half" : "2-ipp", o, c.two_stability[i][k]);
+      WriteFepRow(out.stream(), IsHalfPeriodRoot(o) ? "2-ipp-half" : "2-ipp", o, c.two_stability[i][k]);
     }
   }
-  std::ofstream br = OpenOut(c.dir, "fig08_bridges.csv");
-  WriteBridges(c, br);
+  report::ResultFile br(c.dir, "fig08_bridges.csv");
+  WriteBridges(c, br.stream());
   std::ostringstream body;
   body << EnergyAxes(c) << "set key below\n"
        << "set title 'Fig. 8: admissible 1-ipp and 2-ipp orbits (frequency-energy plot)'\n"
        << FepLayers("fig08_fep.csv", "fig08_bridges.csv", 0.35);
-  out.close();
-  br.close();
+  out.Commit();
+  br.Commit();
   Draw(c, "fig08_fep", body.str());
 }
 
@@ -479,17 +481,17 @@ void Figure10(Context& c, const ModalPick& m) {
     std::cout << "  fig10: no modal transition bounds an admissible zone; skipped\n";
     return;
   }
-  std::ofstream out = OpenOut(c.dir, "fig10_one_impact_mode.csv");
-  WriteTrajectoryHeader(out, c);
+  report::ResultFile out(c.dir, "fig10_one_impact_mode.csv");
+  WriteTrajectoryHeader(out.stream(), c);
   const Orbit mode = GrazingMode(c.b, ModeOf(c.b, m.period), m.period);
-  WriteTrajectory(out, "modal", m.period, OrbitTrajectory(c.b, mode, kSamples));
+  WriteTrajectory(out.stream(), "modal", m.period, OrbitTrajectory(c.b, mode, kSamples));
   // Orbits across the zone, stopping where the energy passes 4 times the
   // mode's (towards a singular transition it diverges).
   int drawn = 0;
   for (int k = 1; k <= 24; ++k) {
     const Orbit o = OneImpactOrbit(c.b, m.period + m.side * m.width * k / 25.0);
     if (!o.admissible || o.energy > 4.0 * mode.energy) break;
-    WriteTrajectory(out, "orbit", o.period, OrbitTrajectory(c.b, o, kSamples));
+    WriteTrajectory(out.stream(), "orbit", o.period, OrbitTrajectory(c.b, o, kSamples));
     ++drawn;
   }
   std::ostringstream body;
@@ -500,7 +502,7 @@ void Figure10(Context& c, const ModalPick& m) {
        << "' title '1-ipp orbits', '' using (strcol(1) eq 'modal' ? $" << SectionXCol(c)
        << " : 1/0):" << XCol(c, c.contact) << ":" << VCol(c, c.contact)
        << " with lines lw 3 lc rgb '#d62728' title 'grazing linear mode'";
-  out.close();
+  out.Commit();
   Draw(c, "fig10_one_impact_mode", body.str());
 }
 
@@ -542,7 +544,7 @@ void Figures11And12(Context& c) {
     std::cout << "  fig11-12: no admissible 2-ipp orbit next to the mode at T = " << period << "; skipped\n";
     return;
   }
-  std::ofstream out = OpenOut(c.dir, "fig11_two_impact_mode.csv");
+  report::ResultFile out(c.dir, "fig11_two_impact_mode.csv");
   out << "index,T,t";
   for (int i = 1; i <= c.b.n; ++i) out << ",x" << i;
   for (int i = 1; i <= c.b.n; ++i) out << ",v" << i;
@@ -578,14 +580,13 @@ void Figures11And12(Context& c) {
        << " (red),\\nto " << summary.str() << " (blue); T spans [" << tmin << ", " << tmax << "]\"\n"
        << "plot 'fig11_two_impact_mode.csv' using " << TCol() << ":" << XCol(c, c.contact)
        << ":1 with lines lw 1.5 lc palette notitle, " << c.b.gap << " with lines dt 2 lc rgb 'black' title 'd'";
-  out.close();
+  out.Commit();
   Draw(c, "fig11_two_impact_orbits", body.str());
   std::ostringstream body12;
   body12 << SectionAxes(c) << "set palette defined (0 '#d62728', 1 '#1f5fb4')\nset cbrange [0:" << curves
          << "]\nunset colorbox\nset title 'Fig. 12: the same 2-ipp orbits in the phase section: a "
             "nonsmooth mode'\n"
          << "splot 'fig11_two_impact_mode.csv' using " << SectionUsing(c) << ":1 with lines lw 1.5 lc palette notitle";
-  out.close();
   Draw(c, "fig12_two_impact_mode", body12.str());
 }
 
@@ -599,14 +600,14 @@ void Figures13To15(Context& c) {
   const double t = br->period;
   // Fig. 13: x_c(t) along the continuum.
   {
-    std::ofstream out = OpenOut(c.dir, "fig13_bridge_orbits.csv");
-    WriteTrajectoryHeader(out, c);
+    report::ResultFile out(c.dir, "fig13_bridge_orbits.csv");
+    WriteTrajectoryHeader(out.stream(), c);
     const Orbit one = OneImpactOrbit(c.b, t);
     const Eigen::MatrixXd one_tr = OrbitTrajectory(c.b, one, kSamples);
-    WriteTrajectory(out, "one", t, one_tr);
-    WriteTrajectory(out, "one_shifted", t, ShiftTrajectory(one_tr, t - br->t2, t));
+    WriteTrajectory(out.stream(), "one", t, one_tr);
+    WriteTrajectory(out.stream(), "one_shifted", t, ShiftTrajectory(one_tr, t - br->t2, t));
     for (const auto& [label, f] : {std::pair<const char*, double>{"s20", 0.2}, {"s50", 0.5}, {"s80", 0.8}}) {
-      WriteTrajectory(out, label, t, OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, f * br->s_end), kSamples));
+      WriteTrajectory(out.stream(), label, t, OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, f * br->s_end), kSamples));
     }
     std::ostringstream body;
     body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
@@ -623,24 +624,24 @@ void Figures13To15(Context& c) {
            << " with lines lw 1.5 lc rgb '" << colours[k++] << "' title '2-ipp, s = 0." << pct / 10 << " s_{end}'";
     }
     body << ", " << c.b.gap << " with lines dt 3 lc rgb 'black' title 'd'";
-    out.close();
+    out.Commit();
     Draw(c, "fig13_bridge_orbits", body.str());
   }
   // Fig. 14: the same in the phase section, with neighbouring 1-ipp orbits.
   {
-    std::ofstream out = OpenOut(c.dir, "fig14_bridge_section.csv");
-    WriteTrajectoryHeader(out, c);
+    report::ResultFile out(c.dir, "fig14_bridge_section.csv");
+    WriteTrajectoryHeader(out.stream(), c);
     const double eps = 1e-4 * t;
     const int side = OneImpactOrbit(c.b, t - eps).admissible ? -1 : 1;
     for (int k = 1; k <= 8; ++k) {
       const Orbit o = OneImpactOrbit(c.b, t + side * 0.004 * t * k);
       if (!o.admissible) break;
-      WriteTrajectory(out, "one", o.period, OrbitTrajectory(c.b, o, kSamples));
+      WriteTrajectory(out.stream(), "one", o.period, OrbitTrajectory(c.b, o, kSamples));
     }
     for (int k = 1; k < 10; ++k) {
-      WriteTrajectory(out, "two", t, OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, br->s_end * k / 10.0), kSamples));
+      WriteTrajectory(out.stream(), "two", t, OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, br->s_end * k / 10.0), kSamples));
     }
-    WriteTrajectory(out, "grazing", t, OrbitTrajectory(c.b, OneImpactOrbit(c.b, t), kSamples));
+    WriteTrajectory(out.stream(), "grazing", t, OrbitTrajectory(c.b, OneImpactOrbit(c.b, t), kSamples));
     const int u = SectionXCol(c);
     std::ostringstream body;
     body << SectionAxes(c) << "set key top left\n"
@@ -651,31 +652,31 @@ void Figures13To15(Context& c) {
          << " with lines lw 1 lc rgb '" << kTwoStable << "' title '2-ipp, T = T_G (bridge)', "
          << "'' using (strcol(1) eq 'grazing' ? $" << u << " : 1/0):" << XCol(c, c.contact) << ":"
          << VCol(c, c.contact) << " with lines lw 3 lc rgb '#d62728' title 'grazing 1-ipp orbit'";
-    out.close();
+    out.Commit();
     Draw(c, "fig14_bridge_section", body.str());
   }
   // Fig. 15: zoom of the frequency-energy plot on the bridge.
   {
     const double w = 0.01 * t;
-    std::ofstream out = OpenOut(c.dir, "fig15_bridge_fep.csv");
+    report::ResultFile out(c.dir, "fig15_bridge_fep.csv");
     out << "family,T,t2,energy,stable\n";
     double lo = br->energy_min, hi = br->energy_max;
     for (int j = 0; j <= 400; ++j) {
       const double p = t - w + 2 * w * j / 400.0;
       const Orbit one = OneImpactOrbit(c.b, p);
       if (one.admissible) {
-        WriteFepRow(out, "1-ipp", one, StabilityOf(c.b, one));
+        WriteFepRow(out.stream(), "1-ipp", one, StabilityOf(c.b, one));
         lo = std::min(lo, one.energy);
         hi = std::max(hi, one.energy);
       }
       for (const Orbit& o : TwoImpactOrbits(c.b, p)) {
         if (!o.admissible) continue;
-        WriteFepRow(out, IsHalfPeriodRoot(o) ? "2-ipp-half" : "2-ipp", o, StabilityOf(c.b, o));
+        WriteFepRow(out.stream(), IsHalfPeriodRoot(o) ? "2-ipp-half" : "2-ipp", o, StabilityOf(c.b, o));
         lo = std::min(lo, o.energy);
         hi = std::max(hi, o.energy);
       }
     }
-    std::ofstream bo = OpenOut(c.dir, "fig15_bridge.csv");
+    report::ResultFile bo(c.dir, "fig15_bridge.csv");
     bo << "T,t2,energy_min,energy_max,s_begin,s_end,kind\n"
        << t << "," << br->t2 << "," << br->energy_min << "," << br->energy_max << "," << br->s_begin << ","
        << br->s_end << ",grazing\n";
@@ -686,8 +687,8 @@ void Figures13To15(Context& c) {
          << "set title 'Fig. 15: the bridge at T_G = " << t << ": E from " << br->energy_min << " to "
          << br->energy_max << "'\n"
          << FepLayers("fig15_bridge_fep.csv", "fig15_bridge.csv", 0.6);
-    out.close();
-    bo.close();
+    out.Commit();
+    bo.Commit();
     Draw(c, "fig15_bridge_fep", body.str());
   }
 }
@@ -696,19 +697,21 @@ void Figures13To15(Context& c) {
 
 int RunFigures(const FiguresArgs& a) {
   const Scene scene = LoadScene(a.scene);
-  Context c;
-  c.b = AnalysisBasis(scene);
-  c.contact = scene.model.contact;
-  c.other = c.contact == 0 ? (c.b.n > 1 ? 1 : 0) : 0;
-  c.dir = a.out;
-  const Eigen::VectorXd ti = c.b.Periods();
+  ModalBasis b = AnalysisBasis(scene);
+  const Eigen::VectorXd ti = b.Periods();
   const double default_step = 0.01;
   const std::string range = a.period ? *a.period
                                      : FormatValue(default_step) + ":" + FormatValue(std::ceil(4.0 * ti.maxCoeff())) +
                                            ":" + FormatValue(default_step);
   const PeriodRange sweep = ParsePeriodRange(range);
-  c.periods = sweep.Values();
-  if (c.periods.size() < 2) throw InputError("--period", "needs at least two periods, got '" + range + "'");
+  std::vector<double> periods = sweep.Values();
+  if (periods.size() < 2) throw InputError("--period", "needs at least two periods, got '" + range + "'");
+  const int other = scene.model.contact == 0 ? (b.n > 1 ? 1 : 0) : 0;
+  Context c{.b = std::move(b),
+            .contact = scene.model.contact,
+            .other = other,
+            .dir = report::OutputDir::Prepare(a.out, {"fig[01][0-9]_*"}),
+            .periods = std::move(periods)};
 
   const std::size_t count = c.periods.size();
   c.one.resize(count);
@@ -759,7 +762,7 @@ int RunFigures(const FiguresArgs& a) {
     std::cout << "  " << (IsGrazing(br) ? "grazing" : "period-doubling") << " bridge at T = " << br.period
               << " (t2 = " << br.t2 << "): E from " << br.energy_min << " to " << br.energy_max << "\n";
   }
-  std::cout << "figures in " << c.dir << ":\n";
+  std::cout << "figures in " << c.dir.path().string() << ":\n";
   const ModalPick modal = PickModal(c);
   Figure2(c);
   Figure3(c);
@@ -773,7 +776,10 @@ int RunFigures(const FiguresArgs& a) {
   Figures11And12(c);
   Figures13To15(c);
   std::cout << c.drawn << " figures drawn" << (c.failed ? ", " + std::to_string(c.failed) + " failed" : "") << "\n";
-  return c.failed ? 1 : 0;
+  if (c.failed) {
+    throw report::OutputError(std::to_string(c.failed) + " figure(s) could not be drawn (see above)");
+  }
+  return 0;
 }
 
 }  // namespace nsmodal::cli

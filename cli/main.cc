@@ -4,11 +4,13 @@
 
 #include "commands.h"
 #include "nsmodal/error.h"
+#include "nsmodal/output.h"
 
 int main(int argc, char** argv) {
   using namespace nsmodal::cli;
   CLI::App app{"nsmodal: nonsmooth modes of vibro-impact oscillators (Thorin, Legrand, Junca 2015)"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "nsmodal " NSMODAL_VERSION);
 
   OrbitsArgs orbits;
   auto* c_orbits = app.add_subcommand("orbits", "Potential and admissible orbits over a period grid (CSV)");
@@ -80,22 +82,28 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every refused command line exits 2.
+    return app.exit(e) == 0 ? 0 : 2;
   }
   try {
-    if (*c_orbits) return RunOrbits(orbits);
-    if (*c_orbit) return RunOrbit(orbit);
-    if (*c_explore) return RunExplore(explore);
-    if (*c_sim) return RunSimulate(simulate);
-    if (*c_val) return RunValidate(validate);
-    if (*c_bench) return RunBench(bench);
-    if (*c_fig) return RunFigures(figures);
+    int status = 1;
+    if (*c_orbits) status = RunOrbits(orbits);
+    if (*c_orbit) status = RunOrbit(orbit);
+    if (*c_explore) status = RunExplore(explore);
+    if (*c_sim) status = RunSimulate(simulate);
+    if (*c_val) status = RunValidate(validate);
+    if (*c_bench) status = RunBench(bench);
+    if (*c_fig) status = RunFigures(figures);
+    nsmodal::report::CheckStdout();
+    return status;
   } catch (const nsmodal::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;
+  } catch (const nsmodal::report::OutputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 5;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;
   }
-  return 1;
 }

@@ -1,0 +1,25 @@
+#pragma once
+// Charts with gnuplot, started without a shell.
+//
+// DrawChart writes DIR/NAME.png.gp and DIR/NAME.svg.gp (pngcairo and svg
+// terminals, then `body`) and runs `gnuplot SCRIPT` in DIR through
+// posix_spawnp with an argument vector: no path, name or title ever passes
+// through a shell. Scripts name their data files relative to DIR, so
+// `gnuplot NAME.png.gp` run by hand from DIR redraws the chart. Each image is
+// drawn under a temporary name and renamed when gnuplot succeeds; gnuplot's
+// messages go to DIR/NAME.EXT.gp.log, kept only when it fails.
+#include <string>
+
+#include "nsmodal/output.h"
+
+namespace nsmodal::report {
+
+struct ChartStatus {
+  bool drawn = false;
+  std::string message;  // why not, when not drawn
+};
+
+// NAME: letters, digits, '_' and '-' only (an invariant of the callers).
+ChartStatus DrawChart(const OutputDir& dir, const std::string& name, const std::string& body);
+
+}  // namespace nsmodal::report

@@ -1,0 +1,86 @@
+#include "nsmodal/gnuplot.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include "nsmodal/check.h"
+
+extern char** environ;
+
+namespace nsmodal::report {
+namespace {
+
+bool IsPlainName(const std::string& name) {
+  if (name.empty()) return false;
+  for (char ch : name) {
+    const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '_' ||
+                    ch == '-' || ch == '.';
+    if (!ok) return false;
+  }
+  return name.front() != '.';
+}
+
+// Runs argv[0] (searched on PATH) in `cwd` with stdout and stderr to `log`,
+// and waits. Returns "" on exit status 0, else what went wrong.
+std::string Run(const std::vector<std::string>& argv, const std::filesystem::path& cwd,
+                const std::filesystem::path& log) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) {
+    return rc == ENOENT ? argv[0] + " not found (apt-get install gnuplot-nox)"
+                        : "cannot start " + argv[0] + ": " + std::strerror(rc);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return "waiting for " + argv[0] + ": " + std::strerror(errno);
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) return argv[0] + " could not be run (see " + log.string() + ")";
+  return argv[0] + " failed (see " + log.string() + ")";
+}
+
+}  // namespace
+
+ChartStatus DrawChart(const OutputDir& dir, const std::string& name, const std::string& body) {
+  NSMODAL_CHECK(IsPlainName(name));
+  for (const auto& [ext, terminal] : {std::pair<std::string, std::string>{"png", "pngcairo size 900,650 font ',11'"},
+                                      {"svg", "svg size 900,650 dynamic font ',11'"}}) {
+    const std::string image = name + "." + ext, script = image + ".gp", temp = "." + image + ".partial";
+    // The image name is a variable so that the run below can draw under a
+    // temporary name while the script, rerun by hand, draws NAME.EXT.
+    WriteResult(dir, script,
+                "set terminal " + terminal + "\nif (!exists('nsmodal_output')) nsmodal_output = '" + image +
+                    "'\nset output nsmodal_output\n" + body + "\n");
+    const std::filesystem::path log = dir.path() / (script + ".log");
+    std::string error = Run({"gnuplot", "-e", "nsmodal_output='" + temp + "'", script}, dir.path(), log);
+    std::error_code ec;
+    if (error.empty()) {
+      std::filesystem::rename(dir.path() / temp, dir.path() / image, ec);
+      if (ec) error = "cannot rename the drawn " + dir.Describe(image) + ": " + ec.message();
+    }
+    if (!error.empty()) {
+      std::filesystem::remove(dir.path() / temp, ec);
+      return {false, error};
+    }
+    std::filesystem::remove(log, ec);
+  }
+  return {true, ""};
+}
+
+}  // namespace nsmodal::report

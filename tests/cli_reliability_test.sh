@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# Issue 14's reliability cases, each pinned: no shell between user input and a
+# process, every write checked (a failed write is a failed run, exit 5), and
+# output directories that never mix runs or hold a result that looks complete
+# but is not.
+# Usage: cli_reliability_test.sh NSMODAL_BINARY SOURCE_DIR
+set -u
+bin=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0
+fail=0
+ok() { pass=$((pass + 1)); }
+bad() { echo "FAIL: $*"; fail=$((fail + 1)); }
+paper=$src/configs/paper.toml
+sim=$src/configs/paper-simulate.toml
+
+# 1. Shell injection through --out: the path reaches gnuplot as an argument
+#    vector and a working directory, never a command line.
+cd "$tmp" || exit 1
+evil="$tmp/x';touch PWNED;'"
+"$bin" bench "$paper" --quick --out "$evil" >/dev/null 2>&1
+rc=$?
+[ ! -e "$tmp/PWNED" ] && [ ! -e "$evil/PWNED" ] && ok || bad "bench --out with a quote ran a shell command"
+[ "$rc" -eq 0 ] && ok || bad "bench --out with a quote: exit $rc"
+if command -v gnuplot >/dev/null; then
+  [ -s "$evil/work_precision_smooth.png" ] && ok || bad "bench --out with a quote: chart not drawn"
+fi
+cd - >/dev/null || exit 1
+
+# 2. Write failures: a file size limit stands in for a full disk (SIGXFSZ
+#    ignored, so write() fails with EFBIG as it would with ENOSPC).
+(trap '' XFSZ; ulimit -f 16; exec "$bin" orbits "$paper" --impacts 1 --period 0.05:40:0.01 --out "$tmp/full") \
+  >/dev/null 2>"$tmp/full.err"
+rc=$?
+[ "$rc" -eq 5 ] && ok || bad "orbits on a full disk: exit $rc, expected 5 ($(cat "$tmp/full.err"))"
+grep -q "orbits.csv" "$tmp/full.err" && ok || bad "full disk message does not name the file: $(cat "$tmp/full.err")"
+[ -z "$(ls -A "$tmp/full" 2>/dev/null)" ] && ok || bad "full disk left files: $(ls -A "$tmp/full")"
+(trap '' XFSZ; ulimit -f 16; exec "$bin" simulate "$sim" --t-end 200 --out "$tmp/fullsim") >/dev/null 2>&1
+rc=$?
+[ "$rc" -eq 5 ] && ok || bad "simulate on a full disk: exit $rc"
+[ ! -e "$tmp/fullsim/summary.json" ] && [ ! -e "$tmp/fullsim/trajectory.csv" ] && ok || bad "simulate on a full disk left results"
+"$bin" orbit "$paper" --period 7.5 --json >/dev/full 2>"$tmp/devfull.err"
+rc=$?
+[ "$rc" -eq 5 ] && ok || bad "orbit --json > /dev/full: exit $rc"
+# An unwritable --out is refused before any work.
+touch "$tmp/afile"
+"$bin" orbits "$paper" --impacts 2 --period 0.05:40:0.01 --out "$tmp/afile/sub" >/dev/null 2>"$tmp/nodir.err"
+rc=$?
+[ "$rc" -eq 2 ] && grep -q -- "--out" "$tmp/nodir.err" && ok || bad "unwritable --out: exit $rc, $(cat "$tmp/nodir.err")"
+
+# 3. Reused output directories.
+"$bin" orbits "$paper" --impacts 1 --period 5:6:0.5 --out "$tmp/reuse" >/dev/null 2>&1
+"$bin" orbits "$paper" --impacts 2 --period 5:6:0.5 --out "$tmp/reuse" >/dev/null 2>&1
+[ ! -e "$tmp/reuse/transitions.csv" ] && ok || bad "orbits --impacts 2 left the 1-ipp transitions.csv"
+"$bin" simulate "$sim" --t-end 5 --out "$tmp/sim" >/dev/null 2>&1
+before=$(cat "$tmp/sim/summary.json" "$tmp/sim/trajectory.csv" | md5sum)
+"$bin" simulate "$sim" --t-end -1 --out "$tmp/sim" >/dev/null 2>&1
+rc=$?
+after=$(cat "$tmp/sim/summary.json" "$tmp/sim/trajectory.csv" 2>/dev/null | md5sum)
+[ "$rc" -eq 2 ] && [ "$before" = "$after" ] && ok || bad "refused simulate (exit $rc) changed the previous results"
+"$bin" simulate "$sim" --x0 0 1.5 --out "$tmp/refused" >/dev/null 2>&1
+[ -z "$(ls -A "$tmp/refused" 2>/dev/null)" ] && ok || bad "refused simulate wrote $(ls -A "$tmp/refused")"
+# Interrupted: nothing named like a result.
+timeout -s INT 1 "$bin" simulate "$sim" --t-end 1e9 --sample-dt 0.001 --out "$tmp/int" >/dev/null 2>&1
+[ ! -e "$tmp/int/trajectory.csv" ] && [ ! -e "$tmp/int/summary.json" ] && ok || bad "interrupted simulate left results"
+# figures: another run removes the figures it does not draw this time.
+mkdir -p "$tmp/fig" && echo stale >"$tmp/fig/fig09_two_grazes.csv"
+"$bin" figures "$paper" --period 0.05:5:0.05 --out "$tmp/fig" >/dev/null 2>&1
+[ ! -e "$tmp/fig/fig09_two_grazes.csv" ] && ok || bad "figures left a stale fig09 from another run"
+
+# 4. Command-line errors exit 2 as documented; --version.
+"$bin" orbits >/dev/null 2>&1
+rc=$?
+[ "$rc" -eq 2 ] && ok || bad "missing arguments: exit $rc, expected 2"
+"$bin" orbit "$paper" --period 3 --no-such-flag >/dev/null 2>&1
+rc=$?
+[ "$rc" -eq 2 ] && ok || bad "unknown flag: exit $rc, expected 2"
+"$bin" --version | grep -q '^nsmodal [0-9]' && ok || bad "--version"
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
