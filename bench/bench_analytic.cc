@@ -24,7 +24,7 @@ namespace nsmodal {
 namespace {
 
 void BM_OneImpactSweep100k(benchmark::State& state) {
-  const ModalBasis b = MakeModalBasis(PaperModel());
+  const AnalysisBasis b(PaperModel());
   double worst = 0.0;
   long admissible = 0;
   for (auto _ : state) {
@@ -42,7 +42,7 @@ void BM_OneImpactSweep100k(benchmark::State& state) {
 BENCHMARK(BM_OneImpactSweep100k)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 void BM_TwoImpactRootsTo40(benchmark::State& state) {
-  const ModalBasis b = MakeModalBasis(PaperModel());
+  const AnalysisBasis b(PaperModel());
   long roots = 0;
   double worst = 0.0;
   for (auto _ : state) {
@@ -62,7 +62,7 @@ BENCHMARK(BM_TwoImpactRootsTo40)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 void BM_TwoImpactRootRefinement(benchmark::State& state) {
   // Root accuracy: the same roots on a 10x finer t2 grid, at 200 periods.
-  const ModalBasis b = MakeModalBasis(PaperModel());
+  const AnalysisBasis b(PaperModel());
   TwoImpactOptions fine;
   fine.t2_step = 0.001;
   double worst = 0.0;
@@ -84,7 +84,7 @@ void BM_TwoImpactRootRefinement(benchmark::State& state) {
 BENCHMARK(BM_TwoImpactRootRefinement)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 void BM_TransitionsTo40(benchmark::State& state) {
-  const ModalBasis b = MakeModalBasis(PaperModel());
+  const AnalysisBasis b(PaperModel());
   double worst = 0.0;
   long count = 0;
   for (auto _ : state) {
@@ -101,7 +101,7 @@ void BM_TransitionsTo40(benchmark::State& state) {
 BENCHMARK(BM_TransitionsTo40)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 void BM_BridgesTo40(benchmark::State& state) {
-  const ModalBasis b = MakeModalBasis(PaperModel());
+  const AnalysisBasis b(PaperModel());
   std::vector<double> grazing;
   for (const Transition& t : OneImpactTransitions(b, 0.05, 40.0, 0.01)) {
     if (t.kind == TransitionKind::kGrazing) grazing.push_back(t.period);
@@ -116,7 +116,7 @@ void BM_BridgesTo40(benchmark::State& state) {
 BENCHMARK(BM_BridgesTo40)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 void BM_TwoImpactContinuation(benchmark::State& state) {
-  const ModalBasis b = MakeModalBasis(PaperModel());
+  const AnalysisBasis b(PaperModel());
   const double t1 = b.Periods().minCoeff();
   BranchOptions opt;
   opt.step = 2e-3 * 3 * t1;

@@ -19,7 +19,7 @@ namespace {
 
 struct OrbitCase {
   Model model = PaperModel();
-  ModalBasis basis = MakeModalBasis(PaperModel());
+  AnalysisBasis basis{PaperModel()};
   Orbit orbit;
   Eigen::VectorXd mid;  // closed form at T/2 (= at kT + T/2)
   explicit OrbitCase(double period) : orbit(OneImpactOrbit(basis, period)) {

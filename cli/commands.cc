@@ -116,19 +116,6 @@ nlohmann::json OrbitJson(const Orbit& o, const std::optional<Stability>& s = std
 
 }  // namespace
 
-// Periodic orbits with impacts exist only for e = 1 (paper section 1).
-ModalBasis AnalysisBasis(const std::string& scene_path) { return AnalysisBasis(LoadScene(scene_path)); }
-
-ModalBasis AnalysisBasis(const Scene& scene) {
-  if (scene.model.restitution != 1.0) {
-    throw InputError("system.restitution",
-                     "periodic orbits with impacts exist only for e = 1 (energy is lost at every impact "
-                     "when e < 1, paper section 1); got " +
-                         FormatValue(scene.model.restitution));
-  }
-  return MakeModalBasis(scene.model);
-}
-
 std::function<void(long, long)> ProgressBar(const std::string& label) {
   if (!isatty(STDERR_FILENO)) return {};
   return [label](long done, long count) {
@@ -143,7 +130,7 @@ std::function<void(long, long)> ProgressBar(const std::string& label) {
 
 // Floquet multipliers of a potential orbit (stability.h); degenerate (bridge)
 // orbits included: their family is a continuum, so one more multiplier is 1.
-std::optional<Stability> StabilityOf(const ModalBasis& b, const Orbit& o) {
+std::optional<Stability> StabilityOf(const AnalysisBasis& b, const Orbit& o) {
   if (!o.potential) return std::nullopt;
   return OrbitStability(b, o);
 }
@@ -175,7 +162,7 @@ int RunOrbits(const OrbitsArgs& a) {
   CheckImpacts(a.impacts);
   CheckT2Step(a.t2_step);
   const PeriodRange range = ParsePeriodRange(a.period);
-  const ModalBasis b = AnalysisBasis(a.scene);
+  const AnalysisBasis b(LoadScene(a.scene).model);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"orbits.csv", "transitions.csv"});
   const std::vector<double> periods = range.Values();
   std::vector<std::vector<Orbit>> results(periods.size());
@@ -304,7 +291,7 @@ int RunBench(const BenchArgs& a) {
 
 int RunValidate(const ValidateArgs& a) {
   const Scene scene = LoadScene(a.scene);
-  const ModalBasis b = AnalysisBasis(scene);
+  const AnalysisBasis b(scene.model);
   const ValidateSection& sec = scene.validate;
   const std::string period_text = a.period ? *a.period : sec.period ? *sec.period : "";
   if (period_text.empty()) throw InputError("--period", "is missing: give it with --period or validate.period");
@@ -540,7 +527,7 @@ int RunOrbit(const OrbitArgs& a) {
   if (!(a.period > 0.0) || !std::isfinite(a.period)) {
     throw InputError("--period", "must be positive, got " + FormatValue(a.period));
   }
-  const ModalBasis b = AnalysisBasis(a.scene);
+  const AnalysisBasis b(LoadScene(a.scene).model);
   std::vector<Orbit> orbits;
   if (a.impacts == 1) {
     orbits.push_back(OneImpactOrbit(b, a.period));
@@ -588,7 +575,7 @@ int RunOrbit(const OrbitArgs& a) {
 int RunExplore(const ExploreArgs& a) {
   if (a.grid < 4 || a.grid > 200) throw InputError("--grid", "must lie in [4, 200], got " + std::to_string(a.grid));
   const PeriodRange range = ParsePeriodRange(a.period);
-  const ModalBasis b = AnalysisBasis(a.scene);
+  const AnalysisBasis b(LoadScene(a.scene).model);
   ExploreOptions opt;
   opt.impacts = a.impacts;
   opt.grid = a.grid;

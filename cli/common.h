@@ -11,16 +11,11 @@
 
 namespace nsmodal::cli {
 
-// The scene's modal basis; refuses e != 1 (periodic orbits need e = 1),
-// naming system.restitution.
-ModalBasis AnalysisBasis(const Scene& scene);
-ModalBasis AnalysisBasis(const std::string& scene_path);  // loads the scene first
-
 // A progress callback for ParallelFor drawing a bar on stderr, or none when
 // stderr is not a terminal.
 std::function<void(long, long)> ProgressBar(const std::string& label);
 
 // Floquet multipliers of a potential orbit; none for an orbit that is not.
-std::optional<Stability> StabilityOf(const ModalBasis& b, const Orbit& o);
+std::optional<Stability> StabilityOf(const AnalysisBasis& b, const Orbit& o);
 
 }  // namespace nsmodal::cli

@@ -40,7 +40,7 @@ constexpr const char* kPotential = "#c8c8c8";
 constexpr int kSamples = 200;  // per flight of a drawn trajectory
 
 struct Context {
-  ModalBasis b;
+  AnalysisBasis b;
   int contact = 0;  // physical index of the contact dof
   int other = 0;    // the dof on the first axis of the phase sections (paper: x_1)
   report::OutputDir dir;
@@ -99,14 +99,14 @@ int VCol(const Context& c, int dof) { return 4 + c.b.n + dof; }
 
 // The linear mode i grazing d at t = 0 (x_c = d cos(w_i t)): the limit of the
 // 1-ipp family at a modal transition T = k T_i (eq. 24), as a 1-ipp orbit.
-Orbit GrazingMode(const ModalBasis& b, int mode, double period) {
+Orbit GrazingMode(const AnalysisBasis& b, int mode, double period) {
   Eigen::VectorXd y = Eigen::VectorXd::Zero(2 * b.n);
   y[mode] = b.gap / b.r_over_omega[mode];
   return EvaluateOrbit(b, y, {}, period);
 }
 
 // The mode whose multiple is the modal period T (T = k T_i).
-int ModeOf(const ModalBasis& b, double period) {
+int ModeOf(const AnalysisBasis& b, double period) {
   const Eigen::VectorXd ti = b.Periods();
   int best = 0;
   double err = INFINITY;
@@ -697,7 +697,7 @@ void Figures13To15(Context& c) {
 
 int RunFigures(const FiguresArgs& a) {
   const Scene scene = LoadScene(a.scene);
-  ModalBasis b = AnalysisBasis(scene);
+  AnalysisBasis b(scene.model);
   const Eigen::VectorXd ti = b.Periods();
   const double default_step = 0.01;
   const std::string range = a.period ? *a.period

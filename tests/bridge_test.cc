@@ -22,7 +22,7 @@ namespace {
 // and still fails on any real defect (a wrong kernel vector gives O(1)).
 constexpr double kRoundOff = 1e-12;
 
-std::vector<double> GrazingPeriods(const ModalBasis& b) {
+std::vector<double> GrazingPeriods(const AnalysisBasis& b) {
   std::vector<double> out;
   for (const Transition& t : OneImpactTransitions(b, 0.5, 40.0, 0.01)) {
     if (t.kind == TransitionKind::kGrazing) out.push_back(t.period);
@@ -31,7 +31,7 @@ std::vector<double> GrazingPeriods(const ModalBasis& b) {
 }
 
 TEST(Bridge, JoinsTheGrazingOrbitToItsTimeShiftAtEveryGrazingTransition) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const std::vector<double> periods = GrazingPeriods(b);
   ASSERT_EQ(periods.size(), 3u);  // 9.127, 19.242, 29.307 (README)
   for (double tg : periods) {
@@ -63,7 +63,7 @@ TEST(Bridge, JoinsTheGrazingOrbitToItsTimeShiftAtEveryGrazingTransition) {
 }
 
 TEST(Bridge, WhenTheGrazeIsAtHalfPeriodTheMiddleIsTheHalfPeriodOrbitRunTwice) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   int seen = 0;
   for (double tg : GrazingPeriods(b)) {
     const Bridge br = BridgeAt(b, tg);
@@ -83,7 +83,7 @@ TEST(Bridge, MiddleOfTheBridgeLiesOnATwoImpactBranch) {
   // At T_G = 9.127 the graze is at t_g = 1.08, not T/2: the lowest orbit of the
   // bridge is a genuine 2-ipp orbit, continued on both sides of T_G by roots
   // t2 of det A_2 whose orbits' energies tend to it.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const double tg = GrazingPeriods(b).front();
   const Bridge br = BridgeAt(b, tg);
   ASSERT_GT(std::abs(br.t2 - 0.5 * tg), 1.0);
@@ -103,7 +103,7 @@ TEST(Bridge, MiddleOfTheBridgeLiesOnATwoImpactBranch) {
 TEST(Bridge, TheAsymmetricGrazingOrbitIsAlsoAThreeImpactOrbit) {
   // Paper Fig. 9: an orbit with one impact and two grazes (t_g and T - t_g)
   // is admissible as a 1-ipp and as a 3-ipp orbit.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const double tg = GrazingPeriods(b).front();
   const Bridge br = BridgeAt(b, tg);
   const Orbit three = EvaluateOrbit(b, br.origin, {br.t2, tg - br.t2}, tg);
@@ -118,7 +118,7 @@ TEST(Bridge, OrbitsInsideTheBridgeAreUnstableExceptItsMiddleWhereAllMultipliersA
   // multiplier pair is real and leaves 1 linearly with |s - s_end / 2|. At the
   // middle all four multipliers are 1: the bridge crosses the 2-ipp branch
   // (or, at T_G = 19.242, the dilated 1-ipp branch) there.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   for (double tg : GrazingPeriods(b)) {
     const Bridge br = BridgeAt(b, tg);
     const Stability middle = OrbitStability(b, BridgeOrbit(b, br, 0.5 * br.s_end));
@@ -141,7 +141,7 @@ TEST(Bridge, ThePaperBridgeIsBornAtAPeriodDoublingOfTheHalfPeriodOrbit) {
   // At T_G / 2 the 1-ipp orbit's nontrivial pair sits at -1: below it the
   // orbit is stable, above it a real multiplier < -1 makes it unstable. The
   // bridge of period T_G is the family of period-doubled orbits born there.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const double tg = GrazingPeriods(b)[1];  // 19.242, the graze at T/2
   auto nontrivial = [&](double period) {
     const Stability s = OrbitStability(b, OneImpactOrbit(b, period));
@@ -165,7 +165,7 @@ TEST(Bridge, ThePaperBridgeIsBornAtAPeriodDoublingOfTheHalfPeriodOrbit) {
 TEST(Bridge, PeriodDoublingsOfTheOneImpactBranchAreFoundAndPolished) {
   // On the admissible 1-ipp branch in [2, 20]: T* = 7.2859, 9.4907 and
   // 9.6211 = T_G / 2 (README), each with a multiplier at -1.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const std::vector<double> pd = OneImpactPeriodDoublings(b, 2.0, 20.0, 0.01);
   ASSERT_EQ(pd.size(), 3u);
   EXPECT_NEAR(pd[0], 7.2859, 1e-4);
@@ -187,7 +187,7 @@ TEST(Bridge, APeriodDoublingWhoseDirectionLeavesTheContactAloneOpensABridge) {
   // each other (N S(T*) maps origin + s k to origin - s k), so the ends are
   // symmetric, and origin . k = 0 (eigenvectors of the orthogonal N S(T*) for
   // +1 and -1), so E(s) = E(origin) + s^2 / 2.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const double ts = OneImpactPeriodDoublings(b, 7.0, 7.5, 0.01).at(0);
   const Bridge br = PeriodDoublingBridge(b, ts);
   EXPECT_EQ(br.kind, BridgeKind::kPeriodDoubling);
@@ -217,7 +217,7 @@ TEST(Bridge, APeriodDoublingWhoseDirectionLeavesTheContactAloneOpensABridge) {
 TEST(Bridge, APeriodDoublingThatMovesTheContactIsAPitchforkNotABridge) {
   // T* = 9.4907: refused, and the 2-ipp roots show the pitchfork instead: a
   // pair t2 != T/2 on one side of 2 T*, none on the other.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const double ts = OneImpactPeriodDoublings(b, 9.4, 9.55, 0.01).at(0);
   EXPECT_THROW(PeriodDoublingBridge(b, ts), InputError);
   auto near_half = [&](double period) {
@@ -230,7 +230,7 @@ TEST(Bridge, APeriodDoublingThatMovesTheContactIsAPitchforkNotABridge) {
 }
 
 TEST(Bridge, ThePaperBridgeIsBothAGrazingAndAPeriodDoublingBridge) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const Bridge graze = BridgeAt(b, GrazingPeriods(b)[1]);
   const Bridge doubling = PeriodDoublingBridge(b, OneImpactPeriodDoublings(b, 9.55, 9.7, 0.01).at(0));
   EXPECT_NEAR(doubling.period, graze.period, kRoundOff * graze.period);
@@ -239,7 +239,7 @@ TEST(Bridge, ThePaperBridgeIsBothAGrazingAndAPeriodDoublingBridge) {
 }
 
 TEST(Bridge, APeriodThatDoesNotGrazeIsRefusedNamingIt) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   try {
     BridgeAt(b, 7.5);
     FAIL() << "no error";

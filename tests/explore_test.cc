@@ -9,7 +9,7 @@ namespace {
 
 TEST(Explore, ThreeImpactsKernelDimensionOneAndTheRepeatedOrbitIsFound) {
   // Section 2.3: odd m gives dim ker A_m = 1 (Q_m orthogonal with det -1).
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   ExploreOptions opt;
   opt.impacts = 3;
   opt.grid = 12;
@@ -28,7 +28,7 @@ TEST(Explore, ThreeImpactsKernelDimensionOneAndTheRepeatedOrbitIsFound) {
 }
 
 TEST(Explore, FourImpactsRootsHaveKernelDimensionTwo) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   ExploreOptions opt;
   opt.impacts = 4;
   opt.grid = 10;
@@ -55,7 +55,7 @@ TEST(Explore, AdmissibleThreeImpactOrbitThatIsNotALowerOrbit) {
   // an admissible 3-ipp orbit with impact intervals (8.359, 10.783, 8.359) and
   // three genuine impacts. Check it independently: physical state, matrix
   // exponential flow, the impact law written out, dense sampling of x2.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   ExploreOptions opt;
   opt.impacts = 3;
   const ExploreReport r = ExploreImpacts(b, {27.5}, opt);

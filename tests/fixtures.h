@@ -8,7 +8,7 @@
 
 namespace nsmodal::testing {
 
-inline ModalBasis PaperBasis() { return MakeModalBasis(PaperModel()); }
+inline AnalysisBasis PaperBasis() { return AnalysisBasis(PaperModel()); }
 
 // The paper's chain with a third mass on its own spring, uncoupled from the
 // contact: every orbit of the 2-dof system is an orbit of this one.

@@ -12,7 +12,7 @@ constexpr double kTol = 1e-11;
 
 TEST(Flow, MatchesMatrixExponential) {
   const Model m = testing::CoupledThreeDof();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   Eigen::VectorXd z(6);
   z << 0.2, -0.1, 0.3, 0.5, -1.0, 0.25;
   for (double t : {0.1, 1.7, 9.3}) {
@@ -26,7 +26,7 @@ TEST(Flow, MatchesMatrixExponential) {
 
 TEST(Flow, ImpactLawFlipsContactVelocityAndConservesEnergyWhenElastic) {
   const Model m = testing::CoupledThreeDof();  // non-diagonal M
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   Eigen::VectorXd x(3), v(3);
   x << 0.1, 0.7, -0.2;
   v << 0.3, 1.2, -0.5;
@@ -50,7 +50,7 @@ TEST(Flow, ImpactLawFlipsContactVelocityAndConservesEnergyWhenElastic) {
 }
 
 TEST(Flow, ContactSignalMatchesFlowAndItsBounds) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const Eigen::VectorXd y = Eigen::Vector4d(0.3, -1.1, 0.8, 0.4);
   const ContactSignal f(b, y);
   for (double t = 0.0; t < 20.0; t += 0.37) {

@@ -2,6 +2,7 @@
 
 #include "fixtures.h"
 #include "nsmodal/flow.h"
+#include "nsmodal/error.h"
 #include "nsmodal/modal_basis.h"
 
 namespace nsmodal {
@@ -11,7 +12,7 @@ namespace {
 constexpr double kTol = 1e-12;
 
 TEST(ModalBasis, LinearPeriodsOfThePaper) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   // The paper prints T1 ~ 2.97 and T2 ~ 10.19 (two decimals): ours is the
   // first mode in the paper's naming when sorted by period, descending.
   const Eigen::VectorXd t = b.Periods();
@@ -19,9 +20,23 @@ TEST(ModalBasis, LinearPeriodsOfThePaper) {
   EXPECT_NEAR(t[0], 10.19, 0.005);
 }
 
+// Issue 10: the library computed "admissible periodic orbits" for e = 0.5;
+// the analysis basis cannot be built for e != 1, and says which field.
+TEST(AnalysisBasis, RefusesARestitutionBelowOne) {
+  Model m = PaperModel();
+  m.restitution = 0.5;
+  try {
+    const AnalysisBasis b(m);
+    FAIL() << "built an analysis basis for e = 0.5";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "system.restitution");
+  }
+  EXPECT_EQ(MakeModalBasis(m).n, 2);  // the simulator's basis takes any e
+}
+
 TEST(ModalBasis, MassOrthonormalAndRoundTrip) {
   const Model m = testing::CoupledThreeDof();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   EXPECT_TRUE((b.phi.transpose() * m.mass * b.phi).isIdentity(kTol));
   EXPECT_TRUE((b.phi.transpose() * m.stiffness * b.phi).isApprox(Eigen::MatrixXd(b.omega.cwiseAbs2().asDiagonal()),
                                                                  kTol));

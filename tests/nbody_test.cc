@@ -15,8 +15,8 @@ namespace {
 constexpr double kTol = 1e-10;
 
 TEST(NBody, UncoupledThirdMassReproducesTheTwoDofResults) {
-  const ModalBasis b2 = testing::PaperBasis();
-  const ModalBasis b3 = MakeModalBasis(testing::PaperPlusUncoupledMass());
+  const AnalysisBasis b2 = testing::PaperBasis();
+  const AnalysisBasis b3(testing::PaperPlusUncoupledMass());
   for (double period = 0.3; period < 30.0; period += 0.41) {
     const Orbit o2 = OneImpactOrbit(b2, period);
     const Orbit o3 = OneImpactOrbit(b3, period);
@@ -38,7 +38,7 @@ TEST(NBody, UncoupledThirdMassReproducesTheTwoDofResults) {
 }
 
 TEST(NBody, CoupledMassMatrixOrbitsArePeriodic) {
-  const ModalBasis b = MakeModalBasis(testing::CoupledThreeDof());
+  const AnalysisBasis b(testing::CoupledThreeDof());
   int potential = 0;
   for (double period = 0.5; period < 20.0; period += 0.77) {
     const Orbit o = OneImpactOrbit(b, period);

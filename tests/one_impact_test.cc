@@ -33,7 +33,7 @@ double PaperEq21(double period, double t, bool half_angle, bool flip_b2 = false)
 }
 
 TEST(OneImpact, ClosedFormEqualsKernelOfA1) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   for (double period = 0.2; period < 40.0; period += 0.123) {
     const Orbit closed = OneImpactOrbit(b, period);
     const Orbit kernel = OneImpactOrbitFromKernel(b, period);
@@ -45,7 +45,7 @@ TEST(OneImpact, ClosedFormEqualsKernelOfA1) {
 }
 
 TEST(OneImpact, GeneralFormOfEq21MatchesKernel) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   for (double period : {1.3, 4.0, 7.7, 12.5, 23.0}) {
     const Orbit o = OneImpactOrbitFromKernel(b, period);
     for (double s : {0.1, 0.3, 0.5, 0.8}) {
@@ -62,7 +62,7 @@ TEST(OneImpact, PaperEq22HoldsWithHalfAngleCotangentAndSignOfB2) {
   // A(T) uses cot(w_i T / 2) instead of cot(w_i T) and B2 takes the opposite
   // sign (with P the eigenvectors of M^-1 K in columns). The tolerance is the
   // round-off of the two formulas at O(1) amplitudes.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   for (double period : {1.3, 4.0, 7.7, 12.5, 23.0}) {
     for (double s : {0.1, 0.3, 0.5}) {
       const double ref = OneImpactContactPosition(b, period, s * period);
@@ -73,7 +73,7 @@ TEST(OneImpact, PaperEq22HoldsWithHalfAngleCotangentAndSignOfB2) {
 }
 
 TEST(OneImpact, PeriodicEnergyConservingAndOnTheObstacle) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   double worst = 0.0;
   for (double period = 0.05; period < 40.0; period += 0.0137) {
     const Orbit o = OneImpactOrbit(b, period);
@@ -92,7 +92,7 @@ TEST(OneImpact, PeriodicEnergyConservingAndOnTheObstacle) {
 TEST(OneImpact, ExactNc3AgreesWithDenseSampling) {
   // Sampling at 2e5 points over a period can only under-estimate the maximum;
   // the exact check must never report admissible where sampling sees x_c > d.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   for (double period = 0.5; period < 30.0; period += 0.29) {
     const Orbit o = OneImpactOrbit(b, period);
     const ContactSignal f(b, o.y0);
@@ -114,7 +114,7 @@ TEST(OneImpact, ExactNc3AgreesWithDenseSampling) {
 TEST(OneImpact, ExactNc3CatchesAShortExcursionThatCoarseSamplingMisses) {
   // Near a grazing transition the excursion above d is tiny and short; find a
   // period just past the first grazing transition of the paper's system.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const std::vector<Transition> tr = OneImpactTransitions(b, 9.0, 9.3, 0.01);
   ASSERT_FALSE(tr.empty());
   const double tg = tr.front().period;

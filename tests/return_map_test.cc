@@ -30,7 +30,7 @@ TEST(Pfaffian, SquaresToDeterminantAndMatches4x4Formula) {
 }
 
 TEST(ReturnMap, OrthogonalWithDeterminantMinusOneToTheM) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const std::vector<std::vector<double>> impact_times{{}, {1.3}, {1.3, 2.2}, {0.4, 1.3, 2.9}};
   for (const auto& times : impact_times) {
     const Eigen::MatrixXd q = ReturnMap(b, times, 4.1);
@@ -40,13 +40,13 @@ TEST(ReturnMap, OrthogonalWithDeterminantMinusOneToTheM) {
 }
 
 TEST(ReturnMap, KernelOfA1HasDimensionOne) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   for (double t = 0.3; t < 40.0; t += 0.77) EXPECT_EQ(KernelDimension(MatrixA(b, {}, t), 1e-9), 1) << "T = " << t;
 }
 
 TEST(ReturnMap, DetA2IsNonNegativeAndVanishesAtHalfPeriod) {
   // Eq. 26: det A_2(T/2, T) = 0 for every T; det A_2 >= 0 everywhere (double roots).
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   for (double period = 0.5; period < 40.0; period += 0.61) {
     EXPECT_NEAR(MatrixA(b, {period / 2}, period).determinant(), 0.0, 1e-13) << "T = " << period;
     for (double s = 0.05; s < 1.0; s += 0.1) EXPECT_GE(MatrixA(b, {s * period}, period).determinant(), -1e-14);
@@ -54,7 +54,7 @@ TEST(ReturnMap, DetA2IsNonNegativeAndVanishesAtHalfPeriod) {
 }
 
 TEST(ReturnMap, IndicatorSquaredIsDetQMinusIPlusTimesDetQPlusI) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   for (double t2 : {0.3, 1.1, 2.5}) {
     const Eigen::MatrixXd q = ReturnMap(b, {t2}, 3.7);
     const Eigen::MatrixXd id = Eigen::MatrixXd::Identity(4, 4);

@@ -66,7 +66,7 @@ TEST(Simulate, ExactConservesEnergyForElasticImpacts) {
 
 TEST(Simulate, OneImpactOrbitReturnsToItsStartAfterOnePeriod) {
   const Model m = PaperModel();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   for (double period : {5.0, 7.5, 20.0}) {
     const Orbit o = OneImpactOrbit(b, period);
     ASSERT_TRUE(o.admissible);
@@ -92,7 +92,7 @@ TEST(Simulate, ExactStaysOnAStableOrbitForTenThousandPeriods) {
   // T = 7.5 is a stable 1-ipp orbit of the paper's system (a perturbation does
   // not grow); the simulation must stay within the engine's target, 1e-11.
   const Model m = PaperModel();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   const Orbit o = OneImpactOrbit(b, 7.5);
   Eigen::VectorXd y = o.y0;
   Flow(b, 7.5 / 2, y);
@@ -110,7 +110,7 @@ TEST(Simulate, GrazingOrbitHasNoMissedOrDuplicatedImpact) {
   // Only 1.5 periods: a grazing orbit is infinitely sensitive (the grazing map
   // has a square-root singularity), so round-off decides the later periods.
   const Model m = PaperModel();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   const std::vector<Transition> tr = OneImpactTransitions(b, 9.0, 9.3, 0.01);
   ASSERT_FALSE(tr.empty());
   ASSERT_EQ(tr.front().kind, TransitionKind::kGrazing);
@@ -130,7 +130,7 @@ TEST(Simulate, ExactCatchesTheShortExcursionPastGrazing) {
   // mid-flight (an excursion ~3.5 (T - T_G) high, ~3.5e-7 here): the exact
   // integrator must see an impact there, before the nominal one at T.
   const Model m = PaperModel();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   const double tg = OneImpactTransitions(b, 9.0, 9.3, 0.01).front().period;
   const double t_bad = OneImpactOrbit(b, tg - 1e-7).admissible ? tg + 1e-7 : tg - 1e-7;
   const Orbit o = OneImpactOrbit(b, t_bad);

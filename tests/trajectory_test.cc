@@ -13,7 +13,7 @@ namespace {
 constexpr double kRoundOff = 1e-12;
 
 TEST(Trajectory, ClosesOnItselfWithTheImpactsAsVelocityJumps) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   int checked = 0;
   for (const Orbit& o : TwoImpactOrbits(b, 9.0)) {
     if (!o.admissible) continue;
@@ -38,7 +38,7 @@ TEST(Trajectory, ClosesOnItselfWithTheImpactsAsVelocityJumps) {
 }
 
 TEST(Trajectory, ShiftedByHalfAPeriodItIsTheSameClosedCurveFromItsMidpoint) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const Orbit o = OneImpactOrbit(b, 7.5);
   const Eigen::MatrixXd tr = OrbitTrajectory(b, o, 40);  // T/2 is sample 20
   const Eigen::MatrixXd half = ShiftTrajectory(tr, 0.5 * o.period, o.period);

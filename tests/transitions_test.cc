@@ -15,7 +15,7 @@ namespace {
 constexpr double kLocationTarget = 1e-9;
 
 TEST(Transitions, SingularPeriodsAreRootsOfEq23WithDivergingEnergy) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const std::vector<double> ts = SingularPeriods(b, 0.1, 40.0);
   ASSERT_GE(ts.size(), 5u);
   for (double t : ts) {
@@ -27,7 +27,7 @@ TEST(Transitions, SingularPeriodsAreRootsOfEq23WithDivergingEnergy) {
 }
 
 TEST(Transitions, PaperSystemOnZeroToForty) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const std::vector<Transition> tr = OneImpactTransitions(b, 0.05, 40.0, 0.01);
   int singular = 0, modal = 0, grazing = 0;
   for (const Transition& t : tr) {
@@ -54,7 +54,7 @@ TEST(Transitions, PaperSystemOnZeroToForty) {
 }
 
 TEST(Transitions, LocationDoesNotDependOnTheGrid) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const std::vector<Transition> coarse = OneImpactTransitions(b, 0.05, 40.0, 0.01);
   const std::vector<Transition> fine = OneImpactTransitions(b, 0.05, 40.0, 0.0013);
   ASSERT_EQ(coarse.size(), fine.size());
@@ -65,7 +65,7 @@ TEST(Transitions, LocationDoesNotDependOnTheGrid) {
 }
 
 TEST(Transitions, AdmissibilityFlipsAcrossEachTransition) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   for (const Transition& t : OneImpactTransitions(b, 0.05, 40.0, 0.01)) {
     const double delta = 1e-6 * t.period;
     EXPECT_NE(OneImpactOrbit(b, t.period - delta).admissible, OneImpactOrbit(b, t.period + delta).admissible)

@@ -23,13 +23,13 @@ bool HasRootAwayFromHalf(const std::vector<double>& roots, double period) {
 
 TEST(TwoImpact, Figure6Classification) {
   // Fig. 6: no root t2 != T/2 for T in {1, 2, 7, 8, 10}; some for {3, 4, 5, 6, 9}.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   for (int period : {1, 2, 7, 8, 10}) EXPECT_FALSE(HasRootAwayFromHalf(TwoImpactRoots(b, period), period)) << period;
   for (int period : {3, 4, 5, 6, 9}) EXPECT_TRUE(HasRootAwayFromHalf(TwoImpactRoots(b, period), period)) << period;
 }
 
 TEST(TwoImpact, Eq27ThresholdAlwaysHasARootAwayFromHalf) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   const double threshold = 1.5 * b.Periods().maxCoeff();  // 3 max(T1, T2) / 2
   EXPECT_NEAR(threshold, 15.28, 0.01);
   for (double period = threshold; period < 40.0; period += 0.37) {
@@ -39,7 +39,7 @@ TEST(TwoImpact, Eq27ThresholdAlwaysHasARootAwayFromHalf) {
 
 TEST(TwoImpact, RootsAreRootsKernelHasDimensionTwoAndOrbitsArePeriodic) {
   // Eq. 28: det A_2 = 0 implies dim ker A_2 = 2.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   int checked = 0;
   for (double period = 2.5; period < 30.0; period += 0.53) {
     for (const Orbit& o : TwoImpactOrbits(b, period)) {
@@ -65,7 +65,7 @@ TEST(TwoImpact, RootsAreRootsKernelHasDimensionTwoAndOrbitsArePeriodic) {
 TEST(TwoImpact, RootsDoNotMoveWhenTheGridIsRefined) {
   // The grid only brackets; the root is Brent's: a 10x finer grid gives the
   // same roots to the root target.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   TwoImpactOptions fine;
   fine.t2_step = 0.001;
   for (double period : {3.0, 6.0, 9.0, 17.3, 33.1}) {
@@ -78,7 +78,7 @@ TEST(TwoImpact, RootsDoNotMoveWhenTheGridIsRefined) {
 
 TEST(TwoImpact, SymmetryT2ToTMinusT2) {
   // Starting the same orbit at its second impact swaps the flight times.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   for (double period : {3.0, 6.0, 9.0, 21.7}) {
     const std::vector<Orbit> orbits = TwoImpactOrbits(b, period);
     for (const Orbit& o : orbits) {
@@ -94,7 +94,7 @@ TEST(TwoImpact, SymmetryT2ToTMinusT2) {
 }
 
 TEST(TwoImpact, HalfPeriodRootIsTheOneImpactOrbitRunTwice) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   for (double period : {3.0, 7.0, 12.0}) {
     const Orbit two = TwoImpactOrbitAt(b, period / 2, period);
     EXPECT_TRUE(two.potential);
@@ -119,7 +119,7 @@ TEST(TwoImpact, ContinuationFollowsTheRootCurveThroughItsFoldsAndAgreesWithTheGr
   // The branch through the 3 T_1 linear mode (paper Figs. 11-12): from
   // (t2, T) = (2.87, 8.866) the curve turns back at T ~ 8.615 and again at
   // T ~ 9.181. A grid in T sees each fold only as two roots merging.
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   double t2 = 0.0;
   for (double r : TwoImpactRoots(b, 8.866)) {
     if (std::abs(r - 2.87) < 0.01) t2 = r;
@@ -166,7 +166,7 @@ TEST(TwoImpact, ContinuationFollowsTheRootCurveThroughItsFoldsAndAgreesWithTheGr
 }
 
 TEST(TwoImpact, ContinuationRefusesAStartThatIsNotARoot) {
-  const ModalBasis b = testing::PaperBasis();
+  const AnalysisBasis b = testing::PaperBasis();
   EXPECT_THROW(TwoImpactBranch(b, 1.0, 8.0), InputError);
 }
 

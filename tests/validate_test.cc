@@ -25,7 +25,7 @@ ValidateOptions Options(int periods) {
 }
 
 TEST(Stability, MultipliersOfAOneImpactOrbitComeInReciprocalPairsWithTrivialOnes) {
-  const ModalBasis b = MakeModalBasis(PaperModel());
+  const AnalysisBasis b(PaperModel());
   for (double period : {5.0, 6.5, 9.2, 20.0}) {
     const Stability s = OrbitStability(b, OneImpactOrbit(b, period));
     // Two trivial multipliers at 1 (a Jordan block: computed to ~sqrt(eps)).
@@ -54,7 +54,7 @@ TEST(Stability, AMultiplierCrossesPlusOneWhereTheOneImpactEnergyIsExtremal) {
   // in the energy (dE/dT = 0). Scan T in [2, 40] away from the singular
   // periods (E < 100 at both ends of a cell), locate each zero of dE/dT by
   // Brent on a central difference, and check the crossing there.
-  const ModalBasis b = MakeModalBasis(PaperModel());
+  const AnalysisBasis b(PaperModel());
   auto energy = [&](double t) { return OneImpactOrbit(b, t).energy; };
   auto slope = [&](double t) { return (energy(t + 1e-6) - energy(t - 1e-6)) / 2e-6; };  // error ~ eps E / 1e-6
   int extrema = 0;
@@ -82,7 +82,7 @@ TEST(Stability, AMultiplierCrossesPlusOneWhereTheOneImpactEnergyIsExtremal) {
 
 TEST(Validate, StableAdmissibleOrbitIsPeriodicOverAThousandPeriods) {
   const Model m = PaperModel();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   const OrbitValidation v = ValidateOrbit(m, OneImpactOrbit(b, 7.5), Integrator::kExact, Options(1000));
   EXPECT_TRUE(v.stability.stable);
   EXPECT_TRUE(v.consistent) << v.reason;
@@ -97,7 +97,7 @@ TEST(Validate, StableAdmissibleOrbitIsPeriodicOverAThousandPeriods) {
 
 TEST(Validate, UnstableOrbitDeviatesAtTheRateOfItsMultipliers) {
   const Model m = PaperModel();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   for (Integrator integrator : {Integrator::kExact, Integrator::kCvode}) {
     const OrbitValidation v = ValidateOrbit(m, OneImpactOrbit(b, 6.5), integrator, Options(200));
     EXPECT_FALSE(v.stability.stable);
@@ -114,7 +114,7 @@ TEST(Validate, AnOffFamilyPerturbationStaysSmallOnStableOrbitsAndGrowsAtTheMulti
   // 1e-6 |y| in its nontrivial Floquet subspace and run 1000 periods with the
   // exact integrator.
   const Model m = PaperModel();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   int stable = 0, unstable = 0;
   double worst_stable = 0.0, worst_rate = 0.0;
   for (double period = 4.0; period <= 30.0; period += 1.0) {
@@ -157,7 +157,7 @@ TEST(Validate, SimulationConfirmsTheStabilityOfTheBridgeOrbits) {
   // first period; the unstable ones depart at log|lambda| per period, the
   // middle one stays periodic for 1000 periods.
   const Model m = PaperModel();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   const Bridge br = BridgeAt(b, 19.242270772853061);
   for (double f : {0.1, 0.3, 0.5, 0.7, 0.9}) {
     const Orbit o = BridgeOrbit(b, br, f * br.s_end);
@@ -178,7 +178,7 @@ TEST(Validate, SimulationConfirmsTheStabilityOfTheBridgeOrbits) {
 
 TEST(Validate, PotentialButNotAdmissibleOrbitsBreak) {
   const Model m = PaperModel();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   int checked = 0;
   for (const Orbit& o : TwoImpactOrbits(b, 9.0)) {
     if (o.admissible || !o.potential) continue;
@@ -192,7 +192,7 @@ TEST(Validate, PotentialButNotAdmissibleOrbitsBreak) {
 
 TEST(Validate, BatchOverTheDefaultSceneIsConsistentWithTheExactIntegrator) {
   const Model m = PaperModel();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   std::vector<Orbit> orbits;
   for (double period = 2.0; period <= 12.0; period += 0.5) {
     orbits.push_back(OneImpactOrbit(b, period));

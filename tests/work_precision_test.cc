@@ -69,7 +69,7 @@ TEST(Grazing, ExactAtAContactBandAsWideAsTheExcursionFinishes) {
   // root_tol = 1e-4 the excursion above d ends inside the contact band; the
   // search used to report the same graze at s = 0 forever.
   const Model m = PaperModel();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   const double tg = OneImpactTransitions(b, 9.0, 9.3, 0.01).front().period;
   for (double delta : {1e-4, 1e-6, 1e-8}) {
     const Orbit o = OneImpactOrbit(b, tg - delta);

@@ -9,7 +9,7 @@
 
 namespace nsmodal {
 
-SegmentCheck CheckSegment(const ModalBasis& b, const Eigen::Ref<const Eigen::VectorXd>& y, double duration) {
+SegmentCheck CheckSegment(const AnalysisBasis& b, const Eigen::Ref<const Eigen::VectorXd>& y, double duration) {
   const ContactSignal f(b, y);
   SegmentCheck out{-std::numeric_limits<double>::infinity(), 0.0, f.Velocity(0.0), f.Velocity(duration), 0.0,
                    0.0};
@@ -30,7 +30,7 @@ SegmentCheck CheckSegment(const ModalBasis& b, const Eigen::Ref<const Eigen::Vec
   return out;
 }
 
-Orbit EvaluateOrbit(const ModalBasis& b, const Eigen::VectorXd& y0, const std::vector<double>& times,
+Orbit EvaluateOrbit(const AnalysisBasis& b, const Eigen::VectorXd& y0, const std::vector<double>& times,
                     double period, const AdmissibilityOptions& options) {
   Orbit orbit;
   orbit.impacts = static_cast<int>(times.size()) + 1;
@@ -65,7 +65,7 @@ Orbit EvaluateOrbit(const ModalBasis& b, const Eigen::VectorXd& y0, const std::v
     }
     Flow(b, duration, y);
     if (k + 1 < orbit.impacts) nc2 = std::max(nc2, std::abs(ContactPosition(b, y) - b.gap));
-    Impact(b, 1.0, y);
+    ElasticImpact(b, y);
     start = end;
   }
   orbit.nc2_residual = nc2 / b.gap;

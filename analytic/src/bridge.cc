@@ -15,10 +15,10 @@
 namespace nsmodal {
 namespace {
 
-bool AdmissibleAt(const ModalBasis& b, const Bridge& br, double s) { return BridgeOrbit(b, br, s).admissible; }
+bool AdmissibleAt(const AnalysisBasis& b, const Bridge& br, double s) { return BridgeOrbit(b, br, s).admissible; }
 
 // k in ker A_2(t2, T) with x_c(k) = 0, |k| = 1, and the degeneracy residual.
-void LineDirection(const ModalBasis& b, Bridge& br) {
+void LineDirection(const AnalysisBasis& b, Bridge& br) {
   const int dim = 2 * b.n;
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, {br.t2}, br.period), Eigen::ComputeFullV);
   const Eigen::VectorXd k1 = svd.matrixV().col(dim - 1);
@@ -33,7 +33,7 @@ void LineDirection(const ModalBasis& b, Bridge& br) {
 // The last admissible s from `from` (admissible) going in the direction of
 // `probe` (sign), in steps of `step`, then bisected to round-off. Infinite if
 // still admissible at 1e3 |origin| (energy a million times the origin's).
-double AdmissibleExtent(const ModalBasis& b, const Bridge& br, double from, double step) {
+double AdmissibleExtent(const AnalysisBasis& b, const Bridge& br, double from, double step) {
   const double limit = 1e3 * br.origin.norm();
   double lo = from, hi = std::numeric_limits<double>::infinity();
   for (double s = from + step; std::abs(s) <= limit; s += step) {
@@ -81,11 +81,11 @@ void ThrowIfUnbounded(const Bridge& br) {
 
 }  // namespace
 
-Orbit BridgeOrbit(const ModalBasis& b, const Bridge& bridge, double s) {
+Orbit BridgeOrbit(const AnalysisBasis& b, const Bridge& bridge, double s) {
   return EvaluateOrbit(b, bridge.origin + s * bridge.direction, {bridge.t2}, bridge.period);
 }
 
-Bridge BridgeAt(const ModalBasis& b, double grazing_period) {
+Bridge BridgeAt(const AnalysisBasis& b, double grazing_period) {
   const Orbit one = OneImpactOrbit(b, grazing_period);
   const SegmentCheck seg = CheckSegment(b, one.y0, grazing_period);
   // A grazing orbit reaches d at an interior maximum; 1e-9 d leaves room for
@@ -120,7 +120,7 @@ Bridge BridgeAt(const ModalBasis& b, double grazing_period) {
   return br;
 }
 
-std::vector<double> OneImpactPeriodDoublings(const ModalBasis& b, double from, double to, double step) {
+std::vector<double> OneImpactPeriodDoublings(const AnalysisBasis& b, double from, double to, double step) {
   const int dim = 2 * b.n;
   const auto g = [&](double period) {
     const Orbit o = OneImpactOrbit(b, period);
@@ -139,7 +139,7 @@ std::vector<double> OneImpactPeriodDoublings(const ModalBasis& b, double from, d
   return out;
 }
 
-Bridge PeriodDoublingBridge(const ModalBasis& b, double doubling_period) {
+Bridge PeriodDoublingBridge(const AnalysisBasis& b, double doubling_period) {
   const Orbit one = OneImpactOrbit(b, doubling_period);
   if (!one.admissible) {
     throw InputError("period", "T* = " + FormatValue(doubling_period) + ": the 1-ipp orbit is not admissible (" +

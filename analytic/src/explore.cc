@@ -22,7 +22,7 @@ struct Candidate {
 };
 
 // phi(times) and the y0 that realises it (see explore.h).
-Candidate Objective(const ModalBasis& b, const std::vector<double>& times, double period, int impacts) {
+Candidate Objective(const AnalysisBasis& b, const std::vector<double>& times, double period, int impacts) {
   double prev = 0.0;
   for (double t : times) {
     if (!(t > prev)) return {std::numeric_limits<double>::infinity(), {}};
@@ -42,7 +42,7 @@ Candidate Objective(const ModalBasis& b, const std::vector<double>& times, doubl
     for (int j = 0; j < k; ++j) {
       if (i > 0) Flow(b, times[i - 1] - prev, y.col(j));
       c(i, j) = ContactPosition(b, y.col(j));
-      if (i > 0) Impact(b, 1.0, y.col(j));
+      if (i > 0) ElasticImpact(b, y.col(j));
     }
     if (i > 0) prev = times[i - 1];
   }
@@ -54,7 +54,7 @@ Candidate Objective(const ModalBasis& b, const std::vector<double>& times, doubl
 }
 
 struct NmParams {
-  const ModalBasis* b;
+  const AnalysisBasis* b;
   double period;
   int impacts;
 };
@@ -67,7 +67,7 @@ double NmObjective(const gsl_vector* v, void* p) {
   return std::isfinite(phi) ? phi : 1e6;
 }
 
-std::vector<double> Polish(const ModalBasis& b, std::vector<double> times, double period, int impacts) {
+std::vector<double> Polish(const AnalysisBasis& b, std::vector<double> times, double period, int impacts) {
   gsl_set_error_handler_off();
   const std::size_t n = times.size();
   NmParams prm{&b, period, impacts};
@@ -138,7 +138,7 @@ bool SameOrbit(const Orbit& a, const std::vector<double>& times, double period) 
 
 // Smallest |v_c| just before an impact relative to the largest: ~0 means a
 // grazing contact, i.e. an orbit with fewer true impacts touching d (Fig. 9).
-double GrazingRatio(const ModalBasis& b, const Orbit& o) {
+double GrazingRatio(const AnalysisBasis& b, const Orbit& o) {
   Eigen::VectorXd y = o.y0;
   double prev = 0.0, vmin = INFINITY, vmax = 0.0;
   std::vector<double> ends = o.times;
@@ -149,7 +149,7 @@ double GrazingRatio(const ModalBasis& b, const Orbit& o) {
     const double v = std::abs(ContactVelocity(b, y));
     vmin = std::min(vmin, v);
     vmax = std::max(vmax, v);
-    Impact(b, 1.0, y);
+    ElasticImpact(b, y);
   }
   return vmax > 0.0 ? vmin / vmax : 0.0;
 }
@@ -168,7 +168,7 @@ void Enumerate(int impacts, int grid, std::vector<int>& idx, int pos, const std:
 
 }  // namespace
 
-ExploreReport ExploreImpacts(const ModalBasis& b, const std::vector<double>& periods, const ExploreOptions& options) {
+ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& periods, const ExploreOptions& options) {
   if (options.impacts < 3 || options.impacts > 6) {
     throw InputError("impacts", "the exploratory search takes 3 to 6 impacts, got " +
                                     std::to_string(options.impacts));

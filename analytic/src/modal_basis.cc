@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "nsmodal/error.h"
+
 namespace nsmodal {
 
 Eigen::VectorXd ModalBasis::Periods() const {
@@ -20,9 +22,22 @@ ModalBasis MakeModalBasis(const Model& model) {
   b.r_over_omega = b.r.cwiseQuotient(b.omega);
   b.r_norm2 = b.r.squaredNorm();
   b.gap = model.gap;
-  b.restitution = model.restitution;
   return b;
 }
+
+namespace {
+const Model& ElasticModel(const Model& model) {
+  if (model.restitution != AnalysisBasis::kRestitution) {
+    throw InputError("system.restitution",
+                     "periodic orbits with impacts exist only for e = 1 (energy is lost at every impact "
+                     "when e < 1, paper section 1); got " +
+                         FormatValue(model.restitution));
+  }
+  return model;
+}
+}  // namespace
+
+AnalysisBasis::AnalysisBasis(const Model& model) : ModalBasis(MakeModalBasis(ElasticModel(model))) {}
 
 Eigen::VectorXd ToModal(const ModalBasis& b, const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
   Eigen::VectorXd y(2 * b.n);

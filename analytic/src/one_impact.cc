@@ -7,7 +7,7 @@
 
 namespace nsmodal {
 
-double SingularFunction(const ModalBasis& b, double period) {
+double SingularFunction(const AnalysisBasis& b, double period) {
   double d = 0.0;
   for (int i = 0; i < b.n; ++i) {
     const double h = 0.5 * b.omega[i] * period;
@@ -16,7 +16,7 @@ double SingularFunction(const ModalBasis& b, double period) {
   return d;
 }
 
-Orbit OneImpactOrbit(const ModalBasis& b, double period, const AdmissibilityOptions& options) {
+Orbit OneImpactOrbit(const AnalysisBasis& b, double period, const AdmissibilityOptions& options) {
   const double denom = SingularFunction(b, period);
   Eigen::VectorXd y0(2 * b.n);
   const double scale = b.gap / denom;
@@ -35,14 +35,14 @@ Orbit OneImpactOrbit(const ModalBasis& b, double period, const AdmissibilityOpti
   return EvaluateOrbit(b, y0, {}, period, options);
 }
 
-Orbit OneImpactOrbitFromKernel(const ModalBasis& b, double period, const AdmissibilityOptions& options) {
+Orbit OneImpactOrbitFromKernel(const AnalysisBasis& b, double period, const AdmissibilityOptions& options) {
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, {}, period), Eigen::ComputeFullV);
   Eigen::VectorXd k = svd.matrixV().col(2 * b.n - 1);
   k *= b.gap / ContactPosition(b, k);
   return EvaluateOrbit(b, k, {}, period, options);
 }
 
-double OneImpactContactPosition(const ModalBasis& b, double period, double t) {
+double OneImpactContactPosition(const AnalysisBasis& b, double period, double t) {
   double sum = 0.0;
   for (int i = 0; i < b.n; ++i) {
     sum += b.r[i] * b.r[i] * std::cos(b.omega[i] * (t - 0.5 * period)) /

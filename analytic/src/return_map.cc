@@ -1,21 +1,20 @@
 #include "nsmodal/return_map.h"
 
-#include <cassert>
 #include <cmath>
 
 #include "nsmodal/flow.h"
+#include "nsmodal/check.h"
 
 namespace nsmodal {
 
-Eigen::MatrixXd ReturnMap(const ModalBasis& b, const std::vector<double>& times, double period,
-                          double restitution) {
+Eigen::MatrixXd ReturnMap(const AnalysisBasis& b, const std::vector<double>& times, double period) {
   const int dim = 2 * b.n;
   Eigen::MatrixXd q = Eigen::MatrixXd::Identity(dim, dim);
   double previous = 0.0;
   auto advance = [&](double dt) {
     for (int col = 0; col < dim; ++col) {
       Flow(b, dt, q.col(col));
-      Impact(b, restitution, q.col(col));
+      ElasticImpact(b, q.col(col));
     }
   };
   for (double t : times) {
@@ -28,7 +27,7 @@ Eigen::MatrixXd ReturnMap(const ModalBasis& b, const std::vector<double>& times,
 
 double Pfaffian(Eigen::MatrixXd a) {
   const int n = static_cast<int>(a.rows());
-  assert(a.cols() == n);
+  NSMODAL_CHECK(a.cols() == n);
   if (n % 2 == 1) return 0.0;
   double pf = 1.0;
   for (int k = 0; k + 1 < n; k += 2) {
@@ -52,7 +51,7 @@ double Pfaffian(Eigen::MatrixXd a) {
   return pf;
 }
 
-double TwoImpactIndicator(const ModalBasis& b, double t2, double period) {
+double TwoImpactIndicator(const AnalysisBasis& b, double t2, double period) {
   const Eigen::MatrixXd q = ReturnMap(b, {t2}, period);
   return Pfaffian(q - q.transpose());
 }

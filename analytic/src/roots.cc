@@ -4,10 +4,10 @@
 #include <gsl/gsl_roots.h>
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include "nsmodal/check.h"
 
 namespace nsmodal {
 namespace {
@@ -27,7 +27,7 @@ double PolishRoot(const std::function<double(double)>& g, double lo, double hi) 
   double ghi = g(hi);
   if (glo == 0.0) return lo;
   if (ghi == 0.0) return hi;
-  assert(glo * ghi < 0.0 && "PolishRoot needs a bracket");
+  NSMODAL_CHECK(glo * ghi < 0.0);  // PolishRoot needs a bracket
   gsl_set_error_handler_off();  // statuses are checked below, never abort()
   std::unique_ptr<gsl_root_fsolver, SolverDeleter> solver(gsl_root_fsolver_alloc(gsl_root_fsolver_brent));
   gsl_function f{&Trampoline, const_cast<std::function<double(double)>*>(&g)};

@@ -9,7 +9,7 @@ namespace nsmodal {
 namespace {
 
 // f(y) = G y: u_i' = w_i s_i, s_i' = -w_i u_i.
-Eigen::VectorXd Field(const ModalBasis& b, const Eigen::VectorXd& y) {
+Eigen::VectorXd Field(const AnalysisBasis& b, const Eigen::VectorXd& y) {
   Eigen::VectorXd f(2 * b.n);
   f.head(b.n) = b.omega.cwiseProduct(y.tail(b.n));
   f.tail(b.n) = -b.omega.cwiseProduct(y.head(b.n));
@@ -18,8 +18,8 @@ Eigen::VectorXd Field(const ModalBasis& b, const Eigen::VectorXd& y) {
 
 }  // namespace
 
-Eigen::MatrixXd SaltationMatrix(const ModalBasis& b, const Eigen::VectorXd& y_minus) {
-  const Eigen::MatrixXd reset = ImpactMatrix(b, 1.0);
+Eigen::MatrixXd SaltationMatrix(const AnalysisBasis& b, const Eigen::VectorXd& y_minus) {
+  const Eigen::MatrixXd reset = ImpactMatrix(b, AnalysisBasis::kRestitution);
   const Eigen::VectorXd y_plus = reset * y_minus;
   Eigen::VectorXd normal = Eigen::VectorXd::Zero(2 * b.n);
   normal.head(b.n) = b.r_over_omega;  // gradient of x_c
@@ -28,7 +28,7 @@ Eigen::MatrixXd SaltationMatrix(const ModalBasis& b, const Eigen::VectorXd& y_mi
   return reset + (Field(b, y_plus) - reset * f_minus) * normal.transpose() / rate;
 }
 
-Stability OrbitStability(const ModalBasis& b, const Orbit& orbit, double tol) {
+Stability OrbitStability(const AnalysisBasis& b, const Orbit& orbit, double tol) {
   Stability out;
   const int dim = 2 * b.n;
   Eigen::MatrixXd m = Eigen::MatrixXd::Identity(dim, dim);
@@ -40,7 +40,7 @@ Stability OrbitStability(const ModalBasis& b, const Orbit& orbit, double tol) {
     Flow(b, t - prev, y);
     m = FlowMatrix(b, t - prev) * m;
     m = SaltationMatrix(b, y) * m;
-    Impact(b, 1.0, y);
+    ElasticImpact(b, y);
     prev = t;
   }
   out.monodromy = m;

@@ -1,14 +1,14 @@
 #include "nsmodal/trajectory.h"
 
-#include <cassert>
 #include <vector>
 
 #include "nsmodal/flow.h"
+#include "nsmodal/check.h"
 
 namespace nsmodal {
 
-Eigen::MatrixXd OrbitTrajectory(const ModalBasis& b, const Orbit& orbit, int samples) {
-  assert(samples >= 2);
+Eigen::MatrixXd OrbitTrajectory(const AnalysisBasis& b, const Orbit& orbit, int samples) {
+  NSMODAL_CHECK(samples >= 2);
   const int n = b.n;
   std::vector<double> ends = orbit.times;
   ends.push_back(orbit.period);
@@ -28,7 +28,7 @@ Eigen::MatrixXd OrbitTrajectory(const ModalBasis& b, const Orbit& orbit, int sam
       ++row;
     }
     Flow(b, duration, y);
-    Impact(b, 1.0, y);
+    ElasticImpact(b, y);
     start = ends[k];
   }
   return out;

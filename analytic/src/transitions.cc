@@ -19,7 +19,7 @@ std::string ToString(TransitionKind kind) {
   return "?";
 }
 
-std::vector<double> ModalPeriods(const ModalBasis& b, double from, double to) {
+std::vector<double> ModalPeriods(const AnalysisBasis& b, double from, double to) {
   std::vector<double> out;
   const Eigen::VectorXd periods = b.Periods();
   for (int i = 0; i < b.n; ++i) {
@@ -32,7 +32,7 @@ std::vector<double> ModalPeriods(const ModalBasis& b, double from, double to) {
   return out;
 }
 
-std::vector<double> SingularPeriods(const ModalBasis& b, double from, double to) {
+std::vector<double> SingularPeriods(const AnalysisBasis& b, double from, double to) {
   // Poles of D are the k T_i; D runs from +inf to -inf between consecutive poles.
   std::vector<double> poles{0.0};
   for (double p : ModalPeriods(b, 0.0, to)) poles.push_back(p);
@@ -60,12 +60,12 @@ std::vector<double> SingularPeriods(const ModalBasis& b, double from, double to)
   return out;
 }
 
-double GrazingFunction(const ModalBasis& b, double period) {
+double GrazingFunction(const AnalysisBasis& b, double period) {
   const Orbit o = OneImpactOrbit(b, period);
   return CheckSegment(b, o.y0, period).max_excess;
 }
 
-std::vector<Transition> OneImpactTransitions(const ModalBasis& b, double from, double to, double step) {
+std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, double from, double to, double step) {
   std::vector<double> periods;
   std::vector<bool> admissible;
   const long cells = std::lround(std::ceil((to - from) / step - 1e-9));
@@ -76,7 +76,7 @@ std::vector<Transition> OneImpactTransitions(const ModalBasis& b, double from, d
   return OneImpactTransitions(b, periods, admissible);
 }
 
-std::vector<Transition> OneImpactTransitions(const ModalBasis& b, const std::vector<double>& periods,
+std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, const std::vector<double>& periods,
                                              const std::vector<bool>& grid_admissible) {
   if (periods.size() < 2) return {};
   const double from = periods.front(), to = periods.back();

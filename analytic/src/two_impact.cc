@@ -18,7 +18,7 @@ namespace {
 // sigma_min(A_2) = min_k |2 sin(theta_k / 2)|: V-shaped (not quadratic) at a
 // root, so golden section reaches it to ~eps / slope, not sqrt(eps). (GSL's
 // Brent minimiser steps no finer than sqrt(eps) |x| and stops at ~1e-8.)
-double SmallestSingularValue(const ModalBasis& b, double t2, double period) {
+double SmallestSingularValue(const AnalysisBasis& b, double t2, double period) {
   return Eigen::JacobiSVD<Eigen::MatrixXd>(MatrixA(b, {t2}, period)).singularValues().minCoeff();
 }
 
@@ -27,9 +27,9 @@ struct MinimizerDeleter {
 };
 
 // Minimises sigma_min(A_2) on [lo, hi] from mid; returns the minimiser.
-double MinimizeSigma(const ModalBasis& b, double period, double lo, double mid, double hi) {
+double MinimizeSigma(const AnalysisBasis& b, double period, double lo, double mid, double hi) {
   struct Ctx {
-    const ModalBasis* b;
+    const AnalysisBasis* b;
     double period;
   } ctx{&b, period};
   gsl_function f{[](double t, void* p) {
@@ -50,7 +50,7 @@ double MinimizeSigma(const ModalBasis& b, double period, double lo, double mid, 
 
 }  // namespace
 
-std::vector<double> TwoImpactRoots(const ModalBasis& b, double period, const TwoImpactOptions& options) {
+std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const TwoImpactOptions& options) {
   const double half = 0.5 * period;
   // An even number of cells so that T/2 is a grid node.
   int cells = static_cast<int>(std::ceil(period / std::min(options.t2_step, period / 64.0)));
@@ -103,7 +103,7 @@ std::vector<double> TwoImpactRoots(const ModalBasis& b, double period, const Two
   return roots;
 }
 
-Orbit TwoImpactOrbitAt(const ModalBasis& b, double t2, double period, const TwoImpactOptions& options) {
+Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const TwoImpactOptions& options) {
   const int dim = 2 * b.n;
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, {t2}, period), Eigen::ComputeFullV);
   const Eigen::VectorXd k1 = svd.matrixV().col(dim - 1);
@@ -131,7 +131,7 @@ Orbit TwoImpactOrbitAt(const ModalBasis& b, double t2, double period, const TwoI
   return orbit;
 }
 
-std::vector<Orbit> TwoImpactOrbits(const ModalBasis& b, double period, const TwoImpactOptions& options) {
+std::vector<Orbit> TwoImpactOrbits(const AnalysisBasis& b, double period, const TwoImpactOptions& options) {
   std::vector<Orbit> out;
   for (double t2 : TwoImpactRoots(b, period, options)) out.push_back(TwoImpactOrbitAt(b, t2, period, options));
   return out;
@@ -142,14 +142,14 @@ namespace {
 // grad F by central differences: F is a polynomial in trigonometric functions
 // of t2 and T with O(1) coefficients, so h = 1e-6 gives ~1e-10 relative error,
 // enough for Newton's direction and the tangent.
-Eigen::Vector2d IndicatorGradient(const ModalBasis& b, double t2, double period) {
+Eigen::Vector2d IndicatorGradient(const AnalysisBasis& b, double t2, double period) {
   const double h = 1e-6;
   return {(TwoImpactIndicator(b, t2 + h, period) - TwoImpactIndicator(b, t2 - h, period)) / (2 * h),
           (TwoImpactIndicator(b, t2, period + h) - TwoImpactIndicator(b, t2, period - h)) / (2 * h)};
 }
 
 // Newton on {F = 0, tangent . (p - pred) = 0} from pred; false if it fails.
-bool Correct(const ModalBasis& b, const Eigen::Vector2d& tangent, Eigen::Vector2d& p) {
+bool Correct(const AnalysisBasis& b, const Eigen::Vector2d& tangent, Eigen::Vector2d& p) {
   const Eigen::Vector2d pred = p;
   for (int it = 0; it < 20; ++it) {
     const double f = TwoImpactIndicator(b, p[0], p[1]);
@@ -167,7 +167,7 @@ bool Correct(const ModalBasis& b, const Eigen::Vector2d& tangent, Eigen::Vector2
 
 }  // namespace
 
-std::vector<BranchPoint> TwoImpactBranch(const ModalBasis& b, double t2, double period, const BranchOptions& options) {
+std::vector<BranchPoint> TwoImpactBranch(const AnalysisBasis& b, double t2, double period, const BranchOptions& options) {
   if (!(SmallestSingularValue(b, t2, period) < options.kernel_tol)) {
     throw InputError("t2", "(t2, T) = (" + std::to_string(t2) + ", " + std::to_string(period) +
                                ") is not a root of det A_2: no branch to follow");

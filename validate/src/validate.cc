@@ -66,7 +66,7 @@ double PenetrationTolerance(Integrator integrator, const ValidateOptions& o, dou
 }
 
 // Distance of a post-impact state to the 1-ipp family {z0(T')}, T' near T.
-double FamilyDistance(const ModalBasis& b, const Eigen::VectorXd& z, double period) {
+double FamilyDistance(const AnalysisBasis& b, const Eigen::VectorXd& z, double period) {
   auto dist = [&](double tp) { return (OneImpactOrbit(b, tp).z0 - z).norm(); };
   double lo = period * (1.0 - 1e-3), hi = period * (1.0 + 1e-3);
   for (int i = 0; i < 80; ++i) {  // golden section: the value at the minimum is what counts
@@ -77,7 +77,7 @@ double FamilyDistance(const ModalBasis& b, const Eigen::VectorXd& z, double peri
 }
 
 // Largest distance to the family of the post-impact states of a run from z0.
-double ManifoldRun(const Model& model, const ModalBasis& b, const Eigen::VectorXd& z0, double period, int periods,
+double ManifoldRun(const Model& model, const AnalysisBasis& b, const Eigen::VectorXd& z0, double period, int periods,
                    SimulateOptions opt) {
   opt.t_end = periods * period + 0.5 * period;
   opt.sample_dt = 0.0;
@@ -125,7 +125,7 @@ std::optional<double> FitGrowth(const std::vector<double>& dev, double floor) {
 // The monodromy is taken at t = 0; S(t_mid) carries u to the start.
 // Returns the deviation from the orbit's z_mid after each period, divided by
 // the initial one.
-std::vector<double> PerturbedRun(const Model& model, const ModalBasis& b, const Stability& stability,
+std::vector<double> PerturbedRun(const Model& model, const AnalysisBasis& b, const Stability& stability,
                                  const Eigen::VectorXd& y_mid, double t_mid, double period, int periods,
                                  double delta, SimulateOptions opt) {
   Eigen::EigenSolver<Eigen::MatrixXd> es(stability.monodromy);
@@ -173,7 +173,7 @@ void ValidateOptions::Validate() const {
 
 OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator integrator,
                               const ValidateOptions& options) {
-  const ModalBasis b = MakeModalBasis(model);
+  const AnalysisBasis b(model);
   const int n = model.dofs();
   const double period = orbit.period;
   OrbitValidation v;

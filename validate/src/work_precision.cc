@@ -40,19 +40,19 @@ struct Grazing {
   int admissible_side;
 };
 
-Grazing GrazingTransition(const ModalBasis& b) {
+Grazing GrazingTransition(const AnalysisBasis& b) {
   const double tg = OneImpactTransitions(b, 9.0, 9.3, 0.01).front().period;
   return {tg, OneImpactOrbit(b, tg + 1e-6).admissible ? 1 : -1};
 }
 
 // A 1-ipp orbit's start and a horizon ending mid-flight (no impact at t_end).
-Case OrbitCase(const ModalBasis& b, const std::string& name, double period, int periods, bool long_horizon = false) {
+Case OrbitCase(const AnalysisBasis& b, const std::string& name, double period, int periods, bool long_horizon = false) {
   const Orbit o = OneImpactOrbit(b, period);
   return {name, PaperModel(), o.z0.head(2), o.z0.tail(2), periods * period + 0.5 * period, long_horizon};
 }
 
 std::vector<Case> Cases(bool quick) {
-  const ModalBasis b = MakeModalBasis(PaperModel());
+  const AnalysisBasis b(PaperModel());
   const Grazing g = GrazingTransition(b);
   const double ts = SingularPeriods(b, 4.8, 4.9).front();
   std::vector<Case> cases{OrbitCase(b, "smooth", 7.5, 10),
@@ -168,7 +168,7 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const WorkPrecisionOptions& optio
 std::vector<GrazingRow> RunGrazingFailures(const WorkPrecisionOptions& options) {
   std::vector<GrazingRow> rows;
   const Model m = PaperModel();
-  const ModalBasis b = MakeModalBasis(m);
+  const AnalysisBasis b(m);
   const Grazing g = GrazingTransition(b);
   const std::vector<Setting> settings = Settings(false, options.quick);
   const std::vector<double> deltas = options.quick ? std::vector<double>{1e-4, 1e-7} : std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8};

@@ -21,7 +21,7 @@ struct SegmentCheck {
   double velocity_scale;  // sum_i w_i amp_i
 };
 
-SegmentCheck CheckSegment(const ModalBasis& b, const Eigen::Ref<const Eigen::VectorXd>& y, double duration);
+SegmentCheck CheckSegment(const AnalysisBasis& b, const Eigen::Ref<const Eigen::VectorXd>& y, double duration);
 
 struct AdmissibilityOptions {
   // x_c - d may exceed 0 by rel_tol * max(d, position_scale): x_c is a sum of
@@ -36,7 +36,7 @@ struct AdmissibilityOptions {
 
 // Fills energy, residuals, NC3 margin, potential, admissible and reason of an
 // orbit from y0, times and period (e = 1).
-Orbit EvaluateOrbit(const ModalBasis& b, const Eigen::VectorXd& y0, const std::vector<double>& times,
+Orbit EvaluateOrbit(const AnalysisBasis& b, const Eigen::VectorXd& y0, const std::vector<double>& times,
                     double period, const AdmissibilityOptions& options = {});
 
 }  // namespace nsmodal

@@ -58,20 +58,20 @@ struct Bridge {
 // OneImpactTransitions, to ~1e-15). Throws InputError naming "period" if the
 // 1-ipp orbit there does not graze (no interior maximum of x_c within 1e-9 d of
 // d) or the continuum is not admissible on exactly one side of it.
-Bridge BridgeAt(const ModalBasis& b, double grazing_period);
+Bridge BridgeAt(const AnalysisBasis& b, double grazing_period);
 
 // Periods T* in [from, to] where an admissible 1-ipp orbit has a Floquet
 // multiplier at -1: sign changes of det(M(T) + I) (a nontrivial pair
 // (lambda, 1/lambda) contributes 2 + lambda + 1/lambda, zero at -1, negative
 // past it) between neighbouring admissible grid points, polished by Brent.
-std::vector<double> OneImpactPeriodDoublings(const ModalBasis& b, double from, double to, double step);
+std::vector<double> OneImpactPeriodDoublings(const AnalysisBasis& b, double from, double to, double step);
 
 // The bridge of period 2 T* through the 1-ipp orbit of period T* run twice.
 // Throws InputError naming "period" when NC2 does not leave a line there (the
 // period doubling is a pitchfork, no bridge) or the orbit is not admissible.
-Bridge PeriodDoublingBridge(const ModalBasis& b, double doubling_period);
+Bridge PeriodDoublingBridge(const AnalysisBasis& b, double doubling_period);
 
 // The potential 2-ipp orbit y(s) of the bridge (times {t2}).
-Orbit BridgeOrbit(const ModalBasis& b, const Bridge& bridge, double s);
+Orbit BridgeOrbit(const AnalysisBasis& b, const Bridge& bridge, double s);
 
 }  // namespace nsmodal

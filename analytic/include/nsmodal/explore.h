@@ -43,6 +43,6 @@ struct ExploreReport {
   double best_phi_new = 0.0;                       // smallest phi away from repeated lower-m orbits
 };
 
-ExploreReport ExploreImpacts(const ModalBasis& b, const std::vector<double>& periods, const ExploreOptions& options);
+ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& periods, const ExploreOptions& options);
 
 }  // namespace nsmodal

@@ -13,6 +13,10 @@ void Flow(const ModalBasis& b, double t, Eigen::Ref<Eigen::VectorXd> y);
 // y <- N y with restitution e: s <- s - (1 + e) r (r.s) / |r|^2, so v_c -> -e v_c.
 void Impact(const ModalBasis& b, double e, Eigen::Ref<Eigen::VectorXd> y);
 
+// The analysis's impact (e = AnalysisBasis::kRestitution = 1): a reflection.
+inline void ElasticImpact(const AnalysisBasis& b, Eigen::Ref<Eigen::VectorXd> y) {
+  Impact(b, AnalysisBasis::kRestitution, y);
+}
 Eigen::MatrixXd FlowMatrix(const ModalBasis& b, double t);
 Eigen::MatrixXd ImpactMatrix(const ModalBasis& b, double e);
 

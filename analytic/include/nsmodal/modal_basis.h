@@ -23,13 +23,23 @@ struct ModalBasis {
   Eigen::VectorXd r_over_omega;  // r_i / w_i: x_c = sum (r_i / w_i) u_i
   double r_norm2 = 0.0;     // |r|^2 = (M^{-1})_cc
   double gap = 1.0;
-  double restitution = 1.0;
 
   // Linear periods T_i = 2 pi / w_i.
   Eigen::VectorXd Periods() const;
 };
 
 ModalBasis MakeModalBasis(const Model& model);
+
+// The basis of the periodic-orbit analysis (paper sections 1-4: return maps,
+// orbits, transitions, bridges, stability). Periodic orbits with impacts exist
+// only for e = 1: energy is lost at every impact when e < 1 (paper section 1).
+// So an AnalysisBasis can only be built from a model with e = 1 (the
+// constructor throws InputError naming system.restitution), every analysis
+// function takes one, and kRestitution is the one place the analysis states e.
+struct AnalysisBasis : ModalBasis {
+  static constexpr double kRestitution = 1.0;
+  explicit AnalysisBasis(const Model& model);
+};
 
 // Conversions between the physical state z = (x, v) and the scaled modal y.
 Eigen::VectorXd ToModal(const ModalBasis& b, const Eigen::VectorXd& x, const Eigen::VectorXd& v);

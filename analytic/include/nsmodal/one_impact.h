@@ -17,17 +17,17 @@
 
 namespace nsmodal {
 
-double SingularFunction(const ModalBasis& b, double period);  // D(T)
+double SingularFunction(const AnalysisBasis& b, double period);  // D(T)
 
 // The potential 1-ipp orbit of period T in closed form, evaluated (NC2, NC3,
 // periodicity by propagation). potential = false where D(T) = 0 or T = k T_i.
-Orbit OneImpactOrbit(const ModalBasis& b, double period, const AdmissibilityOptions& options = {});
+Orbit OneImpactOrbit(const AnalysisBasis& b, double period, const AdmissibilityOptions& options = {});
 
 // The same orbit from the kernel of A_1 (SVD), scaled so that x_c(0) = d: the
 // paper's route, kept as an independent check of the closed form.
-Orbit OneImpactOrbitFromKernel(const ModalBasis& b, double period, const AdmissibilityOptions& options = {});
+Orbit OneImpactOrbitFromKernel(const AnalysisBasis& b, double period, const AdmissibilityOptions& options = {});
 
 // x_c(t) of the 1-ipp orbit of period T, eq. 21 in general-N form.
-double OneImpactContactPosition(const ModalBasis& b, double period, double t);
+double OneImpactContactPosition(const AnalysisBasis& b, double period, double t);
 
 }  // namespace nsmodal

@@ -13,9 +13,8 @@
 namespace nsmodal {
 
 // times = {t2, ..., tm} (t1 = 0 is implicit); period T.
-Eigen::MatrixXd ReturnMap(const ModalBasis& b, const std::vector<double>& times, double period,
-                          double restitution = 1.0);
-inline Eigen::MatrixXd MatrixA(const ModalBasis& b, const std::vector<double>& times, double period) {
+Eigen::MatrixXd ReturnMap(const AnalysisBasis& b, const std::vector<double>& times, double period);
+inline Eigen::MatrixXd MatrixA(const AnalysisBasis& b, const std::vector<double>& times, double period) {
   return ReturnMap(b, times, period) - Eigen::MatrixXd::Identity(2 * b.n, 2 * b.n);
 }
 
@@ -29,7 +28,7 @@ double Pfaffian(Eigen::MatrixXd a);
 //   F(t2, T) = Pf(Q_2 - Q_2^T) = prod (+-2 sin theta_k),  F^2 = det(Q-I) det(Q+I),
 // a polynomial in the entries of Q_2, which changes sign where a pair crosses 1
 // (a root of det A_2) or -1 (rejected afterwards by checking det(Q + I)).
-double TwoImpactIndicator(const ModalBasis& b, double t2, double period);
+double TwoImpactIndicator(const AnalysisBasis& b, double t2, double period);
 
 // Dimension of ker A: singular values of A below tol (A is O(1) for e = 1).
 int KernelDimension(const Eigen::MatrixXd& a, double tol);

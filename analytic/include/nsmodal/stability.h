@@ -31,9 +31,9 @@ struct Stability {
 // tol: |lambda| <= 1 + tol counts as on the unit circle. The trivial pair at 1
 // is a Jordan block, whose computed eigenvalues split by ~sqrt(eps) = 1e-8;
 // 1e-6 leaves room for that and still flags growth of 1e-6 per period.
-Stability OrbitStability(const ModalBasis& b, const Orbit& orbit, double tol = 1e-6);
+Stability OrbitStability(const AnalysisBasis& b, const Orbit& orbit, double tol = 1e-6);
 
 // The saltation matrix of the elastic impact at pre-impact state y-.
-Eigen::MatrixXd SaltationMatrix(const ModalBasis& b, const Eigen::VectorXd& y_minus);
+Eigen::MatrixXd SaltationMatrix(const AnalysisBasis& b, const Eigen::VectorXd& y_minus);
 
 }  // namespace nsmodal

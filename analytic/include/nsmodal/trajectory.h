@@ -13,7 +13,7 @@ namespace nsmodal {
 // flight plus both ends of it: an impact time appears twice, with the velocity
 // just before and just after, so the jump of v_c is drawn as a jump.
 // t runs over [0, T]. samples >= 2.
-Eigen::MatrixXd OrbitTrajectory(const ModalBasis& b, const Orbit& orbit, int samples);
+Eigen::MatrixXd OrbitTrajectory(const AnalysisBasis& b, const Orbit& orbit, int samples);
 
 // The same orbit started at time `shift` instead of 0 (its state there, with
 // the impact times moved accordingly): the orbit's own time shift, used to

@@ -24,20 +24,20 @@ struct Transition {
 };
 
 // Every root of D(T) in [from, to].
-std::vector<double> SingularPeriods(const ModalBasis& b, double from, double to);
+std::vector<double> SingularPeriods(const AnalysisBasis& b, double from, double to);
 // Every k T_i in [from, to] (modes that do not move x_c, r_i = 0, excluded).
-std::vector<double> ModalPeriods(const ModalBasis& b, double from, double to);
+std::vector<double> ModalPeriods(const AnalysisBasis& b, double from, double to);
 
 // h(T): the largest x_c - d at an interior maximum of the 1-ipp orbit of period T.
-double GrazingFunction(const ModalBasis& b, double period);
+double GrazingFunction(const AnalysisBasis& b, double period);
 
 // The boundaries of the admissible 1-ipp zones seen on an increasing grid of
 // periods whose admissibility is already known (admissible[j] for periods[j]),
 // each refined and classified. Two boundaries inside one grid cell cancel and
 // are not seen; anything else is.
-std::vector<Transition> OneImpactTransitions(const ModalBasis& b, const std::vector<double>& periods,
+std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, const std::vector<double>& periods,
                                              const std::vector<bool>& admissible);
 // The same on the grid from:to:step, evaluating admissibility itself.
-std::vector<Transition> OneImpactTransitions(const ModalBasis& b, double from, double to, double step);
+std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, double from, double to, double step);
 
 }  // namespace nsmodal

@@ -38,13 +38,13 @@ struct TwoImpactOptions {
 };
 
 // All roots t2 in (0, T) of det A_2(., T), sorted, T/2 included.
-std::vector<double> TwoImpactRoots(const ModalBasis& b, double period, const TwoImpactOptions& options = {});
+std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const TwoImpactOptions& options = {});
 
 // The potential orbit at a root (t2, T).
-Orbit TwoImpactOrbitAt(const ModalBasis& b, double t2, double period, const TwoImpactOptions& options = {});
+Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const TwoImpactOptions& options = {});
 
 // Every potential 2-ipp orbit of period T (one per root t2).
-std::vector<Orbit> TwoImpactOrbits(const ModalBasis& b, double period, const TwoImpactOptions& options = {});
+std::vector<Orbit> TwoImpactOrbits(const AnalysisBasis& b, double period, const TwoImpactOptions& options = {});
 
 // Pseudo-arclength continuation of the NC1 root curve through (t2, T): the
 // zero set of the signed indicator F(t2, T) (return_map.h), followed in
@@ -68,7 +68,7 @@ struct BranchPoint {
 };
 // Points of the curve through the root (t2, T), ordered by arclength, in both
 // directions from it. The start must be a root (sigma_min(A_2) < kernel_tol).
-std::vector<BranchPoint> TwoImpactBranch(const ModalBasis& b, double t2, double period,
+std::vector<BranchPoint> TwoImpactBranch(const AnalysisBasis& b, double t2, double period,
                                          const BranchOptions& options = {});
 
 }  // namespace nsmodal
