@@ -1,9 +1,13 @@
 #include <gtest/gtest.h>
 
+#include <gsl/gsl_errno.h>
+
 #include <cmath>
 
 #include "fixtures.h"
 #include "nsmodal/error.h"
+#include "nsmodal/explore.h"
+#include "nsmodal/transitions.h"
 #include "nsmodal/return_map.h"
 #include "nsmodal/two_impact.h"
 
@@ -19,6 +23,25 @@ bool HasRootAwayFromHalf(const std::vector<double>& roots, double period) {
     if (std::abs(t2 - period / 2) > 1e-6 * period) return true;
   }
   return false;
+}
+
+// Issue 10: the library switched GSL's process-wide error handler off. It is
+// the application's: the root finders, the golden-section search and the
+// simplex search of `explore` must run without reaching it and leave it set.
+int gsl_errors = 0;
+void CountingHandler(const char*, const char*, int, int) { ++gsl_errors; }
+
+TEST(TwoImpact, LeavesGslErrorHandlerToTheApplication) {
+  const AnalysisBasis b = testing::PaperBasis();
+  gsl_error_handler_t* before = gsl_set_error_handler(&CountingHandler);
+  for (double period = 1.0; period <= 12.0; period += 0.5) TwoImpactOrbits(b, period);
+  OneImpactTransitions(b, 0.05, 40.0, 0.01);
+  ExploreOptions explore;
+  explore.impacts = 3;
+  explore.grid = 12;
+  ExploreImpacts(b, {27.5}, explore);
+  EXPECT_EQ(gsl_set_error_handler(before), &CountingHandler);
+  EXPECT_EQ(gsl_errors, 0);
 }
 
 TEST(TwoImpact, Figure6Classification) {

@@ -7,14 +7,11 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include "gsl_call.h"
 #include "nsmodal/check.h"
 
 namespace nsmodal {
 namespace {
-
-double Trampoline(double x, void* params) {
-  return (*static_cast<const std::function<double(double)>*>(params))(x);
-}
 
 struct SolverDeleter {
   void operator()(gsl_root_fsolver* s) const { gsl_root_fsolver_free(s); }
@@ -23,19 +20,21 @@ struct SolverDeleter {
 }  // namespace
 
 double PolishRoot(const std::function<double(double)>& g, double lo, double hi) {
-  double glo = g(lo);
-  double ghi = g(hi);
+  const double glo = g(lo);
+  const double ghi = g(hi);
   if (glo == 0.0) return lo;
   if (ghi == 0.0) return hi;
-  NSMODAL_CHECK(glo * ghi < 0.0);  // PolishRoot needs a bracket
-  gsl_set_error_handler_off();  // statuses are checked below, never abort()
+  // A bracket of finite values (GSL's error handler is never reached, gsl_call.h).
+  NSMODAL_CHECK(std::isfinite(glo) && std::isfinite(ghi) && (glo < 0.0) != (ghi < 0.0));
   std::unique_ptr<gsl_root_fsolver, SolverDeleter> solver(gsl_root_fsolver_alloc(gsl_root_fsolver_brent));
-  gsl_function f{&Trampoline, const_cast<std::function<double(double)>*>(&g)};
+  internal::FiniteFunction finite(g, 0.0);
+  gsl_function f = finite.Gsl();
   if (gsl_root_fsolver_set(solver.get(), &f, lo, hi) != GSL_SUCCESS) return 0.5 * (lo + hi);
   double root = 0.5 * (lo + hi);
   constexpr double kEps = std::numeric_limits<double>::epsilon();
   for (int iter = 0; iter < 200; ++iter) {
     if (gsl_root_fsolver_iterate(solver.get()) != GSL_SUCCESS) break;
+    if (finite.saw_non_finite()) return 0.5 * (lo + hi);
     root = gsl_root_fsolver_root(solver.get());
     const double a = gsl_root_fsolver_x_lower(solver.get());
     const double b = gsl_root_fsolver_x_upper(solver.get());

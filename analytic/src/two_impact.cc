@@ -4,8 +4,10 @@
 #include <cmath>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_min.h>
+#include <limits>
 #include <memory>
 
+#include "gsl_call.h"
 #include "nsmodal/error.h"
 #include "nsmodal/flow.h"
 #include "nsmodal/return_map.h"
@@ -28,16 +30,12 @@ struct MinimizerDeleter {
 
 // Minimises sigma_min(A_2) on [lo, hi] from mid; returns the minimiser.
 double MinimizeSigma(const AnalysisBasis& b, double period, double lo, double mid, double hi) {
-  struct Ctx {
-    const AnalysisBasis* b;
-    double period;
-  } ctx{&b, period};
-  gsl_function f{[](double t, void* p) {
-                   const auto* c = static_cast<const Ctx*>(p);
-                   return SmallestSingularValue(*c->b, t, c->period);
-                 },
-                 &ctx};
-  gsl_set_error_handler_off();
+  internal::FiniteFunction finite([&](double t) { return SmallestSingularValue(b, t, period); },
+                                  std::numeric_limits<double>::max());
+  gsl_function f = finite.Gsl();
+  // GSL needs f(mid) below both ends (gsl_call.h): else mid is the answer.
+  const double f_mid = f.function(mid, f.params);
+  if (!(f_mid < f.function(lo, f.params) && f_mid < f.function(hi, f.params))) return mid;
   std::unique_ptr<gsl_min_fminimizer, MinimizerDeleter> m(gsl_min_fminimizer_alloc(gsl_min_fminimizer_goldensection));
   if (gsl_min_fminimizer_set(m.get(), &f, mid, lo, hi) != GSL_SUCCESS) return mid;
   for (int iter = 0; iter < 200; ++iter) {  // 0.618^80 < 1e-16
@@ -45,7 +43,7 @@ double MinimizeSigma(const AnalysisBasis& b, double period, double lo, double mi
     const double a = gsl_min_fminimizer_x_lower(m.get()), c = gsl_min_fminimizer_x_upper(m.get());
     if (gsl_min_test_interval(a, c, 0.0, 1e-15) == GSL_SUCCESS) break;
   }
-  return gsl_min_fminimizer_x_minimum(m.get());
+  return finite.saw_non_finite() ? mid : gsl_min_fminimizer_x_minimum(m.get());
 }
 
 }  // namespace
