@@ -15,12 +15,15 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "nsmodal/atlas.h"
 #include "nsmodal/error.h"
 #include "nsmodal/explore.h"
 #include "nsmodal/gnuplot.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/one_impact.h"
+#include "nsmodal/json.h"
 #include "nsmodal/output.h"
+#include "nsmodal/tables.h"
 #include "nsmodal/parallel.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate.h"
@@ -34,20 +37,6 @@
 namespace nsmodal::cli {
 namespace {
 
-double ParseNumber(const std::string& s, const std::string& field, const std::string& whole) {
-  std::size_t used = 0;
-  double v = 0.0;
-  try {
-    v = std::stod(s, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != s.size() || s.empty() || !std::isfinite(v)) {
-    throw InputError(field, "expects FROM:TO:STEP with numbers, got '" + whole + "'");
-  }
-  return v;
-}
-
 void CheckImpacts(int impacts) {
   if (impacts != 1 && impacts != 2) {
     throw InputError("--impacts", "orbits and orbit compute 1 or 2 impacts per period, got " +
@@ -59,60 +48,6 @@ void CheckT2Step(double step) {
   if (!(step > 0.0) || !std::isfinite(step)) throw InputError("--t2-step", "must be positive, got " + FormatValue(step));
 }
 
-void WriteOrbitHeader(std::ostream& os, int n) {
-  os << "T,t2,energy,potential,admissible,periodicity_residual,nc2_residual,nc3_margin,degenerate";
-  for (int i = 1; i <= n; ++i) os << ",x" << i;
-  for (int i = 1; i <= n; ++i) os << ",v" << i;
-  os << ",stable,max_multiplier";
-  for (int k = 1; k <= 2 * n; ++k) os << ",mu" << k << "_re,mu" << k << "_im";
-  os << "\n";
-}
-
-void WriteOrbitRow(std::ostream& os, const Orbit& o, const std::optional<Stability>& s) {
-  os << o.period << ",";
-  if (!o.times.empty()) os << o.times[0];
-  os << "," << o.energy << "," << o.potential << "," << o.admissible << "," << o.periodicity_residual << ","
-     << o.nc2_residual << "," << o.max_excess << "," << o.degenerate;
-  for (int i = 0; i < o.z0.size(); ++i) os << "," << o.z0[i];
-  if (s) {
-    os << "," << s->stable << "," << s->max_modulus;
-    for (int k = 0; k < s->multipliers.size(); ++k) {
-      os << "," << s->multipliers[k].real() << "," << s->multipliers[k].imag();
-    }
-  } else {
-    os << ",,";
-    for (int k = 0; k < o.z0.size(); ++k) os << ",,";
-  }
-  os << "\n";
-}
-
-nlohmann::json OrbitJson(const Orbit& o, const std::optional<Stability>& s = std::nullopt) {
-  const int n = static_cast<int>(o.z0.size() / 2);
-  std::vector<double> x(o.z0.data(), o.z0.data() + n), v(o.z0.data() + n, o.z0.data() + 2 * n);
-  nlohmann::json j{{"impacts", o.impacts},
-                   {"T", o.period},
-                   {"impact_times", o.times},
-                   {"energy", o.energy},
-                   {"potential", o.potential},
-                   {"admissible", o.admissible},
-                   {"degenerate", o.degenerate},
-                   {"periodicity_residual", o.periodicity_residual},
-                   {"nc2_residual", o.nc2_residual},
-                   {"nc3_margin", std::isfinite(o.max_excess) ? nlohmann::json(o.max_excess) : nlohmann::json()},
-                   {"x", x},
-                   {"v", v},
-                   {"reason", o.reason}};
-  j["t2"] = o.times.empty() ? nlohmann::json() : nlohmann::json(o.times[0]);
-  if (s) {
-    j["stable"] = s->stable;
-    j["max_multiplier"] = s->max_modulus;
-    j["multipliers"] = nlohmann::json::array();
-    for (int k = 0; k < s->multipliers.size(); ++k) {
-      j["multipliers"].push_back({s->multipliers[k].real(), s->multipliers[k].imag()});
-    }
-  }
-  return j;
-}
 
 }  // namespace
 
@@ -135,70 +70,31 @@ std::optional<Stability> StabilityOf(const AnalysisBasis& b, const Orbit& o) {
   return OrbitStability(b, o);
 }
 
-std::vector<double> PeriodRange::Values() const {
-  std::vector<double> out;
-  const long cells = std::lround(std::floor((to - from) / step + 1e-9));
-  for (long j = 0; j <= cells; ++j) out.push_back(from + j * step);
-  return out;
-}
-
-PeriodRange ParsePeriodRange(const std::string& text) {
-  std::vector<std::string> parts;
-  std::stringstream ss(text);
-  for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
-  if (parts.size() != 3) throw InputError("--period", "expects FROM:TO:STEP, got '" + text + "'");
-  PeriodRange r{ParseNumber(parts[0], "--period", text), ParseNumber(parts[1], "--period", text),
-                ParseNumber(parts[2], "--period", text)};
-  if (!(r.from > 0.0)) throw InputError("--period", "FROM must be positive, got " + FormatValue(r.from));
-  if (!(r.to >= r.from)) throw InputError("--period", "TO must be >= FROM, got '" + text + "'");
-  if (!(r.step > 0.0)) throw InputError("--period", "STEP must be positive, got " + FormatValue(r.step));
-  if ((r.to - r.from) / r.step > 1e8) {
-    throw InputError("--period", "more than 1e8 periods requested by '" + text + "'");
-  }
-  return r;
-}
-
 int RunOrbits(const OrbitsArgs& a) {
   CheckImpacts(a.impacts);
   CheckT2Step(a.t2_step);
-  const PeriodRange range = ParsePeriodRange(a.period);
+  const PeriodGrid grid = PeriodGrid::Parse(a.period);
   const AnalysisBasis b(LoadScene(a.scene).model);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"orbits.csv", "transitions.csv"});
-  const std::vector<double> periods = range.Values();
-  std::vector<std::vector<Orbit>> results(periods.size());
-  std::vector<std::vector<std::optional<Stability>>> stability(periods.size());
-  TwoImpactOptions two;
-  two.t2_step = a.t2_step;
-  ParallelFor(
-      static_cast<long>(periods.size()), a.threads,
-      [&](long i) {
-        if (a.impacts == 1) {
-          results[i].push_back(OneImpactOrbit(b, periods[i]));
-        } else {
-          results[i] = TwoImpactOrbits(b, periods[i], two);
-        }
-        for (const Orbit& o : results[i]) stability[i].push_back(StabilityOf(b, o));
-      },
-      ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits"));
+  SweepOptions opt;
+  opt.stability = StabilityPolicy::kPotential;
+  opt.two_impact.t2_step = a.t2_step;
+  opt.threads = a.threads;
+  opt.progress = ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
+  const Sweep sweep = ComputeSweep(b, grid, a.impacts, opt);
   report::ResultFile out(dir, "orbits.csv");
-  WriteOrbitHeader(out.stream(), b.n);
-  long rows = 0, admissible = 0;
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    for (std::size_t k = 0; k < results[i].size(); ++k) {
-      WriteOrbitRow(out.stream(), results[i][k], stability[i][k]);
-      ++rows;
-      admissible += results[i][k].admissible;
-    }
+  const auto columns = report::OrbitColumns(b.n);
+  report::WriteCsvHeader(out.stream(), columns);
+  for (const auto& list : sweep.at) {
+    for (const OrbitRecord& r : list) report::WriteCsvRow(out.stream(), columns, r);
   }
   out.Commit();
-  std::cout << "wrote " << rows << " orbits (" << admissible << " admissible) to " << a.out << "/orbits.csv\n";
+  std::cout << "wrote " << sweep.Count() << " orbits (" << sweep.Admissible() << " admissible) to " << a.out
+            << "/orbits.csv\n";
   if (a.impacts == 1) {
-    std::vector<bool> adm;
-    for (const auto& list : results) adm.push_back(list.front().admissible);
-    const std::vector<Transition> transitions = OneImpactTransitions(b, periods, adm);
+    const std::vector<Transition> transitions = SweepTransitions(b, sweep);
     report::ResultFile tr(dir, "transitions.csv");
-    tr << "T,kind,energy\n";
-    for (const Transition& t : transitions) tr << t.period << "," << ToString(t.kind) << "," << t.energy << "\n";
+    report::WriteCsv(tr.stream(), report::TransitionColumns(), transitions);
     tr.Commit();
     std::cout << "wrote " << transitions.size() << " transitions to " << a.out << "/transitions.csv\n";
   }
@@ -221,19 +117,11 @@ int RunBench(const BenchArgs& a) {
   opt.progress = ProgressBar(a.quick ? "work-precision (quick)" : "work-precision");
   const std::vector<WorkPrecisionRow> rows = RunWorkPrecision(opt);
   report::ResultFile csv(dir, "work_precision.csv");
-  csv << "case,integrator,setting,error,cpu_s,impacts,steps\n";
-  for (const WorkPrecisionRow& r : rows) {
-    csv << r.case_name << "," << r.integrator << "," << r.setting << "," << r.error << "," << r.cpu_s << ","
-        << r.impacts << "," << r.steps << "\n";
-  }
+  report::WriteCsv(csv.stream(), report::WorkPrecisionColumns(), rows);
   csv.Commit();
   const std::vector<GrazingRow> grazing = RunGrazingFailures(opt);
   report::ResultFile gcsv(dir, "grazing.csv");
-  gcsv << "delta,side,clearance,integrator,setting,impacts,expected_impacts\n";
-  for (const GrazingRow& r : grazing) {
-    gcsv << r.delta << "," << r.side << "," << r.clearance << "," << r.integrator << "," << r.setting << ","
-         << r.impacts << "," << r.expected_impacts << "\n";
-  }
+  report::WriteCsv(gcsv.stream(), report::GrazingColumns(), grazing);
   gcsv.Commit();
   // One log-log chart per case: error against CPU time, a line per integrator
   // (the reference setting itself, error 0, has no place on a log scale).
@@ -295,7 +183,7 @@ int RunValidate(const ValidateArgs& a) {
   const ValidateSection& sec = scene.validate;
   const std::string period_text = a.period ? *a.period : sec.period ? *sec.period : "";
   if (period_text.empty()) throw InputError("--period", "is missing: give it with --period or validate.period");
-  const PeriodRange range = ParsePeriodRange(period_text);
+  const PeriodGrid grid = PeriodGrid::Parse(period_text);
   const std::vector<int> impacts = a.impacts ? *a.impacts : sec.impacts ? *sec.impacts : std::vector<int>{1, 2};
   for (int m : impacts) {
     if (m != 1 && m != 2) throw InputError("--impacts", "takes 1 and/or 2, got " + std::to_string(m));
@@ -310,123 +198,52 @@ int RunValidate(const ValidateArgs& a) {
   opt.simulate.rtol = a.rtol ? *a.rtol : 1e-10;
   opt.simulate.atol = a.atol ? *a.atol : 1e-12;
   opt.simulate.step = a.step ? *a.step : 1e-4;
+  opt.threads = a.threads;
   opt.Validate();
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"validation.csv", "summary.json"});
 
-  // The potential orbits of the grid, admissible or not.
-  const std::vector<double> periods = range.Values();
-  std::vector<std::vector<Orbit>> per_period(periods.size());
-  ParallelFor(static_cast<long>(periods.size()), a.threads, [&](long i) {
-    for (int m : impacts) {
-      if (m == 1) {
-        Orbit o = OneImpactOrbit(b, periods[i]);
-        if (o.potential) per_period[i].push_back(o);
-      } else {
-        for (Orbit& o : TwoImpactOrbits(b, periods[i])) {
-          if (o.potential) per_period[i].push_back(o);
-        }
+  // The potential orbits of the grid, admissible or not, period by period.
+  SweepOptions sweep_options;
+  sweep_options.stability = StabilityPolicy::kNone;
+  sweep_options.threads = a.threads;
+  std::vector<Sweep> sweeps;
+  for (int m : impacts) sweeps.push_back(ComputeSweep(b, grid, m, sweep_options));
+  std::vector<Orbit> orbits;
+  for (std::size_t i = 0; i < sweeps.front().periods.size(); ++i) {
+    for (const Sweep& sweep : sweeps) {
+      for (const OrbitRecord& r : sweep.at[i]) {
+        if (r.orbit.potential) orbits.push_back(r.orbit);
       }
     }
-  });
-  std::vector<Orbit> orbits;
-  for (auto& list : per_period) orbits.insert(orbits.end(), list.begin(), list.end());
+  }
   const std::vector<OrbitValidation> results = ValidateOrbits(scene.model, orbits, opt, ProgressBar("validate"));
+  const ValidationReport report = SummarizeValidation(results, opt, static_cast<long>(orbits.size()));
 
   report::ResultFile csv(dir, "validation.csv");
-  csv << "T,t2,impacts_per_period,integrator,admissible,stable,max_multiplier,predicted_growth,measured_growth,"
-         "deviation_1,deviation_10,deviation_100,deviation_final,periods_run,impacts,first_period_impacts,"
-         "impact_time_error,max_penetration,manifold_distance,perturbed_manifold_distance,perturbed_amplification,"
-         "perturbed_growth,perturbed_periods,energy_drift,wall_time_s,consistent,reason\n";
-  nlohmann::json summary;
-  std::map<std::string, std::array<long, 3>> counts;  // checked, consistent, inconsistent
-  std::vector<const OrbitValidation*> inconsistent, admissible_exact_failures;
-  for (const OrbitValidation& v : results) {
-    const std::string name = ToString(v.integrator);
-    csv << v.orbit.period << ",";
-    if (!v.orbit.times.empty()) csv << v.orbit.times[0];
-    csv << "," << v.orbit.impacts << "," << name << "," << v.orbit.admissible << "," << v.stability.stable << ","
-        << v.stability.max_modulus << "," << v.stability.growth_per_period << "," << v.measured_growth << ","
-        << v.DeviationAt(1) << "," << v.DeviationAt(10) << "," << v.DeviationAt(100) << ","
-        << (v.deviation.empty() ? -1.0 : v.deviation.back()) << "," << v.deviation.size() << "," << v.impacts << ","
-        << v.first_period_impacts << "," << v.impact_time_error << "," << v.max_penetration << ","
-        << v.manifold_distance << "," << v.perturbed_manifold_distance << "," << v.perturbed_amplification << ","
-        << v.perturbed_growth << "," << v.perturbed_periods << "," << v.energy_drift << ","
-        << v.wall_time_s << "," << v.consistent << ",\"" << v.reason << "\"\n";
-    auto& c = counts[name];
-    ++c[0];
-    ++c[v.consistent ? 1 : 2];
-    if (!v.consistent) inconsistent.push_back(&v);
-    if (!v.consistent && v.orbit.admissible && v.integrator == Integrator::kExact) admissible_exact_failures.push_back(&v);
-  }
-  auto describe = [](const OrbitValidation& v) {
-    return nlohmann::json{{"T", v.orbit.period},
-                          {"t2", v.orbit.times.empty() ? nlohmann::json() : nlohmann::json(v.orbit.times[0])},
-                          {"integrator", ToString(v.integrator)},
-                          {"admissible", v.orbit.admissible},
-                          {"stable", v.stability.stable},
-                          {"deviation_final", v.deviation.empty() ? -1.0 : v.deviation.back()},
-                          {"reason", v.reason}};
-  };
-  summary["orbits"] = orbits.size();
-  summary["periods"] = opt.periods;
-  for (const auto& [name, c] : counts) {
-    summary["integrators"][name] = {{"checked", c[0]}, {"consistent", c[1]}, {"inconsistent", c[2]}};
-  }
-  summary["inconsistent"] = nlohmann::json::array();
-  for (const OrbitValidation* v : inconsistent) summary["inconsistent"].push_back(describe(*v));
-  // Worst stable admissible orbits per integrator: the largest final deviation.
-  for (Integrator integrator : opt.integrators) {
-    std::vector<const OrbitValidation*> stable;
-    for (const OrbitValidation& v : results) {
-      if (v.integrator == integrator && v.orbit.admissible && v.stability.stable && !v.deviation.empty()) {
-        stable.push_back(&v);
-      }
-    }
-    std::sort(stable.begin(), stable.end(),
-              [](const auto* x, const auto* y) { return x->deviation.back() > y->deviation.back(); });
-    nlohmann::json worst = nlohmann::json::array();
-    for (std::size_t k = 0; k < std::min<std::size_t>(5, stable.size()); ++k) worst.push_back(describe(*stable[k]));
-    summary["worst_stable"][ToString(integrator)] = worst;
-  }
-  // The off-family perturbation of the admissible orbits (exact integrator):
-  // stable ones stay within a bounded factor, unstable ones grow at log|lambda|.
-  long stable_runs = 0, rated = 0, rated_within = 0;
-  double worst_amplification = 0.0, worst_rate_error = 0.0;
-  for (const OrbitValidation& v : results) {
-    if (v.integrator != Integrator::kExact || !v.orbit.admissible || v.perturbed_periods < 0) continue;
-    if (v.stability.stable) {
-      ++stable_runs;
-      worst_amplification = std::max(worst_amplification, v.perturbed_amplification);
-    } else if (v.perturbed_growth > 0.0) {
-      const double err = std::abs(v.perturbed_growth / v.stability.growth_per_period - 1.0);
-      ++rated;
-      rated_within += err <= 0.05;
-      worst_rate_error = std::max(worst_rate_error, err);
-    }
-  }
-  summary["perturbation"] = {{"relative_size", opt.perturbation},
-                             {"stable_orbits", stable_runs},
-                             {"stable_worst_amplification", worst_amplification},
-                             {"unstable_orbits_rated", rated},
-                             {"unstable_rate_within_5_percent", rated_within},
-                             {"unstable_worst_relative_rate_error", worst_rate_error}};
+  report::WriteCsv(csv.stream(), report::ValidationColumns(), results);
   csv.Commit();
-  report::WriteResult(dir, "summary.json", summary.dump(2) + "\n");
-  if (stable_runs + rated > 0) {
-    std::cout << "perturbed by " << opt.perturbation << " |y| in the nontrivial Floquet subspace (exact): " << stable_runs
-              << " stable orbits grew at most x" << worst_amplification << " over " << opt.periods << " periods; "
-              << rated_within << "/" << rated << " unstable orbits grew within 5 % of log|lambda| (worst "
-              << 100.0 * worst_rate_error << " %)\n";
+  report::WriteResult(dir, "summary.json", report::ValidationJson(report, results).dump(2) + "\n");
+  if (report.stable_perturbed + report.unstable_rated > 0) {
+    std::cout << "perturbed by " << opt.perturbation << " |y| in the nontrivial Floquet subspace (exact): "
+              << report.stable_perturbed << " stable orbits grew at most x" << report.stable_worst_amplification
+              << " over " << opt.periods << " periods; " << report.unstable_within_tolerance << "/"
+              << report.unstable_rated << " unstable orbits grew within "
+              << 100.0 * ValidationReport::kRateTolerance << " % of log|lambda| (worst "
+              << 100.0 * report.unstable_worst_rate_error << " %)\n";
   }
   std::cout << "validated " << orbits.size() << " orbits over " << opt.periods << " periods:";
-  for (const auto& [name, c] : counts) std::cout << "  " << name << " " << c[1] << "/" << c[0] << " consistent";
-  std::cout << "\nwrote " << a.out << "/validation.csv and " << a.out << "/summary.json\n";
-  for (const OrbitValidation* v : inconsistent) {
-    std::cout << "  inconsistent: T = " << v->orbit.period << (v->orbit.times.empty() ? "" : " t2 = " + FormatValue(v->orbit.times[0]))
-              << " (" << ToString(v->integrator) << "): " << v->reason << "\n";
+  for (const auto& [integrator, t] : report.integrators) {
+    std::cout << "  " << ToString(integrator) << " " << t.consistent << "/" << t.checked << " consistent";
   }
-  if (!admissible_exact_failures.empty()) {
-    std::cerr << "error: " << admissible_exact_failures.size()
+  std::cout << "\nwrote " << a.out << "/validation.csv and " << a.out << "/summary.json\n";
+  for (std::size_t i : report.inconsistent) {
+    const OrbitValidation& v = results[i];
+    std::cout << "  inconsistent: T = " << v.orbit.period
+              << (v.orbit.times.empty() ? "" : " t2 = " + FormatValue(v.orbit.times[0])) << " ("
+              << ToString(v.integrator) << "): " << v.reason << "\n";
+  }
+  if (!report.passed()) {
+    std::cerr << "error: " << report.admissible_exact_failures.size()
               << " admissible orbit(s) failed to validate with the exact integrator (see above)\n";
     return 4;
   }
@@ -460,57 +277,26 @@ int RunSimulate(const SimulateArgs& a) {
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"trajectory.csv", "impacts.csv", "summary.json"});
   report::ResultFile traj(dir, "trajectory.csv");
   report::ResultFile imp(dir, "impacts.csv");
-  traj << "t";
-  for (int i = 1; i <= n; ++i) traj << ",x" << i;
-  for (int i = 1; i <= n; ++i) traj << ",v" << i;
-  traj << ",energy\n";
-  imp << "t";
-  for (const char* when : {"before", "after"}) {
-    for (int i = 1; i <= n; ++i) imp << ",x" << i << "_" << when;
-    for (int i = 1; i <= n; ++i) imp << ",v" << i << "_" << when;
-  }
-  imp << "\n";
   const Model& m = scene.model;
+  const auto trajectory_columns = report::TrajectoryColumns(n);
+  const auto impact_columns = report::ImpactColumns(n);
+  report::WriteCsvHeader(traj.stream(), trajectory_columns);
+  report::WriteCsvHeader(imp.stream(), impact_columns);
   SimulationObserver obs;
   obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
-    traj << t;
-    for (int i = 0; i < 2 * n; ++i) traj << "," << z[i];
-    traj << "," << 0.5 * z.tail(n).dot(m.mass * z.tail(n)) + 0.5 * z.head(n).dot(m.stiffness * z.head(n)) << "\n";
+    const double energy = 0.5 * z.tail(n).dot(m.mass * z.tail(n)) + 0.5 * z.head(n).dot(m.stiffness * z.head(n));
+    report::WriteCsvRow(traj.stream(), trajectory_columns, report::Sample{t, z, energy});
   };
-  obs.on_impact = [&](const ContactEvent& ev) {
-    imp << ev.t;
-    for (int i = 0; i < 2 * n; ++i) imp << "," << ev.before[i];
-    for (int i = 0; i < 2 * n; ++i) imp << "," << ev.after[i];
-    imp << "\n";
-  };
+  obs.on_impact = [&](const ContactEvent& ev) { report::WriteCsvRow(imp.stream(), impact_columns, ev); };
   const auto bar = ProgressBar("simulate");
   if (bar) {
     obs.on_progress = [&](double t) { bar(static_cast<long>(1000.0 * t / opt.t_end), 1000); };
   }
   const SimulationSummary s = Simulate(m, x0, v0, opt, obs);
   if (bar) bar(1000, 1000);
-  nlohmann::json j;
-  j["integrator"] = ToString(opt.integrator);
-  j["status"] = ToString(s.status);
-  j["message"] = s.message;
-  j["final_time"] = s.final_time;
-  j["final_state"] = std::vector<double>(s.final_state.data(), s.final_state.data() + s.final_state.size());
-  j["impacts"] = s.impacts;
-  j["grazes"] = s.grazes;
-  j["zeno_events"] = s.zeno_events;
-  j["first_zeno_time"] = s.first_zeno_time >= 0.0 ? nlohmann::json(s.first_zeno_time) : nlohmann::json();
-  j["sticking_phases"] = s.sticking_phases;
-  j["sticking_time"] = s.sticking_time;
-  j["initial_energy"] = s.initial_energy;
-  j["final_energy"] = s.final_energy;
-  j["energy_drift"] = s.energy_drift;
-  j["wall_time_s"] = s.wall_time_s;
-  j["steps"] = s.steps;
-  j["settings"] = {{"t_end", opt.t_end}, {"rtol", opt.rtol}, {"atol", opt.atol}, {"method", opt.cvode_method},
-                   {"step", opt.step}, {"theta", opt.theta}, {"root_tol", opt.root_tol}, {"sample_dt", opt.sample_dt}};
   traj.Commit();
   imp.Commit();
-  report::WriteResult(dir, "summary.json", j.dump(2) + "\n");
+  report::WriteResult(dir, "summary.json", report::SimulationJson(s, opt).dump(2) + "\n");
   std::cout << ToString(opt.integrator) << ": t = " << s.final_time << ", " << s.impacts << " impacts, " << s.grazes
             << " grazes, " << s.zeno_events << " Zeno sequences, sticking " << s.sticking_time << ", energy drift "
             << s.energy_drift << ", " << s.wall_time_s << " s; wrote " << a.out << "/{trajectory.csv,impacts.csv,summary.json}\n";
@@ -538,7 +324,7 @@ int RunOrbit(const OrbitArgs& a) {
   }
   if (a.json) {
     nlohmann::json arr = nlohmann::json::array();
-    for (const Orbit& o : orbits) arr.push_back(OrbitJson(o, StabilityOf(b, o)));
+    for (const Orbit& o : orbits) arr.push_back(report::OrbitJson({o, StabilityOf(b, o)}));
     std::cout << nlohmann::json{{"orbits", arr}}.dump(2) << "\n";
     return 0;
   }
@@ -574,7 +360,7 @@ int RunOrbit(const OrbitArgs& a) {
 
 int RunExplore(const ExploreArgs& a) {
   if (a.grid < 4 || a.grid > 200) throw InputError("--grid", "must lie in [4, 200], got " + std::to_string(a.grid));
-  const PeriodRange range = ParsePeriodRange(a.period);
+  const PeriodGrid range = PeriodGrid::Parse(a.period);
   const AnalysisBasis b(LoadScene(a.scene).model);
   ExploreOptions opt;
   opt.impacts = a.impacts;
@@ -609,7 +395,7 @@ int RunExplore(const ExploreArgs& a) {
     for (auto [k, v] : r.kernel_dimension_histogram) j["kernel_dimension_histogram"][std::to_string(k)] = v;
     j["findings"] = nlohmann::json::array();
     for (const ExploreFinding& f : r.findings) {
-      nlohmann::json o = OrbitJson(f.orbit);
+      nlohmann::json o = report::OrbitJson({f.orbit, std::nullopt});
       o["kind"] = f.kind;
       o["kernel_dimension"] = f.kernel_dimension;
       o["grazing_ratio"] = f.grazing_ratio;

@@ -6,13 +6,6 @@
 
 namespace nsmodal::cli {
 
-struct PeriodRange {
-  double from, to, step;
-  std::vector<double> Values() const;
-};
-// "FROM:TO:STEP"; throws InputError naming --period.
-PeriodRange ParsePeriodRange(const std::string& text);
-
 struct OrbitsArgs {
   std::string scene, out, period;
   int impacts = 1;

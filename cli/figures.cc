@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "common.h"
 #include "nsmodal/admissibility.h"
+#include "nsmodal/atlas.h"
 #include "nsmodal/bridge.h"
 #include "nsmodal/error.h"
 #include "nsmodal/flow.h"
@@ -40,17 +41,14 @@ constexpr const char* kPotential = "#c8c8c8";
 constexpr int kSamples = 200;  // per flight of a drawn trajectory
 
 struct Context {
-  AnalysisBasis b;
+  const AnalysisBasis& b;
   int contact = 0;  // physical index of the contact dof
   int other = 0;    // the dof on the first axis of the phase sections (paper: x_1)
   report::OutputDir dir;
-  std::vector<double> periods{};
-  std::vector<Orbit> one{};
-  std::vector<std::optional<Stability>> one_stability{};
-  std::vector<std::vector<Orbit>> two{};
-  std::vector<std::vector<std::optional<Stability>>> two_stability{};
-  std::vector<Transition> transitions{};
-  std::vector<Bridge> bridges{};
+  const Atlas& atlas;
+  const std::vector<double>& periods = atlas.one.periods;
+  const std::vector<Transition>& transitions = atlas.transitions;
+  const std::vector<Bridge>& bridges = atlas.bridges;
   int drawn = 0, failed = 0;
 };
 
@@ -126,14 +124,12 @@ int ModeOf(const AnalysisBasis& b, double period) {
 // (energies diverge at singular transitions).
 std::pair<double, double> EnergyRange(const Context& c) {
   double lo = INFINITY, hi = 0.0;
-  for (const Orbit& o : c.one) {
-    if (o.potential) lo = std::min(lo, o.energy);
-    if (o.admissible) hi = std::max(hi, o.energy);
-  }
-  for (const auto& list : c.two) {
-    for (const Orbit& o : list) {
-      if (o.potential) lo = std::min(lo, o.energy);
-      if (o.admissible) hi = std::max(hi, o.energy);
+  for (const Sweep* sweep : {&c.atlas.one, &c.atlas.two}) {
+    for (const auto& list : sweep->at) {
+      for (const OrbitRecord& r : list) {
+        if (r.orbit.potential) lo = std::min(lo, r.orbit.energy);
+        if (r.orbit.admissible) hi = std::max(hi, r.orbit.energy);
+      }
     }
   }
   if (!(hi > 0.0)) hi = 1.0;
@@ -170,8 +166,9 @@ void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const std
 // Fig. 2: a potential 2-ipp orbit that is not admissible.
 void Figure2(Context& c) {
   const Orbit* pick = nullptr;
-  for (const auto& list : c.two) {
-    for (const Orbit& o : list) {
+  for (const auto& list : c.atlas.two.at) {
+    for (const OrbitRecord& r : list) {
+      const Orbit& o = r.orbit;
       if (o.potential && !o.admissible && !IsHalfPeriodRoot(o) && o.max_excess > 0.05 * c.b.gap &&
           o.max_excess < c.b.gap) {
         pick = &o;
@@ -194,11 +191,12 @@ void Figure2(Context& c) {
 void Figure3(Context& c) {
   report::ResultFile out(c.dir, "fig03_one_impact.csv");
   out << "T,energy,potential,admissible,stable,max_multiplier\n";
-  for (std::size_t i = 0; i < c.one.size(); ++i) {
-    const Orbit& o = c.one[i];
+  for (const auto& list : c.atlas.one.at) {
+    const Orbit& o = list.front().orbit;
+    const std::optional<Stability>& stability = list.front().stability;
     out << o.period << "," << o.energy << "," << o.potential << "," << o.admissible << ","
-        << IsStable(c.one_stability[i]) << ",";
-    if (c.one_stability[i]) out << c.one_stability[i]->max_modulus;
+        << IsStable(stability) << ",";
+    if (stability) out << stability->max_modulus;
     out << "\n";
   }
   report::ResultFile tr(c.dir, "fig03_transitions.csv");
@@ -351,13 +349,13 @@ void Figure6(Context& c) {
 // The 2-ipp sweep as CSV: every potential orbit with its stability.
 void WriteTwoImpact(const Context& c, std::ostream& out) {
   out << "T,t2,energy,potential,admissible,stable,max_multiplier,half_period\n";
-  for (std::size_t i = 0; i < c.two.size(); ++i) {
-    for (std::size_t k = 0; k < c.two[i].size(); ++k) {
-      const Orbit& o = c.two[i][k];
+  for (const auto& list : c.atlas.two.at) {
+    for (const OrbitRecord& r : list) {
+      const Orbit& o = r.orbit;
       if (!o.potential) continue;
       out << o.period << "," << o.times[0] << "," << o.energy << "," << o.potential << "," << o.admissible << ","
-          << IsStable(c.two_stability[i][k]) << ",";
-      if (c.two_stability[i][k]) out << c.two_stability[i][k]->max_modulus;
+          << IsStable(r.stability) << ",";
+      if (r.stability) out << r.stability->max_modulus;
       out << "," << IsHalfPeriodRoot(o) << "\n";
     }
   }
@@ -419,14 +417,15 @@ void WriteFepRow(std::ostream& out, const char* family, const Orbit& o, const st
 void Figure8(Context& c) {
   report::ResultFile out(c.dir, "fig08_fep.csv");
   out << "family,T,t2,energy,stable\n";
-  for (std::size_t i = 0; i < c.one.size(); ++i) {
-    if (c.one[i].admissible) WriteFepRow(out.stream(), "1-ipp", c.one[i], c.one_stability[i]);
+  for (const auto& list : c.atlas.one.at) {
+    const OrbitRecord& r = list.front();
+    if (r.orbit.admissible) WriteFepRow(out.stream(), "1-ipp", r.orbit, r.stability);
   }
-  for (std::size_t i = 0; i < c.two.size(); ++i) {
-    for (std::size_t k = 0; k < c.two[i].size(); ++k) {
-      const Orbit& o = c.two[i][k];
+  for (const auto& list : c.atlas.two.at) {
+    for (const OrbitRecord& r : list) {
+      const Orbit& o = r.orbit;
       if (!o.admissible) continue;
-      WriteFepRow(out.stream(), IsHalfPeriodRoot(o) ? "2-ipp-half" : "2-ipp", o, c.two_stability[i][k]);
+      WriteFepRow(out.stream(), IsHalfPeriodRoot(o) ? "2-ipp-half" : "2-ipp", o, r.stability);
     }
   }
   report::ResultFile br(c.dir, "fig08_bridges.csv");
@@ -520,13 +519,11 @@ void Figures11And12(Context& c) {
   opt.step = 2e-3 * period;
   opt.period_min = 0.5 * period;
   opt.period_max = 1.5 * period;
-  std::vector<BranchPoint> branch;
-  try {
-    branch = TwoImpactBranch(c.b, t2, period, opt);
-  } catch (const InputError& e) {
-    std::cout << "  fig11-12: " << e.what() << "; skipped\n";
+  if (!(TwoImpactKernelResidual(c.b, t2, period) < opt.kernel_tol)) {
+    std::cout << "  fig11-12: (t2, T) = (" << t2 << ", " << period << ") is not a root of det A_2; skipped\n";
     return;
   }
+  const std::vector<BranchPoint> branch = TwoImpactBranch(c.b, t2, period, opt);
   // The admissible run of the branch next to the mode (arclength 0).
   std::size_t start = 0;
   while (start < branch.size() && branch[start].arclength < 0.0) ++start;
@@ -697,66 +694,26 @@ void Figures13To15(Context& c) {
 
 int RunFigures(const FiguresArgs& a) {
   const Scene scene = LoadScene(a.scene);
-  AnalysisBasis b(scene.model);
+  const AnalysisBasis b(scene.model);
   const Eigen::VectorXd ti = b.Periods();
   const double default_step = 0.01;
   const std::string range = a.period ? *a.period
                                      : FormatValue(default_step) + ":" + FormatValue(std::ceil(4.0 * ti.maxCoeff())) +
                                            ":" + FormatValue(default_step);
-  const PeriodRange sweep = ParsePeriodRange(range);
-  std::vector<double> periods = sweep.Values();
-  if (periods.size() < 2) throw InputError("--period", "needs at least two periods, got '" + range + "'");
-  const int other = scene.model.contact == 0 ? (b.n > 1 ? 1 : 0) : 0;
-  Context c{.b = std::move(b),
+  const PeriodGrid grid = PeriodGrid::Parse(range);
+  if (grid.Count() < 2) throw InputError("--period", "needs at least two periods, got '" + range + "'");
+  report::OutputDir dir = report::OutputDir::Prepare(a.out, {"fig[01][0-9]_*"});
+  AtlasOptions opt;
+  opt.sweep.threads = a.threads;
+  opt.sweep.progress = ProgressBar("1- and 2-ipp sweep");
+  const Atlas atlas = ComputeAtlas(b, grid, opt);
+  for (const std::string& note : atlas.notes) std::cout << note << "\n";
+  Context c{.b = b,
             .contact = scene.model.contact,
-            .other = other,
-            .dir = report::OutputDir::Prepare(a.out, {"fig[01][0-9]_*"}),
-            .periods = std::move(periods)};
-
-  const std::size_t count = c.periods.size();
-  c.one.resize(count);
-  c.one_stability.resize(count);
-  c.two.resize(count);
-  c.two_stability.resize(count);
-  ParallelFor(
-      static_cast<long>(count), a.threads,
-      [&](long i) {
-        c.one[i] = OneImpactOrbit(c.b, c.periods[i]);
-        if (c.one[i].admissible) c.one_stability[i] = StabilityOf(c.b, c.one[i]);
-        c.two[i] = TwoImpactOrbits(c.b, c.periods[i]);
-        for (const Orbit& o : c.two[i]) {
-          c.two_stability[i].push_back(o.admissible ? StabilityOf(c.b, o) : std::nullopt);
-        }
-      },
-      ProgressBar("1- and 2-ipp sweep"));
-  std::vector<bool> adm;
-  for (const Orbit& o : c.one) adm.push_back(o.admissible);
-  c.transitions = OneImpactTransitions(c.b, c.periods, adm);
-  for (const Transition& t : c.transitions) {
-    if (t.kind != TransitionKind::kGrazing) continue;
-    try {
-      c.bridges.push_back(BridgeAt(c.b, t.period));
-    } catch (const InputError& e) {
-      std::cout << "no bridge at the grazing transition T = " << t.period << ": " << e.what() << "\n";
-    }
-  }
-  // Period doublings of the 1-ipp branch whose doubled orbit lies in the
-  // sweep; those whose bridge is already a grazing one (the paper's, at
-  // T* = T_G / 2) are not repeated.
-  for (double ts : OneImpactPeriodDoublings(c.b, sweep.from, 0.5 * sweep.to, sweep.step)) {
-    bool known = false;
-    for (const Bridge& br : c.bridges) known = known || std::abs(br.period - 2.0 * ts) <= 1e-9 * br.period;
-    if (known) {
-      std::cout << "period doubling at T* = " << ts << ": its bridge is the grazing one at " << 2.0 * ts << "\n";
-      continue;
-    }
-    try {
-      c.bridges.push_back(PeriodDoublingBridge(c.b, ts));
-    } catch (const InputError& e) {
-      std::cout << "period doubling at T* = " << ts << ": no bridge (" << e.what() << ")\n";
-    }
-  }
-  std::cout << count << " periods from " << c.periods.front() << " to " << c.periods.back() << "; "
+            .other = scene.model.contact == 0 ? (b.n > 1 ? 1 : 0) : 0,
+            .dir = std::move(dir),
+            .atlas = atlas};
+  std::cout << c.periods.size() << " periods from " << c.periods.front() << " to " << c.periods.back() << "; "
             << c.transitions.size() << " transitions, " << c.bridges.size() << " bridges\n";
   for (const Bridge& br : c.bridges) {
     std::cout << "  " << (IsGrazing(br) ? "grazing" : "period-doubling") << " bridge at T = " << br.period

@@ -220,6 +220,7 @@ TEST(Bridge, APeriodDoublingThatMovesTheContactIsAPitchforkNotABridge) {
   const AnalysisBasis b = testing::PaperBasis();
   const double ts = OneImpactPeriodDoublings(b, 9.4, 9.55, 0.01).at(0);
   EXPECT_THROW(PeriodDoublingBridge(b, ts), InputError);
+  EXPECT_EQ(FindPeriodDoublingBridge(b, ts).status, BridgeStatus::kPitchfork);
   auto near_half = [&](double period) {
     int n = 0;
     for (double r : TwoImpactRoots(b, period)) n += std::abs(r - 0.5 * period) > 1e-6 && std::abs(r - 0.5 * period) < 0.3;

@@ -71,12 +71,22 @@ void Energies(Bridge& br) {
   if (vertex > br.s_begin && vertex < br.s_end) br.energy_min = std::min(br.energy_min, energy(vertex));
 }
 
-void ThrowIfUnbounded(const Bridge& br) {
+BridgeSearch NotFound(BridgeStatus status, std::string message) { return {status, std::move(message), {}}; }
+
+// The ends are known: bounded, with its energies, or unbounded.
+BridgeSearch Finish(Bridge br) {
   if (std::isinf(br.s_begin) || std::isinf(br.s_end)) {
-    throw InputError("period", "T = " + FormatValue(br.period) +
-                                   ": the continuum of 2-ipp orbits stays admissible to 1e3 times the origin's "
-                                   "size; unbounded");
+    return NotFound(BridgeStatus::kUnbounded, "T = " + FormatValue(br.period) +
+                                                  ": the continuum of 2-ipp orbits stays admissible to 1e3 times "
+                                                  "the origin's size; unbounded");
   }
+  Energies(br);
+  return {BridgeStatus::kFound, "", std::move(br)};
+}
+
+Bridge OrThrow(BridgeSearch search) {
+  if (!search.found()) throw InputError("period", search.message);
+  return std::move(search.bridge);
 }
 
 }  // namespace
@@ -85,13 +95,19 @@ Orbit BridgeOrbit(const AnalysisBasis& b, const Bridge& bridge, double s) {
   return EvaluateOrbit(b, bridge.origin + s * bridge.direction, {bridge.t2}, bridge.period);
 }
 
-Bridge BridgeAt(const AnalysisBasis& b, double grazing_period) {
+Bridge BridgeAt(const AnalysisBasis& b, double grazing_period) { return OrThrow(FindBridgeAt(b, grazing_period)); }
+
+Bridge PeriodDoublingBridge(const AnalysisBasis& b, double doubling_period) {
+  return OrThrow(FindPeriodDoublingBridge(b, doubling_period));
+}
+
+BridgeSearch FindBridgeAt(const AnalysisBasis& b, double grazing_period) {
   const Orbit one = OneImpactOrbit(b, grazing_period);
   const SegmentCheck seg = CheckSegment(b, one.y0, grazing_period);
   // A grazing orbit reaches d at an interior maximum; 1e-9 d leaves room for
   // the transition's own error (~1e-15 in T, quadratic in the excess).
   if (!one.potential || !(std::abs(seg.max_excess) <= 1e-9 * b.gap)) {
-    throw InputError("period", "T = " + FormatValue(grazing_period) +
+    return NotFound(BridgeStatus::kNotGrazing, "T = " + FormatValue(grazing_period) +
                                    " is not a grazing transition of the 1-ipp family (largest interior x_c - d = " +
                                    FormatValue(seg.max_excess) + ")");
   }
@@ -107,7 +123,7 @@ Bridge BridgeAt(const AnalysisBasis& b, double grazing_period) {
   const double probe = 1e-3 * br.origin.norm();
   const bool plus = AdmissibleAt(b, br, probe), minus = AdmissibleAt(b, br, -probe);
   if (plus == minus) {
-    throw InputError("period", "T = " + FormatValue(grazing_period) +
+    return NotFound(BridgeStatus::kNotOneSided, "T = " + FormatValue(grazing_period) +
                                    ": the continuum of 2-ipp orbits at the graze t = " + FormatValue(br.t2) +
                                    " is admissible on " + (plus ? "both sides" : "neither side") +
                                    " of the grazing orbit; no bridge");
@@ -115,9 +131,7 @@ Bridge BridgeAt(const AnalysisBasis& b, double grazing_period) {
   if (minus) br.direction = -br.direction;
   br.s_begin = 0.0;
   br.s_end = AdmissibleExtent(b, br, probe, br.origin.norm() / 256.0);
-  ThrowIfUnbounded(br);
-  Energies(br);
-  return br;
+  return Finish(std::move(br));
 }
 
 std::vector<double> OneImpactPeriodDoublings(const AnalysisBasis& b, double from, double to, double step) {
@@ -139,10 +153,10 @@ std::vector<double> OneImpactPeriodDoublings(const AnalysisBasis& b, double from
   return out;
 }
 
-Bridge PeriodDoublingBridge(const AnalysisBasis& b, double doubling_period) {
+BridgeSearch FindPeriodDoublingBridge(const AnalysisBasis& b, double doubling_period) {
   const Orbit one = OneImpactOrbit(b, doubling_period);
   if (!one.admissible) {
-    throw InputError("period", "T* = " + FormatValue(doubling_period) + ": the 1-ipp orbit is not admissible (" +
+    return NotFound(BridgeStatus::kNotAdmissible, "T* = " + FormatValue(doubling_period) + ": the 1-ipp orbit is not admissible (" +
                                    one.reason + ")");
   }
   Bridge br;
@@ -154,7 +168,7 @@ Bridge PeriodDoublingBridge(const AnalysisBasis& b, double doubling_period) {
   // A true line has the residual at round-off (measured <= 3e-15); a
   // pitchfork has it O(1) (0.15 at T* = 9.4907 on the paper's system).
   if (!(br.degeneracy_residual <= 1e-9)) {
-    throw InputError("period", "T* = " + FormatValue(doubling_period) +
+    return NotFound(BridgeStatus::kPitchfork, "T* = " + FormatValue(doubling_period) +
                                    ": NC2 does not leave a line at 2 T* (residual " +
                                    FormatValue(br.degeneracy_residual) +
                                    "): the period doubling is a pitchfork of the 2-ipp roots, no bridge");
@@ -162,9 +176,7 @@ Bridge PeriodDoublingBridge(const AnalysisBasis& b, double doubling_period) {
   const double step = br.origin.norm() / 256.0;
   br.s_begin = AdmissibleExtent(b, br, 0.0, -step);
   br.s_end = AdmissibleExtent(b, br, 0.0, step);
-  ThrowIfUnbounded(br);
-  Energies(br);
-  return br;
+  return Finish(std::move(br));
 }
 
 }  // namespace nsmodal

@@ -165,6 +165,10 @@ bool Correct(const AnalysisBasis& b, const Eigen::Vector2d& tangent, Eigen::Vect
 
 }  // namespace
 
+double TwoImpactKernelResidual(const AnalysisBasis& b, double t2, double period) {
+  return SmallestSingularValue(b, t2, period);
+}
+
 std::vector<BranchPoint> TwoImpactBranch(const AnalysisBasis& b, double t2, double period, const BranchOptions& options) {
   if (!(SmallestSingularValue(b, t2, period) < options.kernel_tol)) {
     throw InputError("t2", "(t2, T) = (" + std::to_string(t2) + ", " + std::to_string(period) +

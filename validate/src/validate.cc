@@ -308,10 +308,53 @@ std::vector<OrbitValidation> ValidateOrbits(const Model& model, const std::vecto
   const long per_orbit = static_cast<long>(options.integrators.size());
   std::vector<OrbitValidation> out(orbits.size() * per_orbit);
   ParallelFor(
-      static_cast<long>(out.size()), 0,
+      static_cast<long>(out.size()), options.threads,
       [&](long i) { out[i] = ValidateOrbit(model, orbits[i / per_orbit], options.integrators[i % per_orbit], options); },
       progress);
   return out;
+}
+
+ValidationReport SummarizeValidation(const std::vector<OrbitValidation>& results, const ValidateOptions& options,
+                                     long orbits) {
+  ValidationReport r;
+  r.orbits = orbits;
+  r.periods = options.periods;
+  r.perturbation = options.perturbation;
+  for (Integrator integrator : options.integrators) {
+    ValidationReport::Tally t;
+    std::vector<std::size_t> stable;
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      const OrbitValidation& v = results[i];
+      if (v.integrator != integrator) continue;
+      ++t.checked;
+      ++(v.consistent ? t.consistent : t.inconsistent);
+      if (v.orbit.admissible && v.stability.stable && !v.deviation.empty()) stable.push_back(i);
+    }
+    std::stable_sort(stable.begin(), stable.end(), [&](std::size_t x, std::size_t y) {
+      return results[x].deviation.back() > results[y].deviation.back();
+    });
+    if (stable.size() > 5) stable.resize(5);
+    r.integrators.emplace_back(integrator, t);
+    r.worst_stable.emplace_back(integrator, std::move(stable));
+  }
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const OrbitValidation& v = results[i];
+    if (!v.consistent) r.inconsistent.push_back(i);
+    if (!v.consistent && v.orbit.admissible && v.integrator == Integrator::kExact) {
+      r.admissible_exact_failures.push_back(i);
+    }
+    if (v.integrator != Integrator::kExact || !v.orbit.admissible || v.perturbed_periods < 0) continue;
+    if (v.stability.stable) {
+      ++r.stable_perturbed;
+      r.stable_worst_amplification = std::max(r.stable_worst_amplification, v.perturbed_amplification);
+    } else if (v.perturbed_growth > 0.0) {
+      const double err = std::abs(v.perturbed_growth / v.stability.growth_per_period - 1.0);
+      ++r.unstable_rated;
+      r.unstable_within_tolerance += err <= ValidationReport::kRateTolerance;
+      r.unstable_worst_rate_error = std::max(r.unstable_worst_rate_error, err);
+    }
+  }
+  return r;
 }
 
 }  // namespace nsmodal

@@ -31,6 +31,7 @@
 // of these (T* = T_G / 2). Where the eigenvector moves x_c the period doubling
 // is a pitchfork of the 2-ipp roots instead, and there is no bridge.
 #include <Eigen/Dense>
+#include <string>
 #include <vector>
 
 #include "nsmodal/modal_basis.h"
@@ -54,23 +55,40 @@ struct Bridge {
   double energy_min = 0.0, energy_max = 0.0;  // E over [s_begin, s_end]
 };
 
-// The bridge at the grazing transition of period `grazing_period` (as found by
-// OneImpactTransitions, to ~1e-15). Throws InputError naming "period" if the
-// 1-ipp orbit there does not graze (no interior maximum of x_c within 1e-9 d of
-// d) or the continuum is not admissible on exactly one side of it.
-Bridge BridgeAt(const AnalysisBasis& b, double grazing_period);
+// Whether a bridge was found, and if not why: a numerical outcome, returned.
+enum class BridgeStatus {
+  kFound,
+  kNotGrazing,     // the 1-ipp orbit has no interior maximum within 1e-9 d of d
+  kNotOneSided,    // the continuum is admissible on both sides of the graze, or neither
+  kNotAdmissible,  // the 1-ipp orbit at T* is not admissible
+  kPitchfork,      // NC2 does not leave a line at 2 T*: a pitchfork of the 2-ipp roots
+  kUnbounded,      // admissible to 1e3 times the origin's size
+};
+struct BridgeSearch {
+  BridgeStatus status = BridgeStatus::kFound;
+  std::string message;  // why not, naming the period; empty when found
+  Bridge bridge;        // meaningful when found()
+  bool found() const { return status == BridgeStatus::kFound; }
+};
 
+// The bridge at the grazing transition of period `grazing_period` (as found by
+// OneImpactTransitions, to ~1e-15).
+BridgeSearch FindBridgeAt(const AnalysisBasis& b, double grazing_period);
+// The same for a caller that asked for a bridge at a given period: throws
+// InputError naming "period" when there is none.
+Bridge BridgeAt(const AnalysisBasis& b, double grazing_period);
 // Periods T* in [from, to] where an admissible 1-ipp orbit has a Floquet
 // multiplier at -1: sign changes of det(M(T) + I) (a nontrivial pair
 // (lambda, 1/lambda) contributes 2 + lambda + 1/lambda, zero at -1, negative
 // past it) between neighbouring admissible grid points, polished by Brent.
 std::vector<double> OneImpactPeriodDoublings(const AnalysisBasis& b, double from, double to, double step);
 
-// The bridge of period 2 T* through the 1-ipp orbit of period T* run twice.
-// Throws InputError naming "period" when NC2 does not leave a line there (the
-// period doubling is a pitchfork, no bridge) or the orbit is not admissible.
+// The bridge of period 2 T* through the 1-ipp orbit of period T* run twice:
+// kPitchfork when NC2 does not leave a line there, kNotAdmissible when the
+// orbit is not admissible.
+BridgeSearch FindPeriodDoublingBridge(const AnalysisBasis& b, double doubling_period);
+// Throwing form, as BridgeAt.
 Bridge PeriodDoublingBridge(const AnalysisBasis& b, double doubling_period);
-
 // The potential 2-ipp orbit y(s) of the bridge (times {t2}).
 Orbit BridgeOrbit(const AnalysisBasis& b, const Bridge& bridge, double s);
 

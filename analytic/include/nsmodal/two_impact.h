@@ -66,8 +66,13 @@ struct BranchPoint {
   double t2 = 0.0, period = 0.0;
   double arclength = 0.0;  // signed, 0 at the start
 };
+// sigma_min(A_2(t2, T)): round-off (~1e-15) at a root of det A_2, V-shaped
+// around it.
+double TwoImpactKernelResidual(const AnalysisBasis& b, double t2, double period);
+
 // Points of the curve through the root (t2, T), ordered by arclength, in both
-// directions from it. The start must be a root (sigma_min(A_2) < kernel_tol).
+// directions from it. The start must be a root (TwoImpactKernelResidual <
+// kernel_tol; throws InputError naming "t2" otherwise).
 std::vector<BranchPoint> TwoImpactBranch(const AnalysisBasis& b, double t2, double period,
                                          const BranchOptions& options = {});
 

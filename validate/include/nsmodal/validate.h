@@ -48,6 +48,7 @@ struct ValidateOptions {
   // |y| for the off-family one.
   double perturbation = 1e-6;
   double exact_periodicity = 1e-9;  // exact: a stable orbit stays within this
+  int threads = 0;                  // worker threads of ValidateOrbits (0: all cores)
   void Validate() const;          // throws InputError naming the field
 };
 
@@ -78,9 +79,41 @@ struct OrbitValidation {
 OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator integrator,
                               const ValidateOptions& options);
 
-// Every orbit with every integrator, on all cores; progress(done, total).
+// Every orbit with every integrator, on options.threads threads; progress(done, total).
 std::vector<OrbitValidation> ValidateOrbits(const Model& model, const std::vector<Orbit>& orbits,
                                             const ValidateOptions& options,
                                             const std::function<void(long, long)>& progress = {});
+
+// The verdict on a batch, and the numbers behind it.
+//
+// Acceptance: the batch passes when every admissible orbit is consistent
+// with the exact integrator (the other integrators' inconsistencies are
+// reported, not failures: they measure the integrator, not the orbit).
+// The off-family perturbation (exact, admissible orbits) is summarised as:
+// the largest amplification of a stable orbit over the run, and for the
+// unstable orbits whose growth was measurable, how many grew within
+// kRateTolerance of log |lambda_max| and the worst relative error.
+struct ValidationReport {
+  static constexpr double kRateTolerance = 0.05;
+  struct Tally {
+    long checked = 0, consistent = 0, inconsistent = 0;
+  };
+  long orbits = 0;
+  int periods = 0;
+  std::vector<std::pair<Integrator, Tally>> integrators;  // in the order of the options
+  std::vector<std::size_t> inconsistent;                  // indices into the results, in order
+  // Per integrator: up to five stable admissible orbits with the largest
+  // final deviation, largest first.
+  std::vector<std::pair<Integrator, std::vector<std::size_t>>> worst_stable;
+  double perturbation = 0.0;  // relative size of the perturbed starts
+  long stable_perturbed = 0;
+  double stable_worst_amplification = 0.0;
+  long unstable_rated = 0, unstable_within_tolerance = 0;
+  double unstable_worst_rate_error = 0.0;
+  std::vector<std::size_t> admissible_exact_failures;  // indices: what fails the batch
+  bool passed() const { return admissible_exact_failures.empty(); }
+};
+ValidationReport SummarizeValidation(const std::vector<OrbitValidation>& results, const ValidateOptions& options,
+                                     long orbits);
 
 }  // namespace nsmodal

@@ -1,0 +1,101 @@
+#pragma once
+// The paper's pipeline as values, with no I/O: a grid of periods, a sweep of
+// the 1- or 2-ipp orbits over it with their stability, and the atlas of a
+// system (both sweeps, the transitions of the 1-ipp family, the bridges and the
+// period doublings, paper sections 2-4) computed by one call. The CLI, the
+// Python module, the benchmarks and the tests all reach the pipeline here.
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nsmodal/bridge.h"
+#include "nsmodal/modal_basis.h"
+#include "nsmodal/orbit.h"
+#include "nsmodal/stability.h"
+#include "nsmodal/transitions.h"
+#include "nsmodal/two_impact.h"
+
+namespace nsmodal {
+
+// Periods from, from + step, ... up to `to` (inclusive to 1e-9 step).
+struct PeriodGrid {
+  double from = 0.0, to = 0.0, step = 0.0;
+
+  // At most this many periods: a grid is held in memory with its orbits
+  // (about 1 kB a period for the 2-ipp sweep of a 2-dof system).
+  static constexpr long kMaxPeriods = 1000000;
+
+  // from > 0, to >= from, step > 0, all finite, at most kMaxPeriods values;
+  // throws InputError naming `field`.
+  void Validate(const std::string& field = "period") const;
+  long Count() const;  // number of values
+  std::vector<double> Values() const;
+  // "FROM:TO:STEP", checked by Validate; throws InputError naming `field`.
+  static PeriodGrid Parse(const std::string& text, const std::string& field = "--period");
+};
+
+// Which orbits of a sweep get their Floquet multipliers (stability.h).
+enum class StabilityPolicy {
+  kNone,        // none
+  kPotential,   // every potential orbit (NC1 + NC2)
+  kAdmissible,  // admissible orbits only
+};
+
+// One orbit with, as the policy asked, its stability.
+struct OrbitRecord {
+  Orbit orbit;
+  std::optional<Stability> stability;
+  bool stable() const { return stability && stability->stable; }
+};
+
+struct SweepOptions {
+  StabilityPolicy stability = StabilityPolicy::kPotential;
+  TwoImpactOptions two_impact;  // root scan of the 2-ipp sweep
+  int threads = 0;              // worker threads (0: all cores)
+  std::function<void(long done, long count)> progress;
+};
+
+// The orbits of one family over a grid: at[i] holds the orbits of period
+// periods[i]: the one 1-ipp orbit (potential or not), or every potential
+// 2-ipp orbit (one per root t2).
+struct Sweep {
+  int impacts = 1;
+  std::vector<double> periods;
+  std::vector<std::vector<OrbitRecord>> at;
+
+  long Count() const;       // orbits
+  long Admissible() const;  // admissible orbits
+};
+
+// impacts: 1 or 2 (throws InputError naming "impacts" otherwise).
+Sweep ComputeSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, const SweepOptions& options = {});
+
+// The orbits of one period, with the policy's stability.
+std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts,
+                                  const SweepOptions& options = {});
+
+// The transitions of the admissible 1-ipp zones seen on a 1-ipp sweep.
+std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& one);
+
+struct AtlasOptions {
+  SweepOptions sweep{.stability = StabilityPolicy::kAdmissible, .two_impact = {}, .threads = 0, .progress = {}};
+};
+
+struct Atlas {
+  PeriodGrid grid;
+  Sweep one, two;                       // 1- and 2-ipp orbits over the grid
+  std::vector<Transition> transitions;  // of the 1-ipp family
+  // Bridges at the grazing transitions, then at the period doublings T* of
+  // the 1-ipp family with 2 T* in the grid (those whose bridge is already a
+  // grazing one, the paper's case T* = T_G / 2, are not repeated).
+  std::vector<Bridge> bridges;
+  std::vector<double> doublings;  // every T* found in [from, to / 2]
+  // What was looked for and not found, or found twice, one line each.
+  std::vector<std::string> notes;
+};
+
+// Sweeps (1 and 2 impacts, one pass over the grid), transitions, bridges.
+Atlas ComputeAtlas(const AnalysisBasis& b, const PeriodGrid& grid, const AtlasOptions& options = {});
+
+}  // namespace nsmodal

@@ -1,0 +1,184 @@
+#include "nsmodal/atlas.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "nsmodal/error.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/parallel.h"
+
+namespace nsmodal {
+namespace {
+
+double ParseNumber(const std::string& s, const std::string& field, const std::string& whole) {
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != s.size() || s.empty() || !std::isfinite(v)) {
+    throw InputError(field, "expects FROM:TO:STEP with numbers, got '" + whole + "'");
+  }
+  return v;
+}
+
+void CheckImpacts(int impacts) {
+  if (impacts != 1 && impacts != 2) {
+    throw InputError("impacts", "sweeps compute 1 or 2 impacts per period, got " + std::to_string(impacts));
+  }
+}
+
+bool WantsStability(StabilityPolicy policy, const Orbit& o) {
+  switch (policy) {
+    case StabilityPolicy::kNone:
+      return false;
+    case StabilityPolicy::kPotential:
+      return o.potential;
+    case StabilityPolicy::kAdmissible:
+      return o.admissible;
+  }
+  return false;
+}
+
+}  // namespace
+
+void PeriodGrid::Validate(const std::string& field) const {
+  if (!std::isfinite(from) || !std::isfinite(to) || !std::isfinite(step)) {
+    throw InputError(field, "FROM, TO and STEP must be finite, got " + FormatValue(from) + ":" + FormatValue(to) +
+                                ":" + FormatValue(step));
+  }
+  if (!(from > 0.0)) throw InputError(field, "FROM must be positive, got " + FormatValue(from));
+  if (!(to >= from)) {
+    throw InputError(field, "TO must be >= FROM, got " + FormatValue(from) + ":" + FormatValue(to));
+  }
+  if (!(step > 0.0)) throw InputError(field, "STEP must be positive, got " + FormatValue(step));
+  if ((to - from) / step >= static_cast<double>(kMaxPeriods)) {
+    throw InputError(field, "asks for " + FormatValue(std::floor((to - from) / step) + 1) + " periods; at most " +
+                                std::to_string(kMaxPeriods) + " in one grid");
+  }
+}
+
+long PeriodGrid::Count() const { return std::lround(std::floor((to - from) / step + 1e-9)) + 1; }
+
+std::vector<double> PeriodGrid::Values() const {
+  std::vector<double> out;
+  const long cells = Count() - 1;
+  out.reserve(static_cast<std::size_t>(cells + 1));
+  for (long j = 0; j <= cells; ++j) out.push_back(from + j * step);
+  return out;
+}
+
+PeriodGrid PeriodGrid::Parse(const std::string& text, const std::string& field) {
+  std::vector<std::string> parts;
+  std::stringstream ss(text);
+  for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
+  if (parts.size() != 3) throw InputError(field, "expects FROM:TO:STEP, got '" + text + "'");
+  PeriodGrid g{ParseNumber(parts[0], field, text), ParseNumber(parts[1], field, text),
+               ParseNumber(parts[2], field, text)};
+  g.Validate(field);
+  return g;
+}
+
+long Sweep::Count() const {
+  long n = 0;
+  for (const auto& list : at) n += static_cast<long>(list.size());
+  return n;
+}
+
+long Sweep::Admissible() const {
+  long n = 0;
+  for (const auto& list : at) {
+    for (const OrbitRecord& r : list) n += r.orbit.admissible;
+  }
+  return n;
+}
+
+std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts, const SweepOptions& options) {
+  CheckImpacts(impacts);
+  std::vector<Orbit> orbits;
+  if (impacts == 1) {
+    orbits.push_back(OneImpactOrbit(b, period));
+  } else {
+    orbits = TwoImpactOrbits(b, period, options.two_impact);
+  }
+  std::vector<OrbitRecord> records;
+  records.reserve(orbits.size());
+  for (Orbit& o : orbits) {
+    OrbitRecord r{std::move(o), std::nullopt};
+    if (WantsStability(options.stability, r.orbit)) r.stability = OrbitStability(b, r.orbit);
+    records.push_back(std::move(r));
+  }
+  return records;
+}
+
+Sweep ComputeSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, const SweepOptions& options) {
+  CheckImpacts(impacts);
+  grid.Validate();
+  Sweep s;
+  s.impacts = impacts;
+  s.periods = grid.Values();
+  s.at.resize(s.periods.size());
+  ParallelFor(
+      static_cast<long>(s.periods.size()), options.threads,
+      [&](long i) { s.at[i] = OrbitsAt(b, s.periods[i], impacts, options); }, options.progress);
+  return s;
+}
+
+std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& one) {
+  if (one.impacts != 1) throw InputError("impacts", "transitions are those of the 1-ipp family; got a 2-ipp sweep");
+  std::vector<bool> admissible;
+  admissible.reserve(one.at.size());
+  for (const auto& list : one.at) admissible.push_back(list.front().orbit.admissible);
+  return OneImpactTransitions(b, one.periods, admissible);
+}
+
+Atlas ComputeAtlas(const AnalysisBasis& b, const PeriodGrid& grid, const AtlasOptions& options) {
+  grid.Validate();
+  Atlas a;
+  a.grid = grid;
+  a.one.impacts = 1;
+  a.two.impacts = 2;
+  a.one.periods = a.two.periods = grid.Values();
+  const std::size_t count = a.one.periods.size();
+  a.one.at.resize(count);
+  a.two.at.resize(count);
+  // One pass over the grid for both families (one progress report).
+  ParallelFor(
+      static_cast<long>(count), options.sweep.threads,
+      [&](long i) {
+        a.one.at[i] = OrbitsAt(b, a.one.periods[i], 1, options.sweep);
+        a.two.at[i] = OrbitsAt(b, a.two.periods[i], 2, options.sweep);
+      },
+      options.sweep.progress);
+  a.transitions = SweepTransitions(b, a.one);
+  for (const Transition& t : a.transitions) {
+    if (t.kind != TransitionKind::kGrazing) continue;
+    BridgeSearch search = FindBridgeAt(b, t.period);
+    if (search.found()) {
+      a.bridges.push_back(std::move(search.bridge));
+    } else {
+      a.notes.push_back("no bridge at the grazing transition T = " + FormatValue(t.period) + ": " + search.message);
+    }
+  }
+  a.doublings = OneImpactPeriodDoublings(b, grid.from, 0.5 * grid.to, grid.step);
+  for (double ts : a.doublings) {
+    bool known = false;
+    for (const Bridge& br : a.bridges) known = known || std::abs(br.period - 2.0 * ts) <= 1e-9 * br.period;
+    if (known) {
+      a.notes.push_back("period doubling at T* = " + FormatValue(ts) + ": its bridge is the grazing one at " +
+                        FormatValue(2.0 * ts));
+      continue;
+    }
+    BridgeSearch search = FindPeriodDoublingBridge(b, ts);
+    if (search.found()) {
+      a.bridges.push_back(std::move(search.bridge));
+    } else {
+      a.notes.push_back("period doubling at T* = " + FormatValue(ts) + ": no bridge (" + search.message + ")");
+    }
+  }
+  return a;
+}
+
+}  // namespace nsmodal

@@ -1,0 +1,43 @@
+#pragma once
+// The project's tables, each declared once (table.h): the CSV files of the
+// commands and the column arrays of the Python module come from these lists.
+#include <Eigen/Dense>
+
+#include "nsmodal/atlas.h"
+#include "nsmodal/simulate.h"
+#include "nsmodal/table.h"
+#include "nsmodal/validate.h"
+#include "nsmodal/work_precision.h"
+
+namespace nsmodal::report {
+
+// orbits.csv: T,t2,energy,potential,admissible,periodicity_residual,
+// nc2_residual,nc3_margin,degenerate,x1..xN,v1..vN,stable,max_multiplier,
+// mu1_re,mu1_im..mu2N_re,mu2N_im (t2 missing for one impact; stable and the
+// multipliers missing where the sweep's policy computed no stability).
+Columns<OrbitRecord> OrbitColumns(int dofs);
+
+// transitions.csv: T,kind,energy.
+Columns<Transition> TransitionColumns();
+
+// The bridges of an atlas: T,t2,energy_min,energy_max,s_begin,s_end,kind.
+Columns<Bridge> BridgeColumns();
+
+// validation.csv, one row per orbit and integrator.
+Columns<OrbitValidation> ValidationColumns();
+
+// work_precision.csv and grazing.csv of the bench.
+Columns<WorkPrecisionRow> WorkPrecisionColumns();
+Columns<GrazingRow> GrazingColumns();
+
+// A trajectory sample of a simulation: t, x1..xN, v1..vN, energy.
+struct Sample {
+  double t = 0.0;
+  Eigen::VectorXd z;  // physical (x, v)
+  double energy = 0.0;
+};
+Columns<Sample> TrajectoryColumns(int dofs);
+// impacts.csv: t, x1_before..vN_before, x1_after..vN_after.
+Columns<ContactEvent> ImpactColumns(int dofs);
+
+}  // namespace nsmodal::report

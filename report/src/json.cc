@@ -1,0 +1,99 @@
+#include "nsmodal/json.h"
+
+#include <cmath>
+
+namespace nsmodal::report {
+namespace {
+
+nlohmann::json OrNull(bool present, double v) { return present ? nlohmann::json(v) : nlohmann::json(); }
+
+}  // namespace
+
+nlohmann::json OrbitJson(const OrbitRecord& record) {
+  const Orbit& o = record.orbit;
+  const int n = static_cast<int>(o.z0.size() / 2);
+  std::vector<double> x(o.z0.data(), o.z0.data() + n), v(o.z0.data() + n, o.z0.data() + 2 * n);
+  nlohmann::json j{{"impacts", o.impacts},
+                   {"T", o.period},
+                   {"impact_times", o.times},
+                   {"energy", o.energy},
+                   {"potential", o.potential},
+                   {"admissible", o.admissible},
+                   {"degenerate", o.degenerate},
+                   {"periodicity_residual", o.periodicity_residual},
+                   {"nc2_residual", o.nc2_residual},
+                   {"nc3_margin", OrNull(std::isfinite(o.max_excess), o.max_excess)},
+                   {"x", x},
+                   {"v", v},
+                   {"reason", o.reason}};
+  j["t2"] = OrNull(!o.times.empty(), o.times.empty() ? 0.0 : o.times[0]);
+  if (const auto& s = record.stability) {
+    j["stable"] = s->stable;
+    j["max_multiplier"] = s->max_modulus;
+    j["multipliers"] = nlohmann::json::array();
+    for (int k = 0; k < s->multipliers.size(); ++k) {
+      j["multipliers"].push_back({s->multipliers[k].real(), s->multipliers[k].imag()});
+    }
+  }
+  return j;
+}
+
+nlohmann::json SimulationJson(const SimulationSummary& s, const SimulateOptions& opt) {
+  nlohmann::json j;
+  j["integrator"] = ToString(opt.integrator);
+  j["status"] = ToString(s.status);
+  j["message"] = s.message;
+  j["final_time"] = s.final_time;
+  j["final_state"] = std::vector<double>(s.final_state.data(), s.final_state.data() + s.final_state.size());
+  j["impacts"] = s.impacts;
+  j["grazes"] = s.grazes;
+  j["zeno_events"] = s.zeno_events;
+  j["first_zeno_time"] = OrNull(s.first_zeno_time >= 0.0, s.first_zeno_time);
+  j["sticking_phases"] = s.sticking_phases;
+  j["sticking_time"] = s.sticking_time;
+  j["initial_energy"] = s.initial_energy;
+  j["final_energy"] = s.final_energy;
+  j["energy_drift"] = s.energy_drift;
+  j["wall_time_s"] = s.wall_time_s;
+  j["steps"] = s.steps;
+  j["settings"] = {{"t_end", opt.t_end}, {"rtol", opt.rtol}, {"atol", opt.atol}, {"method", opt.cvode_method},
+                   {"step", opt.step}, {"theta", opt.theta}, {"root_tol", opt.root_tol}, {"sample_dt", opt.sample_dt}};
+  return j;
+}
+
+nlohmann::json ValidationJson(const ValidationReport& report, const std::vector<OrbitValidation>& results) {
+  auto describe = [&](std::size_t i) {
+    const OrbitValidation& v = results[i];
+    return nlohmann::json{{"T", v.orbit.period},
+                          {"t2", OrNull(!v.orbit.times.empty(), v.orbit.times.empty() ? 0.0 : v.orbit.times[0])},
+                          {"integrator", ToString(v.integrator)},
+                          {"admissible", v.orbit.admissible},
+                          {"stable", v.stability.stable},
+                          {"deviation_final", OrNull(!v.deviation.empty(), v.deviation.empty() ? 0.0 : v.deviation.back())},
+                          {"reason", v.reason}};
+  };
+  nlohmann::json j;
+  j["orbits"] = report.orbits;
+  j["periods"] = report.periods;
+  j["passed"] = report.passed();
+  for (const auto& [integrator, t] : report.integrators) {
+    j["integrators"][ToString(integrator)] = {
+        {"checked", t.checked}, {"consistent", t.consistent}, {"inconsistent", t.inconsistent}};
+  }
+  j["inconsistent"] = nlohmann::json::array();
+  for (std::size_t i : report.inconsistent) j["inconsistent"].push_back(describe(i));
+  for (const auto& [integrator, list] : report.worst_stable) {
+    nlohmann::json worst = nlohmann::json::array();
+    for (std::size_t i : list) worst.push_back(describe(i));
+    j["worst_stable"][ToString(integrator)] = worst;
+  }
+  j["perturbation"] = {{"relative_size", report.perturbation},
+                       {"stable_orbits", report.stable_perturbed},
+                       {"stable_worst_amplification", report.stable_worst_amplification},
+                       {"unstable_orbits_rated", report.unstable_rated},
+                       {"unstable_rate_within_5_percent", report.unstable_within_tolerance},
+                       {"unstable_worst_relative_rate_error", report.unstable_worst_rate_error}};
+  return j;
+}
+
+}  // namespace nsmodal::report

@@ -1,0 +1,147 @@
+#include "nsmodal/tables.h"
+
+#include <cmath>
+
+namespace nsmodal::report {
+namespace {
+
+using K = ColumnKind;
+
+template <class Row>
+void AddState(Columns<Row>& cols, int dofs, const std::string& suffix,
+              std::function<const Eigen::VectorXd&(const Row&)> state) {
+  for (int i = 0; i < 2 * dofs; ++i) {
+    // (appended, not `+`: GCC 12 warns falsely on a chain of + here, -Wrestrict)
+    std::string name = i < dofs ? "x" : "v";
+    name.append(std::to_string(i % dofs + 1)).append(suffix);
+    cols.push_back({name, K::kReal, [state, i](const Row& r) -> Cell { return state(r)[i]; }});
+  }
+}
+
+Cell OrMissing(bool present, double v) { return present ? Cell(v) : Cell(); }
+
+}  // namespace
+
+Columns<OrbitRecord> OrbitColumns(int dofs) {
+  Columns<OrbitRecord> c{
+      {"T", K::kReal, [](const OrbitRecord& r) -> Cell { return r.orbit.period; }},
+      {"t2", K::kReal,
+       [](const OrbitRecord& r) { return OrMissing(!r.orbit.times.empty(), r.orbit.times.empty() ? 0.0 : r.orbit.times[0]); }},
+      {"energy", K::kReal, [](const OrbitRecord& r) -> Cell { return r.orbit.energy; }},
+      {"potential", K::kBool, [](const OrbitRecord& r) -> Cell { return r.orbit.potential; }},
+      {"admissible", K::kBool, [](const OrbitRecord& r) -> Cell { return r.orbit.admissible; }},
+      {"periodicity_residual", K::kReal, [](const OrbitRecord& r) -> Cell { return r.orbit.periodicity_residual; }},
+      {"nc2_residual", K::kReal, [](const OrbitRecord& r) -> Cell { return r.orbit.nc2_residual; }},
+      {"nc3_margin", K::kReal, [](const OrbitRecord& r) -> Cell { return r.orbit.max_excess; }},
+      {"degenerate", K::kBool, [](const OrbitRecord& r) -> Cell { return r.orbit.degenerate; }},
+  };
+  AddState<OrbitRecord>(c, dofs, "", [](const OrbitRecord& r) -> const Eigen::VectorXd& { return r.orbit.z0; });
+  c.push_back({"stable", K::kBool, [](const OrbitRecord& r) { return r.stability ? Cell(r.stability->stable) : Cell(); }});
+  c.push_back({"max_multiplier", K::kReal,
+               [](const OrbitRecord& r) { return OrMissing(r.stability.has_value(), r.stability ? r.stability->max_modulus : 0.0); }});
+  for (int k = 0; k < 2 * dofs; ++k) {
+    for (int part = 0; part < 2; ++part) {
+      c.push_back({"mu" + std::to_string(k + 1) + (part ? "_im" : "_re"), K::kReal, [k, part](const OrbitRecord& r) {
+                     if (!r.stability) return Cell();
+                     const std::complex<double> mu = r.stability->multipliers[k];
+                     return Cell(part ? mu.imag() : mu.real());
+                   }});
+    }
+  }
+  return c;
+}
+
+Columns<Transition> TransitionColumns() {
+  return {{"T", K::kReal, [](const Transition& t) -> Cell { return t.period; }},
+          {"kind", K::kText, [](const Transition& t) -> Cell { return ToString(t.kind); }},
+          {"energy", K::kReal, [](const Transition& t) -> Cell { return t.energy; }}};
+}
+
+Columns<Bridge> BridgeColumns() {
+  return {{"T", K::kReal, [](const Bridge& b) -> Cell { return b.period; }},
+          {"t2", K::kReal, [](const Bridge& b) -> Cell { return b.t2; }},
+          {"energy_min", K::kReal, [](const Bridge& b) -> Cell { return b.energy_min; }},
+          {"energy_max", K::kReal, [](const Bridge& b) -> Cell { return b.energy_max; }},
+          {"s_begin", K::kReal, [](const Bridge& b) -> Cell { return b.s_begin; }},
+          {"s_end", K::kReal, [](const Bridge& b) -> Cell { return b.s_end; }},
+          {"kind", K::kText, [](const Bridge& b) -> Cell {
+             return std::string(b.kind == BridgeKind::kGrazing ? "grazing" : "period-doubling");
+           }}};
+}
+
+Columns<OrbitValidation> ValidationColumns() {
+  using V = OrbitValidation;
+  auto deviation = [](int k) {
+    return [k](const V& v) { return OrMissing(k >= 1 && k <= static_cast<int>(v.deviation.size()), v.DeviationAt(k)); };
+  };
+  return {
+      {"T", K::kReal, [](const V& v) -> Cell { return v.orbit.period; }},
+      {"t2", K::kReal, [](const V& v) { return OrMissing(!v.orbit.times.empty(), v.orbit.times.empty() ? 0.0 : v.orbit.times[0]); }},
+      {"impacts_per_period", K::kInteger, [](const V& v) -> Cell { return static_cast<long>(v.orbit.impacts); }},
+      {"integrator", K::kText, [](const V& v) -> Cell { return ToString(v.integrator); }},
+      {"admissible", K::kBool, [](const V& v) -> Cell { return v.orbit.admissible; }},
+      {"stable", K::kBool, [](const V& v) -> Cell { return v.stability.stable; }},
+      {"max_multiplier", K::kReal, [](const V& v) -> Cell { return v.stability.max_modulus; }},
+      {"predicted_growth", K::kReal, [](const V& v) -> Cell { return v.stability.growth_per_period; }},
+      {"measured_growth", K::kReal, [](const V& v) -> Cell { return v.measured_growth; }},
+      {"deviation_1", K::kReal, deviation(1)},
+      {"deviation_10", K::kReal, deviation(10)},
+      {"deviation_100", K::kReal, deviation(100)},
+      {"deviation_final", K::kReal, [](const V& v) { return OrMissing(!v.deviation.empty(), v.deviation.empty() ? 0.0 : v.deviation.back()); }},
+      {"periods_run", K::kInteger, [](const V& v) -> Cell { return static_cast<long>(v.deviation.size()); }},
+      {"impacts", K::kInteger, [](const V& v) -> Cell { return v.impacts; }},
+      {"first_period_impacts", K::kInteger, [](const V& v) -> Cell { return v.first_period_impacts; }},
+      {"impact_time_error", K::kReal, [](const V& v) -> Cell { return v.impact_time_error; }},
+      {"max_penetration", K::kReal, [](const V& v) -> Cell { return v.max_penetration; }},
+      {"manifold_distance", K::kReal, [](const V& v) { return OrMissing(v.manifold_distance >= 0.0, v.manifold_distance); }},
+      {"perturbed_manifold_distance", K::kReal,
+       [](const V& v) { return OrMissing(v.perturbed_manifold_distance >= 0.0, v.perturbed_manifold_distance); }},
+      {"perturbed_amplification", K::kReal,
+       [](const V& v) { return OrMissing(v.perturbed_periods >= 0, v.perturbed_amplification); }},
+      {"perturbed_growth", K::kReal, [](const V& v) { return OrMissing(v.perturbed_periods >= 0, v.perturbed_growth); }},
+      {"perturbed_periods", K::kInteger,
+       [](const V& v) { return v.perturbed_periods >= 0 ? Cell(static_cast<long>(v.perturbed_periods)) : Cell(); }},
+      {"energy_drift", K::kReal, [](const V& v) -> Cell { return v.energy_drift; }},
+      {"wall_time_s", K::kReal, [](const V& v) -> Cell { return v.wall_time_s; }},
+      {"consistent", K::kBool, [](const V& v) -> Cell { return v.consistent; }},
+      {"reason", K::kText, [](const V& v) -> Cell { return v.reason; }},
+  };
+}
+
+Columns<WorkPrecisionRow> WorkPrecisionColumns() {
+  using R = WorkPrecisionRow;
+  return {{"case", K::kText, [](const R& r) -> Cell { return r.case_name; }},
+          {"integrator", K::kText, [](const R& r) -> Cell { return r.integrator; }},
+          {"setting", K::kText, [](const R& r) -> Cell { return r.setting; }},
+          {"error", K::kReal, [](const R& r) -> Cell { return r.error; }},
+          {"cpu_s", K::kReal, [](const R& r) -> Cell { return r.cpu_s; }},
+          {"impacts", K::kInteger, [](const R& r) -> Cell { return r.impacts; }},
+          {"steps", K::kInteger, [](const R& r) -> Cell { return r.steps; }}};
+}
+
+Columns<GrazingRow> GrazingColumns() {
+  using R = GrazingRow;
+  return {{"delta", K::kReal, [](const R& r) -> Cell { return r.delta; }},
+          {"side", K::kText, [](const R& r) -> Cell { return r.side; }},
+          {"clearance", K::kReal, [](const R& r) -> Cell { return r.clearance; }},
+          {"integrator", K::kText, [](const R& r) -> Cell { return r.integrator; }},
+          {"setting", K::kText, [](const R& r) -> Cell { return r.setting; }},
+          {"impacts", K::kInteger, [](const R& r) -> Cell { return r.impacts; }},
+          {"expected_impacts", K::kInteger, [](const R& r) -> Cell { return r.expected_impacts; }}};
+}
+
+Columns<Sample> TrajectoryColumns(int dofs) {
+  Columns<Sample> c{{"t", K::kReal, [](const Sample& s) -> Cell { return s.t; }}};
+  AddState<Sample>(c, dofs, "", [](const Sample& s) -> const Eigen::VectorXd& { return s.z; });
+  c.push_back({"energy", K::kReal, [](const Sample& s) -> Cell { return s.energy; }});
+  return c;
+}
+
+Columns<ContactEvent> ImpactColumns(int dofs) {
+  Columns<ContactEvent> c{{"t", K::kReal, [](const ContactEvent& e) -> Cell { return e.t; }}};
+  AddState<ContactEvent>(c, dofs, "_before", [](const ContactEvent& e) -> const Eigen::VectorXd& { return e.before; });
+  AddState<ContactEvent>(c, dofs, "_after", [](const ContactEvent& e) -> const Eigen::VectorXd& { return e.after; });
+  return c;
+}
+
+}  // namespace nsmodal::report
