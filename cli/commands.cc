@@ -206,16 +206,7 @@ int RunValidate(const ValidateArgs& a) {
   SweepOptions sweep_options;
   sweep_options.stability = StabilityPolicy::kNone;
   sweep_options.threads = a.threads;
-  std::vector<Sweep> sweeps;
-  for (int m : impacts) sweeps.push_back(ComputeSweep(b, grid, m, sweep_options));
-  std::vector<Orbit> orbits;
-  for (std::size_t i = 0; i < sweeps.front().periods.size(); ++i) {
-    for (const Sweep& sweep : sweeps) {
-      for (const OrbitRecord& r : sweep.at[i]) {
-        if (r.orbit.potential) orbits.push_back(r.orbit);
-      }
-    }
-  }
+  const std::vector<Orbit> orbits = PotentialOrbits(b, grid, impacts, sweep_options);
   const std::vector<OrbitValidation> results = ValidateOrbits(scene.model, orbits, opt, ProgressBar("validate"));
   const ValidationReport report = SummarizeValidation(results, opt, static_cast<long>(orbits.size()));
 

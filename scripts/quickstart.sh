@@ -4,6 +4,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+# Install the libraries, headers, CMake package, CLI and Python module (/usr/local).
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+$sudo cmake --install build >/dev/null
 scene=configs/paper.toml
 echo
 echo "== 1 impact per period, T in [0.05, 40] step 0.001 (orbits, transitions)"
@@ -29,6 +33,10 @@ build/cli/nsmodal validate "$scene" --period 2:30:0.5 --impacts 1 2 --integrator
 echo
 echo "== speed against accuracy, quick version (the full one: nsmodal bench $scene --out DIR)"
 build/cli/nsmodal bench "$scene" --quick --out out/paper/bench | tail -8
+echo
+echo "== from Python: the paper's linear periods, and Fig. 8 redrawn with matplotlib"
+python3 -c "import nsmodal; print('T_i =', nsmodal.load_scene('$scene').linear_periods)"
+python3 examples/fep_and_trajectory.py "$scene" out/paper/python
 echo
 echo "== 3 impacts per period: exploratory search (paper section 2.3)"
 # (into a file first: head closing the pipe early would fail the script under pipefail)

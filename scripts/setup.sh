@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Installs what is missing (Debian 12 packages) and builds nsmodal in build/.
+# (scripts/install.sh then installs the libraries, the CLI and the Python module.)
 # Usage: bash scripts/setup.sh [extra cmake options]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config libeigen3-dev libsundials-dev libgsl-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
-  gnuplot-nox python3)
+  gnuplot-nox python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
@@ -19,5 +20,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DNSMODAL_WERROR=ON "$@"
+# Debian's python3, where apt put NumPy, pytest and matplotlib (a python3
+# earlier on PATH, e.g. pyenv's, may have none of them).
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DNSMODAL_WERROR=ON -DPython_EXECUTABLE=/usr/bin/python3 "$@"
 cmake --build build -j"$(nproc)"

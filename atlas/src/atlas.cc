@@ -126,6 +126,21 @@ Sweep ComputeSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, 
   return s;
 }
 
+std::vector<Orbit> PotentialOrbits(const AnalysisBasis& b, const PeriodGrid& grid, const std::vector<int>& impacts,
+                                   const SweepOptions& options) {
+  std::vector<Sweep> sweeps;
+  for (int m : impacts) sweeps.push_back(ComputeSweep(b, grid, m, options));
+  std::vector<Orbit> orbits;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(grid.Count()); ++i) {
+    for (const Sweep& sweep : sweeps) {
+      for (const OrbitRecord& r : sweep.at[i]) {
+        if (r.orbit.potential) orbits.push_back(r.orbit);
+      }
+    }
+  }
+  return orbits;
+}
+
 std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& one) {
   if (one.impacts != 1) throw InputError("impacts", "transitions are those of the 1-ipp family; got a 2-ipp sweep");
   std::vector<bool> admissible;

@@ -99,8 +99,10 @@ Columns<OrbitValidation> ValidationColumns() {
       {"perturbed_amplification", K::kReal,
        [](const V& v) { return OrMissing(v.perturbed_periods >= 0, v.perturbed_amplification); }},
       {"perturbed_growth", K::kReal, [](const V& v) { return OrMissing(v.perturbed_periods >= 0, v.perturbed_growth); }},
-      {"perturbed_periods", K::kInteger,
-       [](const V& v) { return v.perturbed_periods >= 0 ? Cell(static_cast<long>(v.perturbed_periods)) : Cell(); }},
+      // A count that may be missing: real-valued (written as an integer) so that
+      // the Python column can hold NaN.
+      {"perturbed_periods", K::kReal,
+       [](const V& v) { return OrMissing(v.perturbed_periods >= 0, static_cast<double>(v.perturbed_periods)); }},
       {"energy_drift", K::kReal, [](const V& v) -> Cell { return v.energy_drift; }},
       {"wall_time_s", K::kReal, [](const V& v) -> Cell { return v.wall_time_s; }},
       {"consistent", K::kBool, [](const V& v) -> Cell { return v.consistent; }},

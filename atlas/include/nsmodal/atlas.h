@@ -75,6 +75,11 @@ Sweep ComputeSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, 
 std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts,
                                   const SweepOptions& options = {});
 
+// The potential orbits of the grid with each number of impacts in `impacts`
+// (1 and/or 2), period by period and in that order: what `validate` checks.
+std::vector<Orbit> PotentialOrbits(const AnalysisBasis& b, const PeriodGrid& grid, const std::vector<int>& impacts,
+                                   const SweepOptions& options = {});
+
 // The transitions of the admissible 1-ipp zones seen on a 1-ipp sweep.
 std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& one);
 

@@ -1,0 +1,463 @@
+// The Python face of nsmodal: the same library calls as the CLI, NumPy arrays
+// in and out. Tables come back as dicts of column arrays keyed as the CSV
+// columns (report/tables.h declares both); documents (a simulation summary,
+// a validation summary, an orbit) as the dicts of their JSON files.
+#include <pybind11/complex.h>
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "nsmodal/atlas.h"
+#include "nsmodal/error.h"
+#include "nsmodal/json.h"
+#include "nsmodal/modal_basis.h"
+#include "nsmodal/model.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/output.h"
+#include "nsmodal/scene.h"
+#include "nsmodal/simulate.h"
+#include "nsmodal/stability.h"
+#include "nsmodal/tables.h"
+#include "nsmodal/two_impact.h"
+#include "nsmodal/validate.h"
+
+namespace py = pybind11;
+using namespace nsmodal;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A JSON document as Python objects (through the json module: the dict is
+// exactly what the command writes to its file).
+py::object ToPython(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+// Columns of a table as a dict of arrays: real columns float64 (NaN where
+// missing), integer columns int64, boolean columns bool (False where
+// missing), text columns lists of str.
+template <class Row>
+py::dict TableDict(const report::Columns<Row>& columns, const std::vector<const Row*>& rows) {
+  py::dict out;
+  const py::ssize_t n = static_cast<py::ssize_t>(rows.size());
+  for (const report::Column<Row>& col : columns) {
+    switch (col.kind) {
+      case report::ColumnKind::kReal: {
+        py::array_t<double> a(n);
+        auto w = a.mutable_unchecked<1>();
+        for (py::ssize_t i = 0; i < n; ++i) {
+          const report::Cell c = col.cell(*rows[i]);
+          w(i) = std::holds_alternative<double>(c) ? std::get<double>(c) : kNaN;
+        }
+        out[py::str(col.name)] = a;
+        break;
+      }
+      case report::ColumnKind::kInteger: {
+        py::array_t<long> a(n);
+        auto w = a.mutable_unchecked<1>();
+        for (py::ssize_t i = 0; i < n; ++i) w(i) = std::get<long>(col.cell(*rows[i]));
+        out[py::str(col.name)] = a;
+        break;
+      }
+      case report::ColumnKind::kBool: {
+        py::array_t<bool> a(n);
+        auto w = a.mutable_unchecked<1>();
+        for (py::ssize_t i = 0; i < n; ++i) {
+          const report::Cell c = col.cell(*rows[i]);
+          w(i) = std::holds_alternative<bool>(c) && std::get<bool>(c);
+        }
+        out[py::str(col.name)] = a;
+        break;
+      }
+      case report::ColumnKind::kText: {
+        py::list l;
+        for (py::ssize_t i = 0; i < n; ++i) {
+          const report::Cell c = col.cell(*rows[i]);
+          l.append(std::holds_alternative<std::string>(c) ? std::get<std::string>(c) : std::string());
+        }
+        out[py::str(col.name)] = l;
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+template <class Row>
+std::vector<const Row*> Pointers(const std::vector<Row>& rows) {
+  std::vector<const Row*> p;
+  p.reserve(rows.size());
+  for (const Row& r : rows) p.push_back(&r);
+  return p;
+}
+
+// The orbits table of a sweep, with x, v (rows x N) and the multipliers
+// (rows x 2N, complex, NaN where not computed) as matrices too.
+py::dict OrbitsDict(const Sweep& sweep, int dofs) {
+  std::vector<const OrbitRecord*> rows;
+  for (const auto& list : sweep.at) {
+    for (const OrbitRecord& r : list) rows.push_back(&r);
+  }
+  py::dict d = TableDict(report::OrbitColumns(dofs), rows);
+  const long n = static_cast<long>(rows.size());
+  Eigen::MatrixXd x(n, dofs), v(n, dofs);
+  Eigen::MatrixXcd mu = Eigen::MatrixXcd::Constant(n, 2 * dofs, std::complex<double>(kNaN, kNaN));
+  for (long i = 0; i < n; ++i) {
+    x.row(i) = rows[i]->orbit.z0.head(dofs).transpose();
+    v.row(i) = rows[i]->orbit.z0.tail(dofs).transpose();
+    if (rows[i]->stability) mu.row(i) = rows[i]->stability->multipliers.transpose();
+  }
+  d["x"] = x;
+  d["v"] = v;
+  d["multipliers"] = mu;
+  d["impacts"] = sweep.impacts;
+  return d;
+}
+
+// A grid from (from, to, step), "FROM:TO:STEP", or one period.
+PeriodGrid GridOf(const py::object& period) {
+  if (py::isinstance<py::str>(period)) return PeriodGrid::Parse(period.cast<std::string>(), "period");
+  if (py::isinstance<py::float_>(period) || py::isinstance<py::int_>(period)) {
+    const double t = period.cast<double>();
+    PeriodGrid g{t, t, 1.0};
+    g.Validate("period");
+    return g;
+  }
+  std::vector<double> v;
+  try {
+    v = period.cast<std::vector<double>>();
+  } catch (const py::cast_error&) {
+    throw InputError("period", "expects (from, to, step), 'FROM:TO:STEP' or one period");
+  }
+  if (v.size() != 3) throw InputError("period", "expects (from, to, step), got " + std::to_string(v.size()) + " values");
+  PeriodGrid g{v[0], v[1], v[2]};
+  g.Validate("period");
+  return g;
+}
+
+StabilityPolicy PolicyOf(const std::string& name) {
+  if (name == "none") return StabilityPolicy::kNone;
+  if (name == "potential") return StabilityPolicy::kPotential;
+  if (name == "admissible") return StabilityPolicy::kAdmissible;
+  throw InputError("stability", "expects 'none', 'potential' or 'admissible', got '" + name + "'");
+}
+
+Eigen::VectorXd VectorOf(const std::vector<double>& v) {
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<long>(v.size()));
+}
+
+Model MakeModel(std::optional<std::vector<double>> masses, std::optional<std::vector<double>> springs,
+                std::optional<Eigen::MatrixXd> mass_matrix, std::optional<Eigen::MatrixXd> stiffness_matrix,
+                double gap, double restitution, std::optional<int> contact_dof) {
+  Model m;
+  const bool chain = masses || springs, matrices = mass_matrix || stiffness_matrix;
+  if (chain == matrices) {
+    throw InputError("masses", "give masses and springs (a chain), or mass_matrix and stiffness_matrix, not both");
+  }
+  if (chain) {
+    if (!masses || !springs) throw InputError(masses ? "springs" : "masses", "is missing: a chain needs both");
+    const int n = static_cast<int>(masses->size());
+    m = MakeChain(*masses, *springs, contact_dof ? *contact_dof - 1 : n - 1, gap, restitution);
+  } else {
+    if (!mass_matrix || !stiffness_matrix) {
+      throw InputError(mass_matrix ? "stiffness_matrix" : "mass_matrix", "is missing: give both matrices");
+    }
+    m.mass = *mass_matrix;
+    m.stiffness = *stiffness_matrix;
+    m.contact = contact_dof ? *contact_dof - 1 : static_cast<int>(mass_matrix->rows()) - 1;
+    m.gap = gap;
+    m.restitution = restitution;
+  }
+  Validate(m);
+  return m;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(nsmodal, mod) {
+  mod.doc() = R"doc(nsmodal: nonsmooth modal analysis of vibro-impact oscillators.
+
+Masses and springs, one rigid obstacle x_c <= d, a Newton impact law
+v_c(t+) = -e v_c(t-). Periodic orbits with m impacts per period come from the
+kernel of the return map A_m (Thorin, Legrand, Junca 2015); families of them,
+drawn in frequency-energy plots, are the system's nonsmooth modes.
+
+    import nsmodal
+    m = nsmodal.load_scene("configs/paper.toml")
+    m.linear_periods                       # array([ 2.97..., 10.18...])
+    o = nsmodal.orbits(m, impacts=1, period=(0.05, 40.0, 0.01))
+    o["T"][o["admissible"]], o["energy"][o["admissible"]]
+    tr = nsmodal.transitions(m, period=(0.05, 40.0, 0.01))
+    s = nsmodal.simulate(m, x0=[0.5, 0.0], v0=[0.5, 1.2], t_end=1000.0)
+
+Bad input raises ValueError naming the field (as a scene file or the CLI
+would name it); a file that cannot be written raises OSError.)doc";
+
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const report::OutputError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
+    }
+  });
+
+  py::class_<Model>(mod, "Model", R"doc(A vibro-impact system: M x'' + K x = 0 in flight, x_c <= d, Newton's law.
+
+Model(masses=None, springs=None, mass_matrix=None, stiffness_matrix=None, *,
+      gap, restitution, contact_dof=None)
+
+Either a chain (masses m_1..m_N and springs ground-m_1, m_1-m_2, ...) or
+symmetric positive-definite mass and stiffness matrices. contact_dof is
+1-based (default: the last dof); gap d > 0; restitution e in [0, 1]
+(periodic-orbit analysis needs e = 1; simulation takes any e).)doc")
+      .def(py::init(&MakeModel), py::arg("masses") = py::none(), py::arg("springs") = py::none(),
+           py::arg("mass_matrix") = py::none(), py::arg("stiffness_matrix") = py::none(), py::kw_only(),
+           py::arg("gap"), py::arg("restitution"), py::arg("contact_dof") = py::none())
+      .def_property_readonly("dofs", &Model::dofs, "Number of degrees of freedom N.")
+      .def_property_readonly("mass_matrix", [](const Model& m) { return m.mass; }, "M (N x N).")
+      .def_property_readonly("stiffness_matrix", [](const Model& m) { return m.stiffness; }, "K (N x N).")
+      .def_property_readonly("contact_dof", [](const Model& m) { return m.contact + 1; }, "c, 1-based.")
+      .def_property_readonly("gap", [](const Model& m) { return m.gap; }, "d.")
+      .def_property_readonly("restitution", [](const Model& m) { return m.restitution; }, "e.")
+      .def_property_readonly(
+          "linear_periods",
+          [](const Model& m) {
+            Eigen::VectorXd t = MakeModalBasis(m).Periods();
+            std::sort(t.data(), t.data() + t.size());
+            return t;
+          },
+          "Periods 2 pi / w_i of the linear modes, ascending (NumPy array).")
+      .def("__repr__", [](const Model& m) {
+        return "<nsmodal.Model: " + std::to_string(m.dofs()) + " dofs, contact_dof " + std::to_string(m.contact + 1) +
+               ", gap " + FormatValue(m.gap) + ", restitution " + FormatValue(m.restitution) + ">";
+      });
+
+  mod.def(
+      "load_scene", [](const std::string& path) { return LoadScene(path).model; }, py::arg("path"),
+      R"doc(The model of a scene file (TOML, the [system] table; see configs/paper.toml).)doc");
+
+  mod.def(
+      "orbits",
+      [](const Model& model, int impacts, const py::object& period, const std::string& stability, double t2_step,
+         int threads) {
+        const AnalysisBasis b(model);
+        const PeriodGrid grid = GridOf(period);
+        SweepOptions opt;
+        opt.stability = PolicyOf(stability);
+        opt.two_impact.t2_step = t2_step;
+        opt.threads = threads;
+        Sweep sweep;
+        {
+          py::gil_scoped_release release;
+          sweep = ComputeSweep(b, grid, impacts, opt);
+        }
+        return OrbitsDict(sweep, b.n);
+      },
+      py::arg("model"), py::arg("impacts") = 1, py::arg("period"), py::arg("stability") = "potential",
+      py::arg("t2_step") = 0.01, py::arg("threads") = 0,
+      R"doc(Potential orbits with 1 or 2 impacts per period over a grid of periods.
+
+period: (from, to, step), "FROM:TO:STEP" or one period T.
+stability: which orbits get Floquet multipliers: "potential" (default),
+"admissible" or "none".
+
+Returns a dict of NumPy arrays, one entry per orbit, keyed as the columns of
+orbits.csv: "T", "t2" (NaN for one impact), "energy", "potential",
+"admissible", "periodicity_residual", "nc2_residual", "nc3_margin",
+"degenerate", "x1".."xN", "v1".."vN" (the state just after the impact at
+t = 0), "stable" (False where not computed), "max_multiplier" (NaN where not
+computed), "mu1_re", "mu1_im", ...; and "x", "v" (rows x N) and
+"multipliers" (rows x 2N, complex, sorted by decreasing modulus).
+Needs restitution = 1 (ValueError naming system.restitution otherwise).)doc");
+
+  mod.def(
+      "orbit",
+      [](const Model& model, double period, int impacts, double t2_step) {
+        const AnalysisBasis b(model);
+        SweepOptions opt;
+        opt.two_impact.t2_step = t2_step;
+        PeriodGrid{period, period, 1.0}.Validate("period");
+        py::list out;
+        for (const OrbitRecord& r : OrbitsAt(b, period, impacts, opt)) out.append(ToPython(report::OrbitJson(r)));
+        return out;
+      },
+      py::arg("model"), py::arg("period"), py::arg("impacts") = 1, py::arg("t2_step") = 0.01,
+      R"doc(Every potential orbit of period T as a list of dicts (as `nsmodal orbit --json`):
+"T", "impact_times", "t2", "energy", "potential", "admissible", "degenerate",
+residuals, "nc3_margin", "x", "v", "reason", "stable", "max_multiplier",
+"multipliers" ([re, im] pairs).)doc");
+
+  mod.def(
+      "transitions",
+      [](const Model& model, const py::object& period) {
+        const AnalysisBasis b(model);
+        const PeriodGrid grid = GridOf(period);
+        std::vector<Transition> tr;
+        {
+          py::gil_scoped_release release;
+          SweepOptions opt;
+          opt.stability = StabilityPolicy::kNone;
+          tr = SweepTransitions(b, ComputeSweep(b, grid, 1, opt));
+        }
+        return TableDict(report::TransitionColumns(), Pointers(tr));
+      },
+      py::arg("model"), py::arg("period"),
+      R"doc(Transitions of the admissible 1-ipp zones seen on the grid (paper section 2.1):
+dict of arrays "T", "kind" (list of "singular", "modal", "grazing"), "energy"
+(inf at a singular transition).)doc");
+
+  mod.def(
+      "atlas",
+      [](const Model& model, const py::object& period, int threads) {
+        const AnalysisBasis b(model);
+        const PeriodGrid grid = GridOf(period);
+        AtlasOptions opt;
+        opt.sweep.threads = threads;
+        Atlas a;
+        {
+          py::gil_scoped_release release;
+          a = ComputeAtlas(b, grid, opt);
+        }
+        py::dict d;
+        d["one"] = OrbitsDict(a.one, b.n);
+        d["two"] = OrbitsDict(a.two, b.n);
+        d["transitions"] = TableDict(report::TransitionColumns(), Pointers(a.transitions));
+        d["bridges"] = TableDict(report::BridgeColumns(), Pointers(a.bridges));
+        d["doublings"] = VectorOf(a.doublings);
+        d["notes"] = a.notes;
+        return d;
+      },
+      py::arg("model"), py::arg("period"), py::arg("threads") = 0,
+      R"doc(The whole picture over a grid: dict with "one" and "two" (as orbits(),
+stability of the admissible orbits), "transitions", "bridges" ("T", "t2",
+"energy_min", "energy_max", "s_begin", "s_end", "kind"), "doublings" (the
+periods T* where a 1-ipp orbit has a Floquet multiplier at -1) and "notes".)doc");
+
+  mod.def(
+      "multipliers",
+      [](const Model& model, double period, int impacts, std::optional<double> t2) {
+        const AnalysisBasis b(model);
+        PeriodGrid{period, period, 1.0}.Validate("period");
+        Orbit o;
+        if (impacts == 1) {
+          o = OneImpactOrbit(b, period);
+        } else if (impacts == 2) {
+          if (!t2) throw InputError("t2", "is needed for two impacts per period");
+          const TwoImpactOptions two;
+          if (!(TwoImpactKernelResidual(b, *t2, period) < two.kernel_tol)) {
+            throw InputError("t2", "(t2, T) = (" + FormatValue(*t2) + ", " + FormatValue(period) +
+                                       ") is not a root of det A_2 (see orbits(..., impacts=2))");
+          }
+          o = TwoImpactOrbitAt(b, *t2, period, two);
+        } else {
+          throw InputError("impacts", "multipliers takes 1 or 2, got " + std::to_string(impacts));
+        }
+        if (!o.potential) throw InputError("period", "no potential orbit at T = " + FormatValue(period) + ": " + o.reason);
+        return Eigen::VectorXcd(OrbitStability(b, o).multipliers);
+      },
+      py::arg("model"), py::arg("period"), py::arg("impacts") = 1, py::arg("t2") = py::none(),
+      R"doc(Floquet multipliers (complex array, decreasing modulus) of the 1-ipp orbit of
+period T, or of the 2-ipp orbit at the root (t2, T): eigenvalues of the
+monodromy with the impact saltation matrices. Two are the trivial pair at 1.)doc");
+
+  mod.def(
+      "simulate",
+      [](const Model& model, const std::vector<double>& x0, std::optional<std::vector<double>> v0, double t_end,
+         const std::string& integrator, double rtol, double atol, const std::string& method, double step,
+         double theta, double root_tol, double sample_dt) {
+        SimulateOptions opt;
+        opt.integrator = ParseIntegrator(integrator, "integrator");
+        opt.t_end = t_end;
+        opt.rtol = rtol;
+        opt.atol = atol;
+        opt.cvode_method = method;
+        opt.step = step;
+        opt.theta = theta;
+        opt.root_tol = root_tol;
+        opt.sample_dt = sample_dt;
+        const int n = model.dofs();
+        const Eigen::VectorXd x = VectorOf(x0);
+        const Eigen::VectorXd v = v0 ? VectorOf(*v0) : Eigen::VectorXd::Zero(n);
+        std::vector<report::Sample> samples;
+        std::vector<ContactEvent> impacts;
+        SimulationObserver obs;
+        obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
+          const double e = 0.5 * z.tail(n).dot(model.mass * z.tail(n)) + 0.5 * z.head(n).dot(model.stiffness * z.head(n));
+          samples.push_back({t, z, e});
+        };
+        obs.on_impact = [&](const ContactEvent& ev) { impacts.push_back(ev); };
+        SimulationSummary s;
+        {
+          py::gil_scoped_release release;
+          s = Simulate(model, x, v, opt, obs);
+        }
+        py::dict d = ToPython(report::SimulationJson(s, opt));
+        d["trajectory"] = TableDict(report::TrajectoryColumns(n), Pointers(samples));
+        d["impact_log"] = TableDict(report::ImpactColumns(n), Pointers(impacts));
+        return d;
+      },
+      py::arg("model"), py::arg("x0"), py::arg("v0") = py::none(), py::arg("t_end") = 100.0,
+      py::arg("integrator") = "exact", py::arg("rtol") = 1e-10, py::arg("atol") = 1e-12, py::arg("method") = "adams",
+      py::arg("step") = 1e-3, py::arg("theta") = 0.5, py::arg("root_tol") = 1e-14, py::arg("sample_dt") = 0.01,
+      R"doc(Simulate one initial condition, any restitution 0 <= e <= 1.
+
+integrator: "exact" (closed-form flight, guaranteed impact search; root_tol),
+"cvode" (SUNDIALS CVODE with root finding; rtol, atol, method "adams"|"bdf")
+or "moreau-jean" (time-stepping; step, theta). v0 defaults to rest.
+
+Returns the dict of summary.json ("status", "final_time", "final_state",
+"impacts", "grazes", "zeno_events", "sticking_time", "energy_drift", ...) plus
+"trajectory" (arrays "t", "x1".."xN", "v1".."vN", "energy", every sample_dt)
+and "impact_log" (arrays "t", "x1_before".., "x1_after"..).
+A run that stopped early has "status" != "finished" and says why in "message".)doc");
+
+  mod.def(
+      "validate",
+      [](const Model& model, const py::object& period, const std::vector<int>& impacts, int periods,
+         const std::vector<std::string>& integrators, double rtol, double atol, double step, int threads) {
+        const AnalysisBasis b(model);
+        const PeriodGrid grid = GridOf(period);
+        ValidateOptions opt;
+        opt.periods = periods;
+        opt.integrators.clear();
+        for (const std::string& name : integrators) opt.integrators.push_back(ParseIntegrator(name, "integrators"));
+        opt.simulate.rtol = rtol;
+        opt.simulate.atol = atol;
+        opt.simulate.step = step;
+        opt.threads = threads;
+        opt.Validate();
+        std::vector<OrbitValidation> results;
+        ValidationReport report;
+        {
+          py::gil_scoped_release release;
+          SweepOptions so;
+          so.stability = StabilityPolicy::kNone;
+          so.threads = threads;
+          const std::vector<Orbit> orbits = PotentialOrbits(b, grid, impacts, so);
+          results = ValidateOrbits(model, orbits, opt);
+          report = SummarizeValidation(results, opt, static_cast<long>(orbits.size()));
+        }
+        py::dict d;
+        d["rows"] = TableDict(report::ValidationColumns(), Pointers(results));
+        d["summary"] = ToPython(report::ValidationJson(report, results));
+        return d;
+      },
+      py::arg("model"), py::arg("period"), py::arg("impacts") = std::vector<int>{1, 2}, py::arg("periods") = 1000,
+      py::arg("integrators") = std::vector<std::string>{"exact"}, py::arg("rtol") = 1e-10, py::arg("atol") = 1e-12,
+      py::arg("step") = 1e-4, py::arg("threads") = 0,
+      R"doc(Validate the potential 1- and/or 2-ipp orbits of a grid by long simulations.
+
+Returns {"rows": arrays keyed as validation.csv, one per orbit and
+integrator, "summary": the dict of validate's summary.json, with "passed"}.)doc");
+
+  mod.attr("__version__") = NSMODAL_VERSION;
+}

@@ -1,0 +1,170 @@
+"""The Python face of nsmodal: the paper's facts in a few lines, the arrays'
+contract, and errors as Python exceptions naming the field."""
+import os
+
+import numpy as np
+import pytest
+
+import nsmodal
+
+SRC = os.environ.get("NSMODAL_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+PAPER = os.path.join(SRC, "configs", "paper.toml")
+
+
+@pytest.fixture(scope="module")
+def paper():
+    return nsmodal.load_scene(PAPER)
+
+
+def test_linear_periods_of_the_paper(paper):
+    # The paper prints T1 ~ 2.97 and T2 ~ 10.19: two decimals, so 0.005.
+    np.testing.assert_allclose(paper.linear_periods, [2.97, 10.19], atol=0.005)
+    assert paper.dofs == 2 and paper.contact_dof == 2 and paper.gap == 1.0
+
+
+def test_model_from_arrays_equals_the_scene(paper):
+    m = nsmodal.Model(masses=[1, 1], springs=[0.85, 2], gap=1.0, restitution=1.0, contact_dof=2)
+    np.testing.assert_array_equal(m.mass_matrix, paper.mass_matrix)
+    np.testing.assert_array_equal(m.stiffness_matrix, paper.stiffness_matrix)
+    k = m.stiffness_matrix
+    same = nsmodal.Model(mass_matrix=np.eye(2), stiffness_matrix=k, gap=1.0, restitution=1.0)
+    np.testing.assert_array_equal(same.linear_periods, m.linear_periods)
+
+
+def test_figure6_classification(paper):
+    # Fig. 6: det A_2(., T) has roots t2 != T/2 exactly for T in {3, 4, 5, 6, 9}
+    # among T = 1..10. The roots are exact to ~1e-12 (two_impact.h), so 1e-6 T
+    # separates "at T/2" from "away" with room to spare.
+    away = []
+    for period in range(1, 11):
+        o = nsmodal.orbits(paper, impacts=2, period=float(period))
+        if np.any(np.abs(o["t2"] - period / 2) > 1e-6 * period):
+            away.append(period)
+    assert away == [3, 4, 5, 6, 9]
+
+
+def test_one_impact_transitions(paper):
+    tr = nsmodal.transitions(paper, period=(0.05, 40.0, 0.01))
+    by_kind = {k: tr["T"][[x == k for x in tr["kind"]]] for k in ("singular", "modal", "grazing")}
+    # The README's values, printed to 3 decimals: 5e-4.
+    np.testing.assert_allclose(by_kind["singular"], [2.768, 4.834, 6.357], atol=5e-4)
+    np.testing.assert_allclose(by_kind["modal"], [2.972, 5.944, 8.916, 10.188, 20.376, 29.720], atol=5e-4)
+    np.testing.assert_allclose(by_kind["grazing"], [9.127, 19.242, 29.307], atol=5e-4)
+    # Modal transitions are multiples of the linear periods (eq. 24), exactly.
+    t1, t2 = paper.linear_periods
+    np.testing.assert_allclose(by_kind["modal"], [t1, 2 * t1, 3 * t1, t2, 2 * t2, 10 * t1], rtol=1e-12)
+    assert np.all(np.isinf(tr["energy"][[x == "singular" for x in tr["kind"]]]))
+
+
+def test_orbits_arrays_follow_the_csv_columns(paper):
+    o = nsmodal.orbits(paper, impacts=1, period=(2.0, 12.0, 0.01))
+    columns = ["T", "t2", "energy", "potential", "admissible", "periodicity_residual", "nc2_residual",
+               "nc3_margin", "degenerate", "x1", "x2", "v1", "v2", "stable", "max_multiplier"]
+    columns += [f"mu{k}_{p}" for k in range(1, 5) for p in ("re", "im")]
+    assert [k for k in o if k not in ("x", "v", "multipliers", "impacts")] == columns
+    n = len(o["T"])
+    assert n == 1001 and o["x"].shape == (n, 2) and o["multipliers"].shape == (n, 4)
+    assert o["admissible"].dtype == bool and np.all(np.isnan(o["t2"]))
+    np.testing.assert_array_equal(o["x"][:, 1], o["x2"])
+    # 1-ipp orbits start on the wall: x_c(0) = d (NC2), to round-off.
+    pot = o["potential"]
+    np.testing.assert_allclose(o["x2"][pot], 1.0, rtol=1e-12)
+    # T = 5 is stable (|lambda| = 1), T = 6.5 unstable (|lambda| = 2.398, as orbits.csv).
+    i5, i65 = np.argmin(abs(o["T"] - 5)), np.argmin(abs(o["T"] - 6.5))
+    assert o["stable"][i5] and abs(o["max_multiplier"][i5] - 1) < 1e-6
+    assert not o["stable"][i65] and abs(o["max_multiplier"][i65] - 2.398) < 1e-3
+    mu = nsmodal.multipliers(paper, 6.5)
+    np.testing.assert_allclose(abs(mu), abs(o["multipliers"][i65]), rtol=1e-12)
+
+
+def test_orbit_records_and_two_impact_multipliers(paper):
+    records = nsmodal.orbit(paper, 6.0, impacts=2)
+    assert len(records) >= 3
+    away = [r for r in records if abs(r["t2"] - 3.0) > 1e-6]
+    mu = nsmodal.multipliers(paper, 6.0, impacts=2, t2=away[0]["t2"])
+    assert mu.dtype == complex and len(mu) == 4
+    np.testing.assert_allclose(abs(mu[0]), away[0]["max_multiplier"], rtol=1e-12)
+    with pytest.raises(ValueError, match="t2"):
+        nsmodal.multipliers(paper, 6.0, impacts=2, t2=1.2345)
+
+
+def test_atlas_bridges(paper):
+    a = nsmodal.atlas(paper, period=(0.05, 20.0, 0.05))
+    b = a["bridges"]
+    grazing = b["T"][[k == "grazing" for k in b["kind"]]]
+    # The grazing transitions 9.127 and 19.242 below T = 20 each have a bridge;
+    # the paper's (19.242) spans E 0.36494..0.38871 (README, 5 digits).
+    np.testing.assert_allclose(grazing, [9.127, 19.242], atol=5e-4)
+    i = int(np.argmin(abs(b["T"] - 19.242)))
+    np.testing.assert_allclose([b["energy_min"][i], b["energy_max"][i]], [0.36494, 0.38871], atol=5e-6)
+    assert len(a["one"]["T"]) == len(a["one"]["energy"]) and len(a["two"]["t2"]) > len(a["one"]["T"])
+
+
+def test_simulate_returns_the_summary_and_arrays(paper):
+    s = nsmodal.simulate(paper, x0=[0.5, 0.0], v0=[0.5, 1.2], t_end=20.0, integrator="exact")
+    for key in ("status", "final_time", "final_state", "impacts", "grazes", "zeno_events", "sticking_time",
+                "energy_drift", "wall_time_s", "steps", "settings"):
+        assert key in s, key
+    assert s["status"] == "finished" and s["final_time"] == 20.0 and s["impacts"] > 0
+    tr = s["trajectory"]
+    assert list(tr) == ["t", "x1", "x2", "v1", "v2", "energy"] and len(tr["t"]) == 2001
+    # e = 1: energy conserved by the exact flight and impacts, to round-off.
+    assert s["energy_drift"] < 1e-12
+    np.testing.assert_allclose(tr["energy"], tr["energy"][0], rtol=1e-12)
+    log = s["impact_log"]
+    assert len(log["t"]) == s["impacts"]
+    np.testing.assert_allclose(log["x2_before"], 1.0, rtol=1e-9)
+    np.testing.assert_allclose(log["v2_after"], -log["v2_before"], rtol=1e-12)
+    for integrator in ("cvode", "moreau-jean"):
+        other = nsmodal.simulate(paper, x0=[0.5, 0.0], v0=[0.5, 1.2], t_end=20.0, integrator=integrator, step=1e-4)
+        assert other["status"] == "finished" and other["impacts"] == s["impacts"]
+
+
+def test_simulate_any_restitution():
+    m = nsmodal.Model(masses=[1, 1], springs=[0.85, 2], gap=1.0, restitution=0.5)
+    s = nsmodal.simulate(m, x0=[0.0, 0.5], v0=[0.0, 1.0], t_end=30.0)
+    assert s["status"] == "finished" and s["final_energy"] < s["initial_energy"]
+    with pytest.raises(ValueError, match="system.restitution"):
+        nsmodal.orbits(m, impacts=1, period=(1.0, 2.0, 0.5))
+
+
+def test_validate_small_batch(paper):
+    v = nsmodal.validate(paper, period=(5.0, 8.0, 1.0), periods=50, integrators=["exact", "cvode"])
+    rows, summary = v["rows"], v["summary"]
+    assert summary["passed"] and summary["integrators"]["exact"]["inconsistent"] == 0
+    assert len(rows["T"]) == 2 * summary["orbits"] and set(rows["integrator"]) == {"exact", "cvode"}
+
+
+@pytest.mark.parametrize("call, field", [
+    (lambda: nsmodal.Model(masses=[1, -1], springs=[1, 1], gap=1.0, restitution=1.0), "system.masses"),
+    (lambda: nsmodal.Model(masses=[1, 1], springs=[1, 1], gap=0.0, restitution=1.0), "system.gap"),
+    (lambda: nsmodal.Model(masses=[1, 1], springs=[1, 1], gap=1.0, restitution=1.0, contact_dof=5),
+     "system.contact_dof"),
+    (lambda: nsmodal.Model(mass_matrix=[[1, 2], [2, 1]], stiffness_matrix=np.eye(2), gap=1.0, restitution=1.0),
+     "system.mass_matrix"),
+    (lambda: nsmodal.load_scene("/nonexistent.toml"), "scene"),
+])
+def test_bad_models_raise_value_error_naming_the_field(call, field):
+    with pytest.raises(ValueError, match=field):
+        call()
+
+
+def test_bad_arguments_raise_value_error_naming_the_field(paper):
+    with pytest.raises(ValueError, match="period"):
+        nsmodal.orbits(paper, period=(5.0, 1.0, 0.1))
+    with pytest.raises(ValueError, match="period"):
+        nsmodal.orbits(paper, period=(1.0, 2.0))
+    with pytest.raises(ValueError, match="impacts"):
+        nsmodal.orbits(paper, impacts=3, period=2.0)
+    with pytest.raises(ValueError, match="integrator"):
+        nsmodal.simulate(paper, x0=[0, 0], integrator="euler")
+    with pytest.raises(ValueError, match="initial_position"):
+        nsmodal.simulate(paper, x0=[0, 1.5])
+    with pytest.raises(ValueError, match="stability"):
+        nsmodal.orbits(paper, period=2.0, stability="some")
+
+
+def test_docstrings_for_help():
+    for f in (nsmodal.orbits, nsmodal.transitions, nsmodal.simulate, nsmodal.validate, nsmodal.atlas,
+              nsmodal.multipliers, nsmodal.Model):
+        assert f.__doc__ and len(f.__doc__) > 100, f

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs build/ into a temporary prefix, then builds and runs a consumer
+# project against it (find_package(nsmodal COMPONENTS ...)) and imports the
+# Python module from the install. CI runs it after the tests.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+src=$PWD
+prefix=$(mktemp -d)
+work=$(mktemp -d)
+trap 'rm -rf "$prefix" "$work"' EXIT
+cmake --install build --prefix "$prefix" >/dev/null
+cmake -S tests/consumer -B "$work" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$work" -j"$(nproc)" >/dev/null
+"$work/consumer"
+site=$(find "$prefix" -name 'nsmodal.cpython-*.so' -printf '%h\n' | head -1)
+[ -n "$site" ] || { echo "the Python module was not installed" >&2; exit 1; }
+(cd "$work" && PYTHONPATH="$site" /usr/bin/python3 -c "
+import nsmodal
+m = nsmodal.load_scene('$src/configs/paper.toml')
+print('python module from the install:', nsmodal.__file__, m.linear_periods)
+")
+echo "install check: 1 passed, 0 failed"
