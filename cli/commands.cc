@@ -189,17 +189,20 @@ int RunValidate(const ValidateArgs& a) {
     if (m != 1 && m != 2) throw InputError("--impacts", "takes 1 and/or 2, got " + std::to_string(m));
   }
   ValidateOptions opt;
-  opt.periods = a.periods ? *a.periods : sec.periods ? *sec.periods : 1000;
+  FieldNames names("validate.");
+  const std::optional<double> none;
+  opt.periods = Pick(a.periods, "--periods", sec.periods, "validate.periods", opt.periods, "periods", names);
+  const std::vector<std::string> integrators =
+      Pick(a.integrators, "--integrators", sec.integrators, "validate.integrators", std::vector<std::string>{"exact"},
+           "integrators", names);
   opt.integrators.clear();
-  for (const std::string& name :
-       a.integrators ? *a.integrators : sec.integrators ? *sec.integrators : std::vector<std::string>{"exact"}) {
-    opt.integrators.push_back(ParseIntegrator(name, a.integrators ? "--integrators" : "validate.integrators"));
-  }
-  opt.simulate.rtol = a.rtol ? *a.rtol : 1e-10;
-  opt.simulate.atol = a.atol ? *a.atol : 1e-12;
-  opt.simulate.step = a.step ? *a.step : 1e-4;
+  for (const std::string& name : integrators) opt.integrators.push_back(ParseIntegrator(name, names("integrators")));
+  opt.simulate.rtol = Pick(a.rtol, "--rtol", none, "", 1e-10, "rtol", names);
+  opt.simulate.atol = Pick(a.atol, "--atol", none, "", 1e-12, "atol", names);
+  opt.simulate.step = Pick(a.step, "--step", none, "", 1e-4, "step", names);
+  opt.simulate.root_tol = Pick(a.root_tol, "--root-tol", none, "", opt.simulate.root_tol, "root_tol", names);
   opt.threads = a.threads;
-  opt.Validate();
+  opt.Validate(names);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"validation.csv", "summary.json"});
 
   // The potential orbits of the grid, admissible or not, period by period.
@@ -245,17 +248,18 @@ int RunSimulate(const SimulateArgs& a) {
   const Scene scene = LoadScene(a.scene);
   const SimulateSection& sec = scene.simulate;
   SimulateOptions opt;
-  auto pick = [](const auto& flag, const auto& table, auto fallback) { return flag ? *flag : table ? *table : fallback; };
-  opt.integrator = ParseIntegrator(pick(a.integrator, sec.integrator, std::string("exact")),
-                                   a.integrator ? "--integrator" : "simulate.integrator");
-  opt.cvode_method = pick(a.method, sec.method, opt.cvode_method);
-  opt.t_end = pick(a.t_end, sec.t_end, opt.t_end);
-  opt.rtol = pick(a.rtol, sec.rtol, opt.rtol);
-  opt.atol = pick(a.atol, sec.atol, opt.atol);
-  opt.step = pick(a.step, sec.step, opt.step);
-  opt.theta = pick(a.theta, sec.theta, opt.theta);
-  opt.root_tol = pick(a.root_tol, sec.root_tol, opt.root_tol);
-  opt.sample_dt = pick(a.sample_dt, sec.sample_dt, opt.sample_dt);
+  FieldNames names("simulate.");
+  const std::string integrator =
+      Pick(a.integrator, "--integrator", sec.integrator, "simulate.integrator", std::string("exact"), "integrator", names);
+  opt.integrator = ParseIntegrator(integrator, names("integrator"));
+  opt.cvode_method = Pick(a.method, "--method", sec.method, "simulate.method", opt.cvode_method, "method", names);
+  opt.t_end = Pick(a.t_end, "--t-end", sec.t_end, "simulate.t_end", opt.t_end, "t_end", names);
+  opt.rtol = Pick(a.rtol, "--rtol", sec.rtol, "simulate.rtol", opt.rtol, "rtol", names);
+  opt.atol = Pick(a.atol, "--atol", sec.atol, "simulate.atol", opt.atol, "atol", names);
+  opt.step = Pick(a.step, "--step", sec.step, "simulate.step", opt.step, "step", names);
+  opt.theta = Pick(a.theta, "--theta", sec.theta, "simulate.theta", opt.theta, "theta", names);
+  opt.root_tol = Pick(a.root_tol, "--root-tol", sec.root_tol, "simulate.root_tol", opt.root_tol, "root_tol", names);
+  opt.sample_dt = Pick(a.sample_dt, "--sample-dt", sec.sample_dt, "simulate.sample_dt", opt.sample_dt, "sample_dt", names);
   const int n = scene.model.dofs();
   const auto x0v = a.x0 ? a.x0 : sec.initial_position;
   if (!x0v) throw InputError("simulate.initial_position", "is missing: give it in [simulate] or with --x0");
@@ -263,7 +267,7 @@ int RunSimulate(const SimulateArgs& a) {
   const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(x0v->data(), static_cast<long>(x0v->size()));
   const Eigen::VectorXd v0 = Eigen::Map<const Eigen::VectorXd>(v0v.data(), static_cast<long>(v0v.size()));
 
-  opt.Validate();
+  opt.Validate(names);
   Validate(scene.model);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"trajectory.csv", "impacts.csv", "summary.json"});
   report::ResultFile traj(dir, "trajectory.csv");

@@ -40,7 +40,7 @@ struct ValidateArgs {
   std::optional<std::vector<int>> impacts;
   std::optional<int> periods;
   std::optional<std::vector<std::string>> integrators;
-  std::optional<double> rtol, atol, step;
+  std::optional<double> rtol, atol, step, root_tol;
   int threads = 0;
 };
 

@@ -64,6 +64,7 @@ int main(int argc, char** argv) {
   c_val->add_option("--rtol", validate.rtol, "CVODE relative tolerance (default 1e-10)");
   c_val->add_option("--atol", validate.atol, "CVODE absolute tolerance (default 1e-12)");
   c_val->add_option("--step", validate.step, "Moreau-Jean step (default 1e-4)");
+  c_val->add_option("--root-tol", validate.root_tol, "Exact integrator contact tolerance (default 1e-14)");
   c_val->add_option("--threads", validate.threads, "Worker threads (0: all cores)")->default_val(0);
 
   BenchArgs bench;

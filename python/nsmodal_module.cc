@@ -384,6 +384,7 @@ monodromy with the impact saltation matrices. Two are the trivial pair at 1.)doc
         opt.theta = theta;
         opt.root_tol = root_tol;
         opt.sample_dt = sample_dt;
+        opt.Validate(FieldNames());  // errors name the keyword: "rtol", not "simulate.rtol"
         const int n = model.dofs();
         const Eigen::VectorXd x = VectorOf(x0);
         const Eigen::VectorXd v = v0 ? VectorOf(*v0) : Eigen::VectorXd::Zero(n);
@@ -434,7 +435,7 @@ A run that stopped early has "status" != "finished" and says why in "message".)d
         opt.simulate.atol = atol;
         opt.simulate.step = step;
         opt.threads = threads;
-        opt.Validate();
+        opt.Validate(FieldNames());
         std::vector<OrbitValidation> results;
         ValidationReport report;
         {

@@ -160,6 +160,10 @@ def test_bad_arguments_raise_value_error_naming_the_field(paper):
         nsmodal.simulate(paper, x0=[0, 0], integrator="euler")
     with pytest.raises(ValueError, match="initial_position"):
         nsmodal.simulate(paper, x0=[0, 1.5])
+    with pytest.raises(ValueError, match="^rtol"):
+        nsmodal.simulate(paper, x0=[0, 0], rtol=-1.0)
+    with pytest.raises(ValueError, match="^step"):
+        nsmodal.validate(paper, period=5.0, step=-1.0)
     with pytest.raises(ValueError, match="stability"):
         nsmodal.orbits(paper, period=2.0, stability="some")
 

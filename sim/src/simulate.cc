@@ -34,32 +34,33 @@ Integrator ParseIntegrator(const std::string& name, const std::string& field) {
   throw InputError(field, "must be exact, cvode or moreau-jean, got '" + name + "'");
 }
 
-void SimulateOptions::Validate() const {
-  auto positive = [](double v, const char* field) {
+void SimulateOptions::Validate(const FieldNames& name) const {
+  auto positive = [&](double v, const char* key) {
+    const std::string field = name(key);
     if (!(v > 0.0) || !std::isfinite(v)) throw InputError(field, "must be positive and finite, got " + FormatValue(v));
   };
-  positive(t_end, "simulate.t_end");
+  positive(t_end, "t_end");
   if (!(sample_dt >= 0.0) || !std::isfinite(sample_dt)) {
-    throw InputError("simulate.sample_dt", "must be >= 0 and finite, got " + FormatValue(sample_dt));
+    throw InputError(name("sample_dt"), "must be >= 0 and finite, got " + FormatValue(sample_dt));
   }
   if (sample_dt > 0.0 && t_end / sample_dt > 1e8) {
-    throw InputError("simulate.sample_dt", "gives more than 1e8 samples over t_end = " + FormatValue(t_end));
+    throw InputError(name("sample_dt"), "gives more than 1e8 samples over t_end = " + FormatValue(t_end));
   }
-  positive(root_tol, "simulate.root_tol");
-  if (root_tol >= 1e-3) throw InputError("simulate.root_tol", "must be below 1e-3, got " + FormatValue(root_tol));
-  positive(rtol, "simulate.rtol");
-  positive(atol, "simulate.atol");
-  if (rtol < 1e-15) throw InputError("simulate.rtol", "below 1e-15 is beyond double precision, got " + FormatValue(rtol));
+  positive(root_tol, "root_tol");
+  if (root_tol >= 1e-3) throw InputError(name("root_tol"), "must be below 1e-3, got " + FormatValue(root_tol));
+  positive(rtol, "rtol");
+  positive(atol, "atol");
+  if (rtol < 1e-15) throw InputError(name("rtol"), "below 1e-15 is beyond double precision, got " + FormatValue(rtol));
   if (cvode_method != "bdf" && cvode_method != "adams") {
-    throw InputError("simulate.method", "must be bdf or adams, got '" + cvode_method + "'");
+    throw InputError(name("method"), "must be bdf or adams, got '" + cvode_method + "'");
   }
-  positive(step, "simulate.step");
+  positive(step, "step");
   if (integrator == Integrator::kMoreauJean && t_end / step > 1e10) {
-    throw InputError("simulate.step", "gives more than 1e10 steps over t_end = " + FormatValue(t_end));
+    throw InputError(name("step"), "gives more than 1e10 steps over t_end = " + FormatValue(t_end));
   }
-  if (!(theta >= 0.5 && theta <= 1.0)) throw InputError("simulate.theta", "must lie in [0.5, 1], got " + FormatValue(theta));
-  positive(zeno_flight, "simulate.zeno_flight");
-  if (max_steps <= 0) throw InputError("simulate.max_steps", "must be positive");
+  if (!(theta >= 0.5 && theta <= 1.0)) throw InputError(name("theta"), "must lie in [0.5, 1], got " + FormatValue(theta));
+  positive(zeno_flight, "zeno_flight");
+  if (max_steps <= 0) throw InputError(name("max_steps"), "must be positive");
 }
 
 SimulationSummary Simulate(const Model& model, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,

@@ -160,15 +160,15 @@ std::vector<double> PerturbedRun(const Model& model, const AnalysisBasis& b, con
 
 }  // namespace
 
-void ValidateOptions::Validate() const {
+void ValidateOptions::Validate(const FieldNames& names) const {
   if (periods < 1 || periods > 100000000) {
-    throw InputError("validate.periods", "must lie in [1, 1e8], got " + std::to_string(periods));
+    throw InputError(names("periods"), "must lie in [1, 1e8], got " + std::to_string(periods));
   }
-  if (integrators.empty()) throw InputError("validate.integrators", "must name at least one integrator");
+  if (integrators.empty()) throw InputError(names("integrators"), "must name at least one integrator");
   if (!(perturbation > 0.0 && perturbation < 0.1)) {
-    throw InputError("validate.perturbation", "must lie in (0, 0.1), got " + FormatValue(perturbation));
+    throw InputError(names("perturbation"), "must lie in (0, 0.1), got " + FormatValue(perturbation));
   }
-  simulate.Validate();
+  simulate.Validate(names);
 }
 
 OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator integrator,

@@ -26,6 +26,7 @@
 #include <functional>
 #include <string>
 
+#include "nsmodal/field_names.h"
 #include "nsmodal/model.h"
 
 namespace nsmodal {
@@ -54,8 +55,9 @@ struct SimulateOptions {
   double zeno_flight = 1e-9;
   long max_steps = 2000000000;
 
-  // Throws InputError naming the field ("simulate.t_end", ...).
-  void Validate() const;
+  // Throws InputError naming the field: names("t_end"), "simulate.t_end"
+  // unless the caller says where the value came from (field_names.h).
+  void Validate(const FieldNames& names = FieldNames("simulate.")) const;
 };
 
 struct ContactEvent {

@@ -49,7 +49,9 @@ struct ValidateOptions {
   double perturbation = 1e-6;
   double exact_periodicity = 1e-9;  // exact: a stable orbit stays within this
   int threads = 0;                  // worker threads of ValidateOrbits (0: all cores)
-  void Validate() const;          // throws InputError naming the field
+  // Throws InputError naming the field: names("periods"), names("step"), ...
+  // ("validate.periods" unless the caller says where the value came from).
+  void Validate(const FieldNames& names = FieldNames("validate.")) const;
 };
 
 struct OrbitValidation {
