@@ -18,6 +18,8 @@
 #include "nsmodal/atlas.h"
 #include "nsmodal/error.h"
 #include "nsmodal/explore.h"
+#include "nsmodal/figure_subjects.h"
+#include "nsmodal/figures.h"
 #include "nsmodal/gnuplot.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/one_impact.h"
@@ -415,6 +417,36 @@ int RunExplore(const ExploreArgs& a) {
     std::cout << " energy = " << f.orbit.energy << " min/max |v_c-| = " << f.grazing_ratio
               << (f.orbit.admissible ? " admissible" : " not admissible") << "\n";
   }
+  return 0;
+}
+
+int RunFigures(const FiguresArgs& a) {
+  const Scene scene = LoadScene(a.scene);
+  const AnalysisBasis b(scene.model);
+  // Default sweep: T from 0.01 to 4 T_max by 0.01.
+  const double default_step = 0.01;
+  const std::string range = a.period ? *a.period
+                                     : FormatValue(default_step) + ":" +
+                                           FormatValue(std::ceil(4.0 * b.Periods().maxCoeff())) + ":" +
+                                           FormatValue(default_step);
+  const PeriodGrid grid = PeriodGrid::Parse(range);
+  if (grid.Count() < 2) throw InputError("--period", "needs at least two periods, got '" + range + "'");
+  const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"fig[01][0-9]_*"});
+  AtlasOptions opt;
+  opt.sweep.threads = a.threads;
+  opt.sweep.progress = ProgressBar("1- and 2-ipp sweep");
+  const Atlas atlas = ComputeAtlas(b, grid, opt);
+  for (const std::string& note : atlas.notes) std::cout << note << "\n";
+  const std::vector<double>& periods = atlas.one.periods;
+  std::cout << periods.size() << " periods from " << periods.front() << " to " << periods.back() << "; "
+            << atlas.transitions.size() << " transitions, " << atlas.bridges.size() << " bridges\n";
+  for (const Bridge& br : atlas.bridges) {
+    std::cout << "  " << (IsGrazing(br) ? "grazing" : "period-doubling") << " bridge at T = " << br.period
+              << " (t2 = " << br.t2 << "): E from " << br.energy_min << " to " << br.energy_max << "\n";
+  }
+  const report::FiguresResult r = report::DrawPaperFigures(b, scene.model.contact, atlas, dir, std::cout);
+  std::cout << r.drawn << " figures drawn" << (r.failed ? ", " + std::to_string(r.failed) + " failed" : "") << "\n";
+  if (r.failed) throw report::OutputError(std::to_string(r.failed) + " figure(s) could not be drawn (see above)");
   return 0;
 }
 

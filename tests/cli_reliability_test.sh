@@ -27,6 +27,13 @@ rc=$?
 if command -v gnuplot >/dev/null; then
   [ -s "$evil/work_precision_smooth.png" ] && ok || bad "bench --out with a quote: chart not drawn"
 fi
+# A relative --out (the quick start's): charts drawn there too.
+"$bin" bench "$paper" --quick --out rel/bench >/dev/null 2>"$tmp/rel.err"
+rc=$?
+[ "$rc" -eq 0 ] && ok || bad "bench with a relative --out: exit $rc: $(cat "$tmp/rel.err")"
+if command -v gnuplot >/dev/null; then
+  [ -s "$tmp/rel/bench/work_precision_smooth.png" ] && ok || bad "bench with a relative --out: chart not drawn"
+fi
 cd - >/dev/null || exit 1
 
 # 2. Write failures: a file size limit stands in for a full disk (SIGXFSZ

@@ -27,14 +27,18 @@ bool IsPlainName(const std::string& name) {
   return name.front() != '.';
 }
 
-// Runs argv[0] (searched on PATH) in `cwd` with stdout and stderr to `log`,
-// and waits. Returns "" on exit status 0, else what went wrong.
+// Runs argv[0] (searched on PATH) in `cwd` with stdout and stderr to the file
+// `log_name` in `cwd`, and waits. Returns "" on exit status 0, else what went
+// wrong.
 std::string Run(const std::vector<std::string>& argv, const std::filesystem::path& cwd,
-                const std::filesystem::path& log) {
+                const std::string& log_name) {
+  const std::filesystem::path log = cwd / log_name;
+  // The log is opened after the chdir: its name is relative to cwd (a
+  // relative cwd joined to it would point nowhere from there).
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_name.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
@@ -43,7 +47,7 @@ std::string Run(const std::vector<std::string>& argv, const std::filesystem::pat
   const int rc = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) {
-    return rc == ENOENT ? argv[0] + " not found (apt-get install gnuplot-nox)"
+    return rc == ENOENT ? argv[0] + " not found on PATH, or " + log.string() + " cannot be created"
                         : "cannot start " + argv[0] + ": " + std::strerror(rc);
   }
   int status = 0;
@@ -67,7 +71,7 @@ ChartStatus DrawChart(const OutputDir& dir, const std::string& name, const std::
     WriteResult(dir, script,
                 "set terminal " + terminal + "\nif (!exists('nsmodal_output')) nsmodal_output = '" + image +
                     "'\nset output nsmodal_output\n" + body + "\n");
-    const std::filesystem::path log = dir.path() / (script + ".log");
+    const std::string log = script + ".log";
     std::string error = Run({"gnuplot", "-e", "nsmodal_output='" + temp + "'", script}, dir.path(), log);
     std::error_code ec;
     if (error.empty()) {
@@ -78,7 +82,7 @@ ChartStatus DrawChart(const OutputDir& dir, const std::string& name, const std::
       std::filesystem::remove(dir.path() / temp, ec);
       return {false, error};
     }
-    std::filesystem::remove(log, ec);
+    std::filesystem::remove(dir.path() / log, ec);
   }
   return {true, ""};
 }

@@ -10,10 +10,10 @@
 #include <map>
 #include <sstream>
 
-#include "commands.h"
-#include "common.h"
+#include "nsmodal/figures.h"
 #include "nsmodal/admissibility.h"
 #include "nsmodal/atlas.h"
+#include "nsmodal/figure_subjects.h"
 #include "nsmodal/bridge.h"
 #include "nsmodal/error.h"
 #include "nsmodal/flow.h"
@@ -27,7 +27,7 @@
 #include "nsmodal/gnuplot.h"
 #include "nsmodal/output.h"
 
-namespace nsmodal::cli {
+namespace nsmodal::report {
 namespace {
 
 // Colours shared by every frequency-energy plot: stable and unstable parts of
@@ -44,8 +44,9 @@ struct Context {
   const AnalysisBasis& b;
   int contact = 0;  // physical index of the contact dof
   int other = 0;    // the dof on the first axis of the phase sections (paper: x_1)
-  report::OutputDir dir;
+  const OutputDir& dir;
   const Atlas& atlas;
+  std::ostream& log;
   const std::vector<double>& periods = atlas.one.periods;
   const std::vector<Transition>& transitions = atlas.transitions;
   const std::vector<Bridge>& bridges = atlas.bridges;
@@ -64,15 +65,11 @@ void Draw(Context& c, const std::string& name, const std::string& body) {
   const std::string setup = "set datafile separator ','\nset grid\nset offsets graph 0, graph 0, graph 0.05, graph 0.05\n";
   const report::ChartStatus s = report::DrawChart(c.dir, name, setup + body);
   (s.drawn ? c.drawn : c.failed) += 1;
-  std::cout << "  " << name << (s.drawn ? "" : ": not drawn: " + s.message) << "\n";
+  c.log << "  " << name << (s.drawn ? "" : ": not drawn: " + s.message) << "\n";
 }
 
 bool IsStable(const std::optional<Stability>& s) { return s && s->stable; }
 
-// t = T/2 to round-off of the roots (~1e-15 relative): the 2-ipp root that is
-// always there (eq. 26), or a graze at half the period.
-bool AtHalfPeriod(double t, double period) { return std::abs(t - 0.5 * period) <= 1e-9 * period; }
-bool IsHalfPeriodRoot(const Orbit& o) { return AtHalfPeriod(o.times[0], o.period); }
 
 // Trajectory rows of one orbit: label, T, then OrbitTrajectory's columns.
 void WriteTrajectoryHeader(std::ostream& os, const Context& c) {
@@ -95,29 +92,6 @@ int TCol() { return 3; }
 int XCol(const Context&, int dof) { return 4 + dof; }
 int VCol(const Context& c, int dof) { return 4 + c.b.n + dof; }
 
-// The linear mode i grazing d at t = 0 (x_c = d cos(w_i t)): the limit of the
-// 1-ipp family at a modal transition T = k T_i (eq. 24), as a 1-ipp orbit.
-Orbit GrazingMode(const AnalysisBasis& b, int mode, double period) {
-  Eigen::VectorXd y = Eigen::VectorXd::Zero(2 * b.n);
-  y[mode] = b.gap / b.r_over_omega[mode];
-  return EvaluateOrbit(b, y, {}, period);
-}
-
-// The mode whose multiple is the modal period T (T = k T_i).
-int ModeOf(const AnalysisBasis& b, double period) {
-  const Eigen::VectorXd ti = b.Periods();
-  int best = 0;
-  double err = INFINITY;
-  for (int i = 0; i < b.n; ++i) {
-    const double k = std::round(period / ti[i]);
-    const double e = std::abs(period - k * ti[i]);
-    if (k >= 1 && e < err) {
-      err = e;
-      best = i;
-    }
-  }
-  return best;
-}
 
 // Energy range of a frequency-energy plot: from half the lowest potential
 // energy up to 100 times the highest admissible one, at most four decades
@@ -165,20 +139,9 @@ void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const std
 
 // Fig. 2: a potential 2-ipp orbit that is not admissible.
 void Figure2(Context& c) {
-  const Orbit* pick = nullptr;
-  for (const auto& list : c.atlas.two.at) {
-    for (const OrbitRecord& r : list) {
-      const Orbit& o = r.orbit;
-      if (o.potential && !o.admissible && !IsHalfPeriodRoot(o) && o.max_excess > 0.05 * c.b.gap &&
-          o.max_excess < c.b.gap) {
-        pick = &o;
-        break;
-      }
-    }
-    if (pick) break;
-  }
+  const Orbit* pick = NotAdmissibleExample(c.atlas, c.b.gap);
   if (!pick) {
-    std::cout << "  fig02: no potential, non-admissible 2-ipp orbit in the sweep; skipped\n";
+    c.log << "  fig02: no potential, non-admissible 2-ipp orbit in the sweep; skipped\n";
     return;
   }
   std::ostringstream title;
@@ -227,40 +190,12 @@ void Figure3(Context& c) {
   Draw(c, "fig03_one_impact_energy", body.str());
 }
 
-// A modal transition T = k T_i that bounds an admissible zone, and the side of
-// it where the 1-ipp orbits are admissible (+1 right, -1 left, 0 none). The
-// first with k >= 2 is preferred, as in the paper (2 T_1, Figs. 4 and 10):
-// next to k = 1 the zone often runs into a singular transition.
-struct ModalPick {
-  double period = 0.0;
-  int side = 0;
-  double width = 0.0;  // distance to the next transition on that side
-};
-ModalPick PickModal(const Context& c) {
-  const Eigen::VectorXd ti = c.b.Periods();
-  ModalPick first;
-  for (std::size_t k = 0; k < c.transitions.size(); ++k) {
-    const Transition& t = c.transitions[k];
-    if (t.kind != TransitionKind::kModal) continue;
-    const double eps = 1e-4 * t.period;
-    const int side = OneImpactOrbit(c.b, t.period + eps).admissible ? 1
-                     : OneImpactOrbit(c.b, t.period - eps).admissible ? -1
-                                                                       : 0;
-    if (side == 0) continue;
-    const double neighbour = side > 0 ? (k + 1 < c.transitions.size() ? c.transitions[k + 1].period : c.periods.back())
-                                      : (k > 0 ? c.transitions[k - 1].period : c.periods.front());
-    const ModalPick p{t.period, side, std::abs(neighbour - t.period)};
-    if (t.period > 1.5 * ti[ModeOf(c.b, t.period)]) return p;
-    if (first.side == 0) first = p;
-  }
-  return first;
-}
 
 // Fig. 4: the linear modal transition: admissible on one side, not on the
 // other, the grazing linear mode at the transition.
 void Figure4(Context& c, const ModalPick& m) {
   if (m.side == 0) {
-    std::cout << "  fig04: no modal transition bounds an admissible zone; skipped\n";
+    c.log << "  fig04: no modal transition bounds an admissible zone; skipped\n";
     return;
   }
   const double eps = std::min(0.02 * m.period, 0.5 * m.width);
@@ -285,27 +220,13 @@ void Figure4(Context& c, const ModalPick& m) {
   Draw(c, "fig04_modal_transition", body.str());
 }
 
-bool IsGrazing(const Bridge& br) { return br.kind == BridgeKind::kGrazing; }
-bool GrazesAtHalfPeriod(const Bridge& br) { return AtHalfPeriod(br.t2, br.period); }
-
-// The grazing bridge of Figs. 5 and 13-15: the paper's case (the graze at half
-// the period) first, else the first grazing one.
-const Bridge* PaperBridge(const Context& c) {
-  const Bridge* first = nullptr;
-  for (const Bridge& br : c.bridges) {
-    if (!IsGrazing(br)) continue;
-    if (GrazesAtHalfPeriod(br)) return &br;
-    if (!first) first = &br;
-  }
-  return first;
-}
 
 // Fig. 5: the 1-ipp orbit at a grazing transition, the one whose bridge
 // Figs. 13-15 draw (Fig. 9 shows the other kind, a graze off T/2).
 void Figure5(Context& c) {
-  const Bridge* paper = PaperBridge(c);
+  const Bridge* paper = PaperBridge(c.atlas);
   if (!paper) {
-    std::cout << "  fig05: no grazing transition in the sweep; skipped\n";
+    c.log << "  fig05: no grazing transition in the sweep; skipped\n";
     return;
   }
   const Bridge& br = *paper;
@@ -441,22 +362,19 @@ void Figure8(Context& c) {
 
 // Fig. 9: a 1-ipp orbit with two grazes, admissible as a 3-ipp orbit too.
 void Figure9(Context& c) {
-  for (const Bridge& br : c.bridges) {
-    if (!IsGrazing(br) || GrazesAtHalfPeriod(br)) continue;
-    const Orbit one = OneImpactOrbit(c.b, br.period);
-    const Orbit three = EvaluateOrbit(c.b, br.origin, {br.t2, br.period - br.t2}, br.period);
-    if (!three.admissible) continue;
-    std::ostringstream title, arrows;
-    title << "Fig. 9: one impact and two grazes (t = " << br.t2 << ", " << br.period - br.t2
-          << "), T = " << br.period << "\\nadmissible as a 1-ipp and as a 3-ipp orbit (NC2 residual "
-          << three.nc2_residual << ")";
-    for (double t : {br.t2, br.period - br.t2}) {
-      arrows << "set arrow from " << t << ", graph 0 to " << t << ", graph 1 nohead dt 3 lc rgb 'gray50'\n";
-    }
-    DrawOneOrbit(c, "fig09_two_grazes", one, title.str(), arrows.str());
+  const std::optional<TwoGrazes> g = TwoGrazesExample(c.b, c.atlas);
+  if (!g) {
+    c.log << "  fig09: no grazing orbit admissible as a 3-ipp orbit in the sweep; skipped\n";
     return;
   }
-  std::cout << "  fig09: no grazing orbit admissible as a 3-ipp orbit in the sweep; skipped\n";
+  const Bridge& br = *g->bridge;
+  std::ostringstream title, arrows;
+  title << "Fig. 9: one impact and two grazes (t = " << br.t2 << ", " << br.period - br.t2 << "), T = " << br.period
+        << "\\nadmissible as a 1-ipp and as a 3-ipp orbit (NC2 residual " << g->three.nc2_residual << ")";
+  for (double t : {br.t2, br.period - br.t2}) {
+    arrows << "set arrow from " << t << ", graph 0 to " << t << ", graph 1 nohead dt 3 lc rgb 'gray50'\n";
+  }
+  DrawOneOrbit(c, "fig09_two_grazes", g->one, title.str(), arrows.str());
 }
 
 // The phase section of Figs. 10, 12, 14: (x_other, x_c, v_c), the paper's
@@ -477,7 +395,7 @@ std::string SectionUsing(const Context& c) {
 // Fig. 10: the 1-ipp nonsmooth mode next to the modal transition of Fig. 4.
 void Figure10(Context& c, const ModalPick& m) {
   if (m.side == 0) {
-    std::cout << "  fig10: no modal transition bounds an admissible zone; skipped\n";
+    c.log << "  fig10: no modal transition bounds an admissible zone; skipped\n";
     return;
   }
   report::ResultFile out(c.dir, "fig10_one_impact_mode.csv");
@@ -509,38 +427,15 @@ void Figure10(Context& c, const ModalPick& m) {
 // the shortest period T_i, taken at T = 3 T_i with t2 = T_i (a root: the mode
 // grazes d at 0, T_i and 2 T_i), followed by continuation.
 void Figures11And12(Context& c) {
-  const Eigen::VectorXd ti = c.b.Periods();
-  int mode = 0;
-  for (int i = 0; i < c.b.n; ++i) {
-    if (std::abs(c.b.r[i]) > 0.0 && ti[i] < ti[mode]) mode = i;
-  }
-  const double period = 3.0 * ti[mode], t2 = ti[mode];
-  BranchOptions opt;
-  opt.step = 2e-3 * period;
-  opt.period_min = 0.5 * period;
-  opt.period_max = 1.5 * period;
-  if (!(TwoImpactKernelResidual(c.b, t2, period) < opt.kernel_tol)) {
-    std::cout << "  fig11-12: (t2, T) = (" << t2 << ", " << period << ") is not a root of det A_2; skipped\n";
+  const ModeBranch m = TwoImpactModeBranch(c.b);
+  if (m.run.empty()) {
+    c.log << "  fig11-12: " << m.why_not << "; skipped\n";
     return;
   }
-  const std::vector<BranchPoint> branch = TwoImpactBranch(c.b, t2, period, opt);
-  // The admissible run of the branch next to the mode (arclength 0).
-  std::size_t start = 0;
-  while (start < branch.size() && branch[start].arclength < 0.0) ++start;
-  auto admissible = [&](std::size_t k) { return TwoImpactOrbitAt(c.b, branch[k].t2, branch[k].period).admissible; };
-  std::vector<std::size_t> run;
-  for (int dir : {1, -1}) {
-    std::vector<std::size_t> side;
-    for (long k = static_cast<long>(start) + dir; k >= 0 && k < static_cast<long>(branch.size()); k += dir) {
-      if (!admissible(static_cast<std::size_t>(k))) break;
-      side.push_back(static_cast<std::size_t>(k));
-    }
-    if (side.size() > run.size()) run = side;
-  }
-  if (run.empty()) {
-    std::cout << "  fig11-12: no admissible 2-ipp orbit next to the mode at T = " << period << "; skipped\n";
-    return;
-  }
+  const std::vector<BranchPoint>& branch = m.branch;
+  const std::vector<std::size_t>& run = m.run;
+  const int mode = m.mode;
+  const double period = m.period;
   report::ResultFile out(c.dir, "fig11_two_impact_mode.csv");
   out << "index,T,t";
   for (int i = 1; i <= c.b.n; ++i) out << ",x" << i;
@@ -589,9 +484,9 @@ void Figures11And12(Context& c) {
 
 // Figs. 13-15: the bridge.
 void Figures13To15(Context& c) {
-  const Bridge* br = PaperBridge(c);
+  const Bridge* br = PaperBridge(c.atlas);
   if (!br) {
-    std::cout << "  fig13-15: no grazing transition in the sweep; skipped\n";
+    c.log << "  fig13-15: no grazing transition in the sweep; skipped\n";
     return;
   }
   const double t = br->period;
@@ -658,19 +553,19 @@ void Figures13To15(Context& c) {
     report::ResultFile out(c.dir, "fig15_bridge_fep.csv");
     out << "family,T,t2,energy,stable\n";
     double lo = br->energy_min, hi = br->energy_max;
+    SweepOptions admissible_only;
+    admissible_only.stability = StabilityPolicy::kAdmissible;
     for (int j = 0; j <= 400; ++j) {
       const double p = t - w + 2 * w * j / 400.0;
-      const Orbit one = OneImpactOrbit(c.b, p);
-      if (one.admissible) {
-        WriteFepRow(out.stream(), "1-ipp", one, StabilityOf(c.b, one));
-        lo = std::min(lo, one.energy);
-        hi = std::max(hi, one.energy);
-      }
-      for (const Orbit& o : TwoImpactOrbits(c.b, p)) {
-        if (!o.admissible) continue;
-        WriteFepRow(out.stream(), IsHalfPeriodRoot(o) ? "2-ipp-half" : "2-ipp", o, StabilityOf(c.b, o));
-        lo = std::min(lo, o.energy);
-        hi = std::max(hi, o.energy);
+      for (int impacts : {1, 2}) {
+        for (const OrbitRecord& r : OrbitsAt(c.b, p, impacts, admissible_only)) {
+          const Orbit& o = r.orbit;
+          if (!o.admissible) continue;
+          WriteFepRow(out.stream(), impacts == 1 ? "1-ipp" : IsHalfPeriodRoot(o) ? "2-ipp-half" : "2-ipp", o,
+                      r.stability);
+          lo = std::min(lo, o.energy);
+          hi = std::max(hi, o.energy);
+        }
       }
     }
     report::ResultFile bo(c.dir, "fig15_bridge.csv");
@@ -692,35 +587,16 @@ void Figures13To15(Context& c) {
 
 }  // namespace
 
-int RunFigures(const FiguresArgs& a) {
-  const Scene scene = LoadScene(a.scene);
-  const AnalysisBasis b(scene.model);
-  const Eigen::VectorXd ti = b.Periods();
-  const double default_step = 0.01;
-  const std::string range = a.period ? *a.period
-                                     : FormatValue(default_step) + ":" + FormatValue(std::ceil(4.0 * ti.maxCoeff())) +
-                                           ":" + FormatValue(default_step);
-  const PeriodGrid grid = PeriodGrid::Parse(range);
-  if (grid.Count() < 2) throw InputError("--period", "needs at least two periods, got '" + range + "'");
-  report::OutputDir dir = report::OutputDir::Prepare(a.out, {"fig[01][0-9]_*"});
-  AtlasOptions opt;
-  opt.sweep.threads = a.threads;
-  opt.sweep.progress = ProgressBar("1- and 2-ipp sweep");
-  const Atlas atlas = ComputeAtlas(b, grid, opt);
-  for (const std::string& note : atlas.notes) std::cout << note << "\n";
+FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas& atlas, const OutputDir& dir,
+                               std::ostream& log) {
   Context c{.b = b,
-            .contact = scene.model.contact,
-            .other = scene.model.contact == 0 ? (b.n > 1 ? 1 : 0) : 0,
-            .dir = std::move(dir),
-            .atlas = atlas};
-  std::cout << c.periods.size() << " periods from " << c.periods.front() << " to " << c.periods.back() << "; "
-            << c.transitions.size() << " transitions, " << c.bridges.size() << " bridges\n";
-  for (const Bridge& br : c.bridges) {
-    std::cout << "  " << (IsGrazing(br) ? "grazing" : "period-doubling") << " bridge at T = " << br.period
-              << " (t2 = " << br.t2 << "): E from " << br.energy_min << " to " << br.energy_max << "\n";
-  }
-  std::cout << "figures in " << c.dir.path().string() << ":\n";
-  const ModalPick modal = PickModal(c);
+            .contact = contact,
+            .other = contact == 0 ? (b.n > 1 ? 1 : 0) : 0,
+            .dir = dir,
+            .atlas = atlas,
+            .log = log};
+  c.log << "figures in " << c.dir.path().string() << ":\n";
+  const ModalPick modal = PickModalTransition(c.b, c.atlas);
   Figure2(c);
   Figure3(c);
   Figure4(c, modal);
@@ -732,11 +608,7 @@ int RunFigures(const FiguresArgs& a) {
   Figure10(c, modal);
   Figures11And12(c);
   Figures13To15(c);
-  std::cout << c.drawn << " figures drawn" << (c.failed ? ", " + std::to_string(c.failed) + " failed" : "") << "\n";
-  if (c.failed) {
-    throw report::OutputError(std::to_string(c.failed) + " figure(s) could not be drawn (see above)");
-  }
-  return 0;
+  return {c.drawn, c.failed};
 }
 
-}  // namespace nsmodal::cli
+}  // namespace nsmodal::report

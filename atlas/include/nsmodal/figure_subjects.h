@@ -1,0 +1,68 @@
+#pragma once
+// Which orbits each of the paper's figures shows, chosen from an atlas, so
+// that another system gets its corresponding figures (report/figures.h draws
+// them). Each choice returns nothing, or says why not, when its subject does
+// not exist on the grid.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nsmodal/atlas.h"
+
+namespace nsmodal {
+
+// t = T/2 to round-off of the roots (~1e-15 relative): the 2-ipp root that is
+// always there (eq. 26), or a graze at half the period.
+bool AtHalfPeriod(double t, double period);
+bool IsHalfPeriodRoot(const Orbit& o);
+bool IsGrazing(const Bridge& br);
+bool GrazesAtHalfPeriod(const Bridge& br);
+
+// The linear mode i grazing d at t = 0 (x_c = d cos(w_i t)): the limit of the
+// 1-ipp family at a modal transition T = k T_i (eq. 24), as a 1-ipp orbit.
+Orbit GrazingMode(const AnalysisBasis& b, int mode, double period);
+// The mode whose multiple is the modal period T (T = k T_i).
+int ModeOf(const AnalysisBasis& b, double period);
+
+// Fig. 2: the first potential 2-ipp orbit off T/2 that is not admissible,
+// with an NC3 excess between 5 % of d and d (visible, not absurd).
+const Orbit* NotAdmissibleExample(const Atlas& atlas, double gap);
+
+// Figs. 4 and 10: a modal transition T = k T_i that bounds an admissible zone,
+// and the side of it where the 1-ipp orbits are admissible (+1 right, -1 left,
+// 0: none found). The first with T > 1.5 T_i is preferred, as in the paper
+// (2 T_1): next to k = 1 the zone often runs into a singular transition.
+struct ModalPick {
+  double period = 0.0;
+  int side = 0;
+  double width = 0.0;  // distance to the next transition on that side
+};
+ModalPick PickModalTransition(const AnalysisBasis& b, const Atlas& atlas);
+
+// Figs. 5 and 13-15: the grazing bridge of the paper's kind (the graze at half
+// the period) first, else the first grazing one; null when there is none.
+const Bridge* PaperBridge(const Atlas& atlas);
+
+// Fig. 9: a grazing 1-ipp orbit whose two grazes (t_g, T - t_g) make it an
+// admissible 3-ipp orbit too.
+struct TwoGrazes {
+  const Bridge* bridge = nullptr;
+  Orbit one, three;
+};
+std::optional<TwoGrazes> TwoGrazesExample(const AnalysisBasis& b, const Atlas& atlas);
+
+// Figs. 11-12: the 2-ipp nonsmooth mode through the grazing linear mode of the
+// shortest period T_i, taken at T = 3 T_i with t2 = T_i (a root: the mode
+// grazes d at 0, T_i and 2 T_i) and followed by continuation within
+// [T / 2, 3 T / 2]; `run` indexes the admissible stretch of the branch next
+// to the mode (the longer side). Empty run: `why_not` says why.
+struct ModeBranch {
+  int mode = 0;
+  double period = 0.0, t2 = 0.0;
+  std::vector<BranchPoint> branch;
+  std::vector<std::size_t> run;
+  std::string why_not;
+};
+ModeBranch TwoImpactModeBranch(const AnalysisBasis& b);
+
+}  // namespace nsmodal

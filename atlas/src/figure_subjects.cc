@@ -1,0 +1,122 @@
+#include "nsmodal/figure_subjects.h"
+
+#include <cmath>
+
+#include "nsmodal/admissibility.h"
+#include "nsmodal/one_impact.h"
+
+namespace nsmodal {
+
+bool AtHalfPeriod(double t, double period) { return std::abs(t - 0.5 * period) <= 1e-9 * period; }
+bool IsHalfPeriodRoot(const Orbit& o) { return AtHalfPeriod(o.times[0], o.period); }
+bool IsGrazing(const Bridge& br) { return br.kind == BridgeKind::kGrazing; }
+bool GrazesAtHalfPeriod(const Bridge& br) { return AtHalfPeriod(br.t2, br.period); }
+
+Orbit GrazingMode(const AnalysisBasis& b, int mode, double period) {
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(2 * b.n);
+  y[mode] = b.gap / b.r_over_omega[mode];
+  return EvaluateOrbit(b, y, {}, period);
+}
+
+int ModeOf(const AnalysisBasis& b, double period) {
+  const Eigen::VectorXd ti = b.Periods();
+  int best = 0;
+  double err = INFINITY;
+  for (int i = 0; i < b.n; ++i) {
+    const double k = std::round(period / ti[i]);
+    const double e = std::abs(period - k * ti[i]);
+    if (k >= 1 && e < err) {
+      err = e;
+      best = i;
+    }
+  }
+  return best;
+}
+
+const Orbit* NotAdmissibleExample(const Atlas& atlas, double gap) {
+  for (const auto& list : atlas.two.at) {
+    for (const OrbitRecord& r : list) {
+      const Orbit& o = r.orbit;
+      if (o.potential && !o.admissible && !IsHalfPeriodRoot(o) && o.max_excess > 0.05 * gap && o.max_excess < gap) {
+        return &o;
+      }
+    }
+  }
+  return nullptr;
+}
+
+ModalPick PickModalTransition(const AnalysisBasis& b, const Atlas& atlas) {
+  const Eigen::VectorXd ti = b.Periods();
+  const std::vector<Transition>& tr = atlas.transitions;
+  const std::vector<double>& periods = atlas.one.periods;
+  ModalPick first;
+  for (std::size_t k = 0; k < tr.size(); ++k) {
+    const Transition& t = tr[k];
+    if (t.kind != TransitionKind::kModal) continue;
+    const double eps = 1e-4 * t.period;
+    const int side = OneImpactOrbit(b, t.period + eps).admissible   ? 1
+                     : OneImpactOrbit(b, t.period - eps).admissible ? -1
+                                                                     : 0;
+    if (side == 0) continue;
+    const double neighbour = side > 0 ? (k + 1 < tr.size() ? tr[k + 1].period : periods.back())
+                                      : (k > 0 ? tr[k - 1].period : periods.front());
+    const ModalPick p{t.period, side, std::abs(neighbour - t.period)};
+    if (t.period > 1.5 * ti[ModeOf(b, t.period)]) return p;
+    if (first.side == 0) first = p;
+  }
+  return first;
+}
+
+const Bridge* PaperBridge(const Atlas& atlas) {
+  const Bridge* first = nullptr;
+  for (const Bridge& br : atlas.bridges) {
+    if (!IsGrazing(br)) continue;
+    if (GrazesAtHalfPeriod(br)) return &br;
+    if (!first) first = &br;
+  }
+  return first;
+}
+
+std::optional<TwoGrazes> TwoGrazesExample(const AnalysisBasis& b, const Atlas& atlas) {
+  for (const Bridge& br : atlas.bridges) {
+    if (!IsGrazing(br) || GrazesAtHalfPeriod(br)) continue;
+    Orbit three = EvaluateOrbit(b, br.origin, {br.t2, br.period - br.t2}, br.period);
+    if (!three.admissible) continue;
+    return TwoGrazes{&br, OneImpactOrbit(b, br.period), std::move(three)};
+  }
+  return std::nullopt;
+}
+
+ModeBranch TwoImpactModeBranch(const AnalysisBasis& b) {
+  ModeBranch m;
+  const Eigen::VectorXd ti = b.Periods();
+  for (int i = 0; i < b.n; ++i) {
+    if (std::abs(b.r[i]) > 0.0 && ti[i] < ti[m.mode]) m.mode = i;
+  }
+  m.period = 3.0 * ti[m.mode];
+  m.t2 = ti[m.mode];
+  BranchOptions opt;
+  opt.step = 2e-3 * m.period;
+  opt.period_min = 0.5 * m.period;
+  opt.period_max = 1.5 * m.period;
+  if (!(TwoImpactKernelResidual(b, m.t2, m.period) < opt.kernel_tol)) {
+    m.why_not = "(t2, T) = (" + FormatValue(m.t2) + ", " + FormatValue(m.period) + ") is not a root of det A_2";
+    return m;
+  }
+  m.branch = TwoImpactBranch(b, m.t2, m.period, opt);
+  std::size_t start = 0;
+  while (start < m.branch.size() && m.branch[start].arclength < 0.0) ++start;
+  auto admissible = [&](std::size_t k) { return TwoImpactOrbitAt(b, m.branch[k].t2, m.branch[k].period).admissible; };
+  for (int dir : {1, -1}) {
+    std::vector<std::size_t> side;
+    for (long k = static_cast<long>(start) + dir; k >= 0 && k < static_cast<long>(m.branch.size()); k += dir) {
+      if (!admissible(static_cast<std::size_t>(k))) break;
+      side.push_back(static_cast<std::size_t>(k));
+    }
+    if (side.size() > m.run.size()) m.run = side;
+  }
+  if (m.run.empty()) m.why_not = "no admissible 2-ipp orbit next to the mode at T = " + FormatValue(m.period);
+  return m;
+}
+
+}  // namespace nsmodal
