@@ -366,25 +366,11 @@ int RunExplore(const ExploreArgs& a) {
     throw InputError("--impacts", "explore takes 3 to 6 impacts per period, got " + std::to_string(a.impacts) +
                                       " (use 'nsmodal orbits' for 1 or 2)");
   }
+  opt.progress = ProgressBar("explore");
   const std::vector<double> periods = range.Values();
-  std::vector<ExploreReport> parts(periods.size());
-  ParallelFor(
-      static_cast<long>(periods.size()), 0, [&](long i) { parts[i] = ExploreImpacts(b, {periods[i]}, opt); },
-      ProgressBar("explore"));
-  ExploreReport r;
-  r.impacts = a.impacts;
-  r.best_phi_new = INFINITY;
-  for (const ExploreReport& p : parts) {
-    r.samples += p.samples;
-    for (auto [k, v] : p.kernel_dimension_histogram) r.kernel_dimension_histogram[k] += v;
-    r.findings.insert(r.findings.end(), p.findings.begin(), p.findings.end());
-    r.best_phi_new = std::min(r.best_phi_new, p.best_phi_new);
-  }
-  long repeated = 0, grazing = 0, fresh = 0, fresh_admissible = 0;
-  for (const ExploreFinding& f : r.findings) {
-    (f.kind == "new" ? fresh : f.kind == "grazing-contact" ? grazing : repeated) += 1;
-    fresh_admissible += f.kind == "new" && f.orbit.admissible;
-  }
+  const ExploreReport r = ExploreImpacts(b, periods, opt);
+  const long repeated = r.Count("repeated-lower-m"), grazing = r.Count("grazing-contact"), fresh = r.Count("new"),
+             fresh_admissible = r.Count("new", true);
   if (a.json) {
     nlohmann::json j;
     j["impacts"] = r.impacts;

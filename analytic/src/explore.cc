@@ -1,5 +1,7 @@
 #include "nsmodal/explore.h"
 
+#include "nsmodal/parallel.h"
+
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_multimin.h>
 
@@ -169,16 +171,15 @@ void Enumerate(int impacts, int grid, std::vector<int>& idx, int pos, const std:
 
 }  // namespace
 
-ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& periods, const ExploreOptions& options) {
-  if (options.impacts < 3 || options.impacts > 6) {
-    throw InputError("impacts", "the exploratory search takes 3 to 6 impacts, got " +
-                                    std::to_string(options.impacts));
-  }
+namespace {
+
+// The search at one period.
+ExploreReport ExploreOnePeriod(const AnalysisBasis& b, double period, const ExploreOptions& options) {
   const int m = options.impacts;
   ExploreReport report;
   report.impacts = m;
   report.best_phi_new = std::numeric_limits<double>::infinity();
-  for (double period : periods) {
+  {
     std::vector<std::pair<double, std::vector<double>>> best;
     std::vector<int> idx(m - 1);
     std::vector<double> times(m - 1);
@@ -210,6 +211,39 @@ ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& 
       if (m % 2 == 0) ++report.kernel_dimension_histogram[finding.kernel_dimension];
       report.findings.push_back(finding);
     }
+  }
+  return report;
+}
+
+}  // namespace
+
+long ExploreReport::Count(const std::string& kind, bool admissible_only) const {
+  long n = 0;
+  for (const ExploreFinding& f : findings) n += f.kind == kind && (!admissible_only || f.orbit.admissible);
+  return n;
+}
+
+ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& periods, const ExploreOptions& options) {
+  if (options.impacts < 3 || options.impacts > 6) {
+    throw InputError("impacts", "the exploratory search takes 3 to 6 impacts, got " +
+                                    std::to_string(options.impacts));
+  }
+  if (options.grid < 4 || options.grid > 200) {
+    throw InputError("grid", "must lie in [4, 200], got " + std::to_string(options.grid));
+  }
+  // Periods are independent: searched in parallel, merged in their order.
+  std::vector<ExploreReport> parts(periods.size());
+  ParallelFor(
+      static_cast<long>(periods.size()), options.threads,
+      [&](long i) { parts[i] = ExploreOnePeriod(b, periods[i], options); }, options.progress);
+  ExploreReport report;
+  report.impacts = options.impacts;
+  report.best_phi_new = std::numeric_limits<double>::infinity();
+  for (const ExploreReport& p : parts) {
+    report.samples += p.samples;
+    for (auto [k, v] : p.kernel_dimension_histogram) report.kernel_dimension_histogram[k] += v;
+    report.findings.insert(report.findings.end(), p.findings.begin(), p.findings.end());
+    report.best_phi_new = std::min(report.best_phi_new, p.best_phi_new);
   }
   return report;
 }

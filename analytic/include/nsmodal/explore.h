@@ -8,6 +8,7 @@
 // The search minimises phi = sigma_k(A_m) (k = 2 for even m, 0 for odd m) +
 // the NC2 least-squares misfit in the span of the k smallest singular vectors,
 // from the best grid points, with GSL's Nelder-Mead simplex.
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -24,6 +25,8 @@ struct ExploreOptions {
   // A polished point is a potential solution when phi is below this; phi
   // measures defects of O(1) quantities, polished to ~1e-12 where a root exists.
   double potential_tol = 1e-8;
+  int threads = 0;  // periods searched in parallel (0: all cores)
+  std::function<void(long done, long count)> progress;
 };
 
 struct ExploreFinding {
@@ -41,8 +44,11 @@ struct ExploreReport {
   std::map<int, long> kernel_dimension_histogram;  // over grid samples (odd m) or findings (even m)
   std::vector<ExploreFinding> findings;            // distinct potential orbits (cyclic shifts merged)
   double best_phi_new = 0.0;                       // smallest phi away from repeated lower-m orbits
+  // Findings of one kind ("new", "grazing-contact", "repeated-lower-m").
+  long Count(const std::string& kind, bool admissible_only = false) const;
 };
 
+// Throws InputError naming "impacts" (3 to 6) or "grid" (4 to 200).
 ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& periods, const ExploreOptions& options);
 
 }  // namespace nsmodal
