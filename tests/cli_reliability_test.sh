@@ -4,15 +4,7 @@
 # output directories that never mix runs or hold a result that looks complete
 # but is not.
 # Usage: cli_reliability_test.sh NSMODAL_BINARY SOURCE_DIR
-set -u
-bin=$1
-src=$2
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); }
-bad() { echo "FAIL: $*"; fail=$((fail + 1)); }
+. "$(dirname "$0")/cli_harness.sh" "$@"
 paper=$src/configs/paper.toml
 sim=$src/configs/paper-simulate.toml
 
@@ -86,5 +78,4 @@ rc=$?
 [ "$rc" -eq 2 ] && ok || bad "unknown flag: exit $rc, expected 2"
 "$bin" --version | grep -q '^nsmodal [0-9]' && ok || bad "--version"
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish

@@ -2,32 +2,7 @@
 # End-to-end checks of the nsmodal CLI: outputs and their contracts, and bad
 # input refused with a message naming the field and a non-zero exit.
 # Usage: cli_test.sh NSMODAL_BINARY SOURCE_DIR
-set -u
-bin=$1
-src=$2
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); }
-bad() { echo "FAIL: $*"; fail=$((fail + 1)); }
-
-# expect_error PATTERN CMD...: non-zero exit and PATTERN on stderr, no crash (exit < 128).
-expect_error() {
-  local pattern=$1
-  shift
-  "$@" >"$tmp/out" 2>"$tmp/err"
-  local rc=$?
-  if [ "$rc" -eq 0 ] || [ "$rc" -ge 128 ]; then
-    bad "exit $rc for: $*"
-  elif ! grep -q -- "$pattern" "$tmp/err"; then
-    bad "message lacks '$pattern' for: $* -> $(cat "$tmp/err")"
-  else
-    ok
-  fi
-}
-
-scene() { printf '%b' "$2" >"$tmp/$1.toml"; echo "$tmp/$1.toml"; }
+. "$(dirname "$0")/cli_harness.sh" "$@"
 
 paper=$src/configs/paper.toml
 expect_error "system.masses" "$bin" orbit "$(scene negmass '[system]\nmasses=[1,-1]\nsprings=[1,1]\n')" --period 3
@@ -174,5 +149,4 @@ fi
 expect_error "--period" "$bin" figures "$paper" --out "$tmp/f2" --period 1:x:0.1
 expect_error "system.restitution" "$bin" figures "$(scene e05 '[system]\nmasses=[1,1]\nsprings=[1,1]\nrestitution=0.5\n')" --out "$tmp/f3"
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish
