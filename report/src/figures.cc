@@ -611,4 +611,35 @@ FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas&
   return {c.drawn, c.failed};
 }
 
+int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisionRow>& rows, std::ostream& log) {
+  // The reference setting itself (error 0) has no place on a log scale.
+  std::vector<std::string> case_names, integrators;
+  for (const WorkPrecisionRow& r : rows) {
+    if (std::find(case_names.begin(), case_names.end(), r.case_name) == case_names.end()) {
+      case_names.push_back(r.case_name);
+    }
+    if (std::find(integrators.begin(), integrators.end(), r.integrator) == integrators.end()) {
+      integrators.push_back(r.integrator);
+    }
+  }
+  std::string integrator_list;
+  for (const std::string& i : integrators) integrator_list += (integrator_list.empty() ? "" : " ") + i;
+  int failed = 0;
+  for (const std::string& name : case_names) {
+    std::ostringstream body;
+    body << "set datafile separator ','\nset logscale xy\nset format y '10^{%T}'\nset format x '10^{%T}'\n"
+         << "set xlabel 'CPU time per run (s)'\nset ylabel 'relative error of the final state (vs exact, root\\_tol 1e-14)'\n"
+         << "set title 'work-precision: " << name << "'\nset key outside right\nset grid\n"
+         << "plot for [i in '" << integrator_list << "'] 'work_precision.csv' "
+         << "using (strcol(1) eq '" << name << "' && strcol(2) eq i && $4 > 0 ? $5 : 1/0):4 "
+         << "with linespoints lw 2 pt 7 title i\n";
+    const ChartStatus chart = DrawChart(dir, "work_precision_" + name, body.str());
+    if (!chart.drawn) {
+      log << "work_precision_" << name << " not drawn: " << chart.message << "\n";
+      ++failed;
+    }
+  }
+  return failed;
+}
+
 }  // namespace nsmodal::report

@@ -10,6 +10,7 @@
 
 #include "nsmodal/atlas.h"
 #include "nsmodal/output.h"
+#include "nsmodal/work_precision.h"
 
 namespace nsmodal::report {
 
@@ -21,5 +22,11 @@ struct FiguresResult {
 // file cannot be written.
 FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas& atlas, const OutputDir& dir,
                                std::ostream& log);
+
+// One log-log chart of error against CPU time per work-precision case, a line
+// per integrator, DIR/work_precision_CASE.{png,svg}, drawn from
+// DIR/work_precision.csv (written before). Returns the number of charts gnuplot
+// could not draw, each named in `log`.
+int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisionRow>& rows, std::ostream& log);
 
 }  // namespace nsmodal::report
