@@ -65,12 +65,6 @@ std::function<void(long, long)> ProgressBar(const std::string& label) {
   };
 }
 
-// Floquet multipliers of a potential orbit (stability.h); degenerate (bridge)
-// orbits included: their family is a continuum, so one more multiplier is 1.
-std::optional<Stability> StabilityOf(const AnalysisBasis& b, const Orbit& o) {
-  if (!o.potential) return std::nullopt;
-  return OrbitStability(b, o);
-}
 
 int RunOrbits(const OrbitsArgs& a) {
   CheckImpacts(a.impacts);
@@ -285,17 +279,14 @@ int RunOrbit(const OrbitArgs& a) {
     throw InputError("--period", "must be positive, got " + FormatValue(a.period));
   }
   const AnalysisBasis b(LoadScene(a.scene).model);
-  std::vector<Orbit> orbits;
-  if (a.impacts == 1) {
-    orbits.push_back(OneImpactOrbit(b, a.period));
-  } else {
-    TwoImpactOptions two;
-    two.t2_step = a.t2_step;
-    orbits = TwoImpactOrbits(b, a.period, two);
-  }
+  b.CheckPeriod(a.period, "--period");
+  SweepOptions opt;
+  opt.stability = StabilityPolicy::kPotential;
+  opt.two_impact.t2_step = a.t2_step;
+  const std::vector<OrbitRecord> orbits = OrbitsAt(b, a.period, a.impacts, opt);
   if (a.json) {
     nlohmann::json arr = nlohmann::json::array();
-    for (const Orbit& o : orbits) arr.push_back(report::OrbitJson({o, StabilityOf(b, o)}));
+    for (const OrbitRecord& r : orbits) arr.push_back(report::OrbitJson(r));
     std::cout << nlohmann::json{{"orbits", arr}}.dump(2) << "\n";
     return 0;
   }
@@ -303,7 +294,7 @@ int RunOrbit(const OrbitArgs& a) {
   std::cout << orbits.size() << " potential orbit(s) with " << a.impacts << " impact(s) per period, T = " << a.period
             << "\n";
   for (std::size_t k = 0; k < orbits.size(); ++k) {
-    const Orbit& o = orbits[k];
+    const Orbit& o = orbits[k].orbit;
     std::cout << "\n#" << k + 1 << (o.admissible ? "  admissible" : "  NOT admissible")
               << (o.potential ? "" : " (not potential)") << (o.degenerate ? " (degenerate: bridge)" : "") << "\n";
     if (!o.times.empty()) std::cout << "  t2                    " << o.times[0] << "\n";
@@ -316,7 +307,7 @@ int RunOrbit(const OrbitArgs& a) {
     std::cout << "\n  v(0+) =";
     for (int i = 0; i < b.n; ++i) std::cout << " " << o.z0[b.n + i];
     std::cout << "\n";
-    if (const std::optional<Stability> s = StabilityOf(b, o)) {
+    if (const std::optional<Stability>& s = orbits[k].stability) {
       std::cout << "  " << (s->stable ? "stable" : "unstable") << ", Floquet multipliers";
       for (int k = 0; k < s->multipliers.size(); ++k) {
         std::cout << " " << s->multipliers[k].real() << (s->multipliers[k].imag() < 0 ? "-" : "+")

@@ -34,7 +34,5 @@ T Pick(const std::optional<T>& flag, const std::string& flag_name, const std::op
 // stderr is not a terminal.
 std::function<void(long, long)> ProgressBar(const std::string& label);
 
-// Floquet multipliers of a potential orbit; none for an orbit that is not.
-std::optional<Stability> StabilityOf(const AnalysisBasis& b, const Orbit& o);
 
 }  // namespace nsmodal::cli

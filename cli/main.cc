@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   c_orbits->add_option("--impacts", orbits.impacts, "Impacts per period (1 or 2)")->default_val(1);
   c_orbits->add_option("--period", orbits.period, "Period grid FROM:TO:STEP")->required();
   c_orbits->add_option("--out", orbits.out, "Output directory")->required();
-  c_orbits->add_option("--threads", orbits.threads, "Worker threads (0: all cores)")->default_val(0);
+  c_orbits->add_option("--threads", orbits.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
   c_orbits->add_option("--t2-step", orbits.t2_step, "Grid spacing of the t2 root scan (m = 2)")->default_val(0.01);
 
   OrbitArgs orbit;
@@ -50,8 +50,8 @@ int main(int argc, char** argv) {
   c_sim->add_option("--theta", simulate.theta, "Moreau-Jean theta in [0.5, 1]");
   c_sim->add_option("--root-tol", simulate.root_tol, "Exact integrator contact tolerance (relative)");
   c_sim->add_option("--sample-dt", simulate.sample_dt, "Trajectory sampling interval (0: none)");
-  c_sim->add_option("--x0", simulate.x0, "Initial position (N values)")->expected(1, 1000);
-  c_sim->add_option("--v0", simulate.v0, "Initial velocity (N values)")->expected(1, 1000);
+  c_sim->add_option("--x0", simulate.x0, "Initial position (N values)")->expected(-1);
+  c_sim->add_option("--v0", simulate.v0, "Initial velocity (N values)")->expected(-1);
 
   ValidateArgs validate;
   auto* c_val = app.add_subcommand("validate", "Validate analytic orbits by long simulations (batch)");
@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
   c_val->add_option("--atol", validate.atol, "CVODE absolute tolerance (default 1e-12)");
   c_val->add_option("--step", validate.step, "Moreau-Jean step (default 1e-4)");
   c_val->add_option("--root-tol", validate.root_tol, "Exact integrator contact tolerance (default 1e-14)");
-  c_val->add_option("--threads", validate.threads, "Worker threads (0: all cores)")->default_val(0);
+  c_val->add_option("--threads", validate.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
 
   BenchArgs bench;
   auto* c_bench = app.add_subcommand("bench", "Speed against accuracy of the integrators, and grazing failures");
@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
   c_fig->add_option("scene", figures.scene, "Scene file (the paper's system: configs/paper.toml)")->required();
   c_fig->add_option("--out", figures.out, "Output directory")->required();
   c_fig->add_option("--period", figures.period, "FROM:TO:STEP of the 1-ipp and 2-ipp sweeps (default 0.01:4 T_max:0.01)");
-  c_fig->add_option("--threads", figures.threads, "Worker threads (0: all cores)")->default_val(0);
+  c_fig->add_option("--threads", figures.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
 
   try {
     app.parse(argc, argv);

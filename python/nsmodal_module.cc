@@ -346,7 +346,7 @@ periods T* where a 1-ipp orbit has a Floquet multiplier at -1) and "notes".)doc"
       "multipliers",
       [](const Model& model, double period, int impacts, std::optional<double> t2) {
         const AnalysisBasis b(model);
-        PeriodGrid{period, period, 1.0}.Validate("period");
+        b.CheckPeriod(period);
         Orbit o;
         if (impacts == 1) {
           o = OneImpactOrbit(b, period);

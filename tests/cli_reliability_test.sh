@@ -69,7 +69,26 @@ mkdir -p "$tmp/fig" && echo stale >"$tmp/fig/fig09_two_grazes.csv"
 "$bin" figures "$paper" --period 0.05:5:0.05 --out "$tmp/fig" >/dev/null 2>&1
 [ ! -e "$tmp/fig/fig09_two_grazes.csv" ] && ok || bad "figures left a stale fig09 from another run"
 
-# 4. Command-line errors exit 2 as documented; --version.
+# 4. Crashes, hangs and silent non-finite results on legal-looking input: each
+#    now a refusal naming the field, exit 2, within 10 s (expect_error treats a
+#    timeout, 124, as a failure too: it is not the refusal asked for).
+t() { timeout 10 "$@"; }
+sys='[system]\ngap=1\nrestitution=1\nsprings=[1,1]\n'
+expect_error "system.mass_matrix" t "$bin" orbit "$(scene subnormal "${sys}masses=[5e-324,1.0]\n")" --period 7.5
+expect_error "system.mass_matrix" t "$bin" orbit "$(scene light "${sys}masses=[1,1e-16]\n")" --period 7.5
+expect_error "system.gap" t "$bin" orbit "$(scene hugegap '[system]\ngap=1e308\nrestitution=1\nsprings=[1,1]\nmasses=[1,1]\n')" --period 7.5
+expect_error "\-\-threads" t "$bin" orbits "$paper" --period 1:2:0.5 --out "$tmp/thr" --threads 2147483647
+expect_error "\-\-period" t "$bin" orbit "$paper" --period 1e15
+expect_error "\-\-period" t "$bin" orbit "$paper" --period 1e-320
+expect_error "period" t "$bin" orbits "$paper" --period 1e-300:1e-299:1e-300 --out "$tmp/tiny"
+expect_error "initial_velocity" t "$bin" simulate "$(scene fastv "${sys}masses=[1,1]\n[simulate]\ninitial_position=[0,0]\ninitial_velocity=[0,1e308]\n")" --out "$tmp/fast"
+expect_error "\\-\\-sample-dt" t "$bin" simulate "$sim" --t-end 1e6 --sample-dt 0.01 --out "$tmp/many"
+expect_error "\-\-period" t "$bin" orbits "$paper" --period 1:1e8:1 --out "$tmp/grid"
+x0=$(seq 1 1500 | tr '\n' ' ')
+# shellcheck disable=SC2086
+expect_error "initial_position" t "$bin" simulate "$sim" --x0 $x0 --out "$tmp/x0"
+
+# 5. Command-line errors exit 2 as documented; --version.
 "$bin" orbits >/dev/null 2>&1
 rc=$?
 [ "$rc" -eq 2 ] && ok || bad "missing arguments: exit $rc, expected 2"

@@ -5,12 +5,12 @@
 . "$(dirname "$0")/cli_harness.sh" "$@"
 
 paper=$src/configs/paper.toml
-expect_error "system.masses" "$bin" orbit "$(scene negmass '[system]\nmasses=[1,-1]\nsprings=[1,1]\n')" --period 3
-expect_error "system.mass_matrix" "$bin" orbit "$(scene nonspd '[system]\nmass_matrix=[[1,2],[2,1]]\nstiffness_matrix=[[1,0],[0,1]]\n')" --period 3
-expect_error "system.contact_dof" "$bin" orbit "$(scene dof '[system]\nmasses=[1,1]\nsprings=[1,1]\ncontact_dof=5\n')" --period 3
-expect_error "system.gap" "$bin" orbit "$(scene gap '[system]\nmasses=[1,1]\nsprings=[1,1]\ngap=0\n')" --period 3
-expect_error "system.restitution" "$bin" orbit "$(scene e15 '[system]\nmasses=[1,1]\nsprings=[1,1]\nrestitution=1.5\n')" --period 3
-expect_error "only for e = 1" "$bin" orbits "$(scene e05 '[system]\nmasses=[1,1]\nsprings=[1,1]\nrestitution=0.5\n')" --period 1:2:0.5 --out "$tmp/o"
+expect_error "system.masses" "$bin" orbit "$(scene negmass '[system]\ngap=1\nrestitution=1\nmasses=[1,-1]\nsprings=[1,1]\n')" --period 3
+expect_error "system.mass_matrix" "$bin" orbit "$(scene nonspd '[system]\ngap=1\nrestitution=1\nmass_matrix=[[1,2],[2,1]]\nstiffness_matrix=[[1,0],[0,1]]\n')" --period 3
+expect_error "system.contact_dof" "$bin" orbit "$(scene dof '[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\ncontact_dof=5\n')" --period 3
+expect_error "system.gap" "$bin" orbit "$(scene gap '[system]\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\ngap=0\n')" --period 3
+expect_error "system.restitution" "$bin" orbit "$(scene e15 '[system]\ngap=1\nmasses=[1,1]\nsprings=[1,1]\nrestitution=1.5\n')" --period 3
+expect_error "only for e = 1" "$bin" orbits "$(scene e05 '[system]\ngap=1\nmasses=[1,1]\nsprings=[1,1]\nrestitution=0.5\n')" --period 1:2:0.5 --out "$tmp/o"
 expect_error "scene" "$bin" orbit "$(scene malformed '[system\nmasses=[1,1]\n')" --period 3
 expect_error "cannot open" "$bin" orbit "$tmp/missing.toml" --period 3
 expect_error "\-\-period" "$bin" orbits "$paper" --period 1:2 --out "$tmp/o"
@@ -73,12 +73,12 @@ expect_error "simulate.initial_position" "$bin" simulate "$sim" --out "$tmp/s" -
 expect_error "\-\-integrator" "$bin" simulate "$sim" --out "$tmp/s" --integrator euler
 # Errors name what the user wrote: the flag when given, else the scene key.
 expect_error "^error: --rtol" "$bin" simulate "$sim" --out "$tmp/s" --rtol -1
-expect_error "^error: simulate.rtol" "$bin" simulate "$(scene badrtol '[system]\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\ninitial_position=[0,0]\nrtol=-1\n')" --out "$tmp/s"
+expect_error "^error: simulate.rtol" "$bin" simulate "$(scene badrtol '[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\ninitial_position=[0,0]\nrtol=-1\n')" --out "$tmp/s"
 expect_error "^error: --theta" "$bin" simulate "$sim" --out "$tmp/s" --theta 2
 expect_error "^error: --t-end" "$bin" simulate "$sim" --out "$tmp/s" --t-end 0
 expect_error "simulate.initial_position" "$bin" simulate "$paper" --out "$tmp/s"
-expect_error "simulate.t_end" "$bin" simulate "$(scene badsim '[system]\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\ninitial_position=[0,0]\nt_end=[1]\n')" --out "$tmp/s"
-expect_error "simulate.foo" "$bin" simulate "$(scene badkey '[system]\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\nfoo=1\n')" --out "$tmp/s"
+expect_error "simulate.t_end" "$bin" simulate "$(scene badsim '[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\ninitial_position=[0,0]\nt_end=[1]\n')" --out "$tmp/s"
+expect_error "simulate.foo" "$bin" simulate "$(scene badkey '[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\nfoo=1\n')" --out "$tmp/s"
 
 # validate: outputs, exit status, bad input.
 if "$bin" validate "$paper" --out "$tmp/val" --period 5:8:1 --periods 50 --integrators exact cvode >/dev/null 2>&1; then
@@ -112,7 +112,7 @@ if "$bin" bench "$paper" --out "$tmp/bench" --quick >"$tmp/bench.txt" 2>/dev/nul
 else
   bad "bench --quick failed"
 fi
-expect_error "scene" "$bin" bench "$(scene other '[system]\nmasses=[1,2]\nsprings=[1,1]\n')" --out "$tmp/b"
+expect_error "scene" "$bin" bench "$(scene other '[system]\ngap=1\nrestitution=1\nmasses=[1,2]\nsprings=[1,1]\n')" --out "$tmp/b"
 
 # figures: every figure's data (and charts when gnuplot is there), on a
 # shorter sweep that still holds two grazing transitions (9.127, 19.242).
@@ -147,6 +147,6 @@ else
   bad "figures failed: $(cat "$tmp/fig.err")"
 fi
 expect_error "--period" "$bin" figures "$paper" --out "$tmp/f2" --period 1:x:0.1
-expect_error "system.restitution" "$bin" figures "$(scene e05 '[system]\nmasses=[1,1]\nsprings=[1,1]\nrestitution=0.5\n')" --out "$tmp/f3"
+expect_error "system.restitution" "$bin" figures "$(scene e05 '[system]\ngap=1\nmasses=[1,1]\nsprings=[1,1]\nrestitution=0.5\n')" --out "$tmp/f3"
 
 finish

@@ -34,6 +34,24 @@ TEST(AnalysisBasis, RefusesARestitutionBelowOne) {
   EXPECT_EQ(MakeModalBasis(m).n, 2);  // the simulator's basis takes any e
 }
 
+// Issue 14: --period 1e15 hung, 1e-320 exhausted memory, 1e-300 gave an
+// "admissible" orbit with multipliers 3.7e284: periods outside 1e-6 to 1e5
+// times the shortest linear period are refused, naming the field.
+TEST(AnalysisBasis, RefusesPeriodsOutsideTheHonouredRange) {
+  const AnalysisBasis b = testing::PaperBasis();
+  const double shortest = b.Periods().minCoeff();
+  for (double period : {1e15, 1e-320, 1e-300, 0.5e-6 * shortest, 2e5 * shortest}) {
+    EXPECT_THROW(b.CheckPeriod(period, "--period"), InputError) << period;
+  }
+  EXPECT_NO_THROW(b.CheckPeriod(2e-6 * shortest));
+  EXPECT_NO_THROW(b.CheckPeriod(0.5e5 * shortest));
+  try {
+    b.CheckPeriod(1e15, "--period");
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "--period");
+  }
+}
+
 TEST(ModalBasis, MassOrthonormalAndRoundTrip) {
   const Model m = testing::CoupledThreeDof();
   const AnalysisBasis b(m);

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "nsmodal/error.h"
+#include "nsmodal/modal_basis.h"
 #include "nsmodal/model.h"
 #include "nsmodal/scene.h"
 
@@ -28,7 +29,7 @@ TEST(Model, ChainMatchesPaperEquation2a) {
 }
 
 TEST(Scene, ParsesChainAndMatrices) {
-  const Scene a = ParseScene("[system]\nmasses=[1,1]\nsprings=[0.85,2]\ngap=1\n");
+  const Scene a = ParseScene("[system]\nrestitution=1\nmasses=[1,1]\nsprings=[0.85,2]\ngap=1\n");
   EXPECT_EQ(a.model.mass, PaperModel().mass);
   EXPECT_EQ(a.model.stiffness, PaperModel().stiffness);
   EXPECT_EQ(a.model.contact, 1);  // default: the last dof
@@ -41,30 +42,77 @@ TEST(Scene, ParsesChainAndMatrices) {
 }
 
 TEST(Scene, BadInputNamesTheFieldAndValue) {
-  ExpectSceneError("[system]\nmasses=[1,-1]\nsprings=[1,1]\n", "system.masses", "-1");
-  ExpectSceneError("[system]\nmasses=[1,0]\nsprings=[1,1]\n", "system.masses", "0");
-  ExpectSceneError("[system]\nmasses=[1,1]\nsprings=[1]\n", "system.springs");
-  ExpectSceneError("[system]\nmasses=[1,1]\nsprings=[1,1]\ncontact_dof=3\n", "system.contact_dof", "3");
-  ExpectSceneError("[system]\nmasses=[1,1]\nsprings=[1,1]\ncontact_dof=0\n", "system.contact_dof", "0");
-  ExpectSceneError("[system]\nmasses=[1,1]\nsprings=[1,1]\ngap=0\n", "system.gap", "0");
-  ExpectSceneError("[system]\nmasses=[1,1]\nsprings=[1,1]\ngap=-2\n", "system.gap", "-2");
-  ExpectSceneError("[system]\nmasses=[1,1]\nsprings=[1,1]\nrestitution=1.5\n", "system.restitution", "1.5");
-  ExpectSceneError("[system]\nmasses=[1,1]\nsprings=[1,1]\nrestitution=-0.1\n", "system.restitution", "-0.1");
-  ExpectSceneError("[system]\nmass_matrix=[[1,2],[2,1]]\nstiffness_matrix=[[1,0],[0,1]]\n",
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmasses=[1,-1]\nsprings=[1,1]\n", "system.masses", "-1");
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmasses=[1,0]\nsprings=[1,1]\n", "system.masses", "0");
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1]\n", "system.springs");
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\ncontact_dof=3\n", "system.contact_dof", "3");
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\ncontact_dof=0\n", "system.contact_dof", "0");
+  ExpectSceneError("[system]\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\ngap=0\n", "system.gap", "0");
+  ExpectSceneError("[system]\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\ngap=-2\n", "system.gap", "-2");
+  ExpectSceneError("[system]\ngap=1\nmasses=[1,1]\nsprings=[1,1]\nrestitution=1.5\n", "system.restitution", "1.5");
+  ExpectSceneError("[system]\ngap=1\nmasses=[1,1]\nsprings=[1,1]\nrestitution=-0.1\n", "system.restitution", "-0.1");
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmass_matrix=[[1,2],[2,1]]\nstiffness_matrix=[[1,0],[0,1]]\n",
                    "system.mass_matrix", "not positive definite");
-  ExpectSceneError("[system]\nmass_matrix=[[1,0],[0,1]]\nstiffness_matrix=[[1,0.5],[0,1]]\n",
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmass_matrix=[[1,0],[0,1]]\nstiffness_matrix=[[1,0.5],[0,1]]\n",
                    "system.stiffness_matrix", "not symmetric");
-  ExpectSceneError("[system]\nmass_matrix=[[1,0],[0,1]]\nstiffness_matrix=[[1,0],[0]]\n",
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmass_matrix=[[1,0],[0,1]]\nstiffness_matrix=[[1,0],[0]]\n",
                    "system.stiffness_matrix[2]");
-  ExpectSceneError("[system]\nmasses=[1,\"a\"]\nsprings=[1,1]\n", "system.masses[2]", "a");
-  ExpectSceneError("[system]\nmasses=[1,1]\nspring=[1,1]\n", "system.spring");
-  ExpectSceneError("[system]\nmasses=[1,1]\n", "system.springs");
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmasses=[1,\"a\"]\nsprings=[1,1]\n", "system.masses[2]", "a");
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nspring=[1,1]\n", "system.spring");
+  // Issue 14: no silent defaults for the obstacle and the impact law.
+  ExpectSceneError("[system]\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\n", "system.gap", "is missing");
+  ExpectSceneError("[system]\ngap=1\nmasses=[1,1]\nsprings=[1,1]\n", "system.restitution", "is missing");
+  // Issue 14: a contact_dof of nan, inf or 1e20 was cast to an integer (undefined behaviour).
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\ncontact_dof=nan\n",
+                   "system.contact_dof", "nan");
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\ncontact_dof=inf\n",
+                   "system.contact_dof", "inf");
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\ncontact_dof=1e20\n",
+                   "system.contact_dof", "1e+20");
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\ncontact_dof=1.5\n",
+                   "system.contact_dof", "1.5");
+  ExpectSceneError("[system]\ngap=1\nrestitution=1\nmasses=[1,1]\n", "system.springs");
   ExpectSceneError("[other]\nx=1\n", "system");
   ExpectSceneError("[system\nmasses=[1,1]\n", "scene", ":1:");
 }
 
 TEST(Scene, MissingFileIsAnInputError) {
   EXPECT_THROW(LoadScene("/nonexistent/scene.toml"), InputError);
+}
+
+}  // namespace
+}  // namespace nsmodal
+
+namespace nsmodal {
+namespace {
+
+// Issue 14: scales nsmodal cannot honour are refused with the field named,
+// instead of a segfault (a subnormal mass), a hang (NC3 isolation with one
+// frequency 1e8 times another) or inf/NaN energies (gap = 1e308).
+void ExpectModelError(const std::vector<double>& masses, const std::vector<double>& springs, double gap,
+                      const std::string& field, const std::string& fragment) {
+  try {
+    const Model m = MakeChain(masses, springs, 1, gap, 1.0);
+    const ModalBasis b = MakeModalBasis(m);
+    FAIL() << "accepted masses " << masses[0] << ", " << masses[1] << " gap " << gap;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), field) << e.what();
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+TEST(Model, ScalesOutsideWhatIsHonouredAreRefused) {
+  const std::vector<double> unit{1.0, 1.0};
+  ExpectModelError({5e-324, 1.0}, unit, 1.0, "system.mass_matrix", "too close to singular");
+  ExpectModelError({1.0, 1e-300}, unit, 1.0, "system.mass_matrix", "too close to singular");
+  ExpectModelError({1.0, 1e-16}, unit, 1.0, "system.mass_matrix", "too close to singular");
+  ExpectModelError(unit, {1.0, 1e13}, 1.0, "system.stiffness_matrix", "too close to singular");
+  // M and K each within 1e12 but the frequencies 4.5e6 apart (> 1e6).
+  ExpectModelError({1.0, 1e-11}, {1.0, 100.0}, 1.0, "system", "frequencies");
+  ExpectModelError(unit, unit, 1e308, "system.gap", "energies");
+  ExpectModelError(unit, unit, 1e-160, "system.gap", "energies");
+  // Inside the ranges: accepted.
+  EXPECT_NO_THROW(MakeModalBasis(MakeChain({1.0, 1e-10}, unit, 1, 1.0, 1.0)));
 }
 
 }  // namespace

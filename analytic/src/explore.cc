@@ -231,6 +231,7 @@ ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& 
   if (options.grid < 4 || options.grid > 200) {
     throw InputError("grid", "must lie in [4, 200], got " + std::to_string(options.grid));
   }
+  for (double period : periods) b.CheckPeriod(period);
   // Periods are independent: searched in parallel, merged in their order.
   std::vector<ExploreReport> parts(periods.size());
   ParallelFor(

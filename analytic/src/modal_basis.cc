@@ -16,6 +16,12 @@ ModalBasis MakeModalBasis(const Model& model) {
   ModalBasis b;
   b.n = model.dofs();
   b.omega = ges.eigenvalues().cwiseSqrt();
+  if (!b.omega.allFinite() || !(b.omega.minCoeff() > 0.0) ||
+      b.omega.maxCoeff() > kMaxFrequencyRatio * b.omega.minCoeff()) {
+    throw InputError("system", "linear frequencies from " + FormatValue(b.omega.minCoeff()) + " to " +
+                                   FormatValue(b.omega.maxCoeff()) + " rad/s: nsmodal honours a ratio up to " +
+                                   FormatValue(kMaxFrequencyRatio));
+  }
   b.phi = ges.eigenvectors();  // normalised so that Phi' M Phi = I
   b.phi_inv = b.phi.transpose() * model.mass;
   b.r = b.phi.row(model.contact).transpose();
@@ -38,6 +44,17 @@ const Model& ElasticModel(const Model& model) {
 }  // namespace
 
 AnalysisBasis::AnalysisBasis(const Model& model) : ModalBasis(MakeModalBasis(ElasticModel(model))) {}
+
+void AnalysisBasis::CheckPeriod(double period, const std::string& field) const {
+  const double shortest = Periods().minCoeff();
+  if (!std::isfinite(period) || !(period >= kMinPeriodRatio * shortest) || !(period <= kMaxPeriodRatio * shortest)) {
+    throw InputError(field, "T = " + FormatValue(period) + " lies outside what the analysis honours: " +
+                                FormatValue(kMinPeriodRatio) + " to " + FormatValue(kMaxPeriodRatio) +
+                                " times the shortest linear period " + FormatValue(shortest) + ", i.e. [" +
+                                FormatValue(kMinPeriodRatio * shortest) + ", " +
+                                FormatValue(kMaxPeriodRatio * shortest) + "]");
+  }
+}
 
 Eigen::VectorXd ToModal(const ModalBasis& b, const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
   Eigen::VectorXd y(2 * b.n);

@@ -16,7 +16,8 @@ std::string FormatValue(double v) {
 
 namespace {
 
-void CheckSpd(const Eigen::MatrixXd& a, const std::string& field) {
+// Checks a symmetric positive-definite matrix; returns its extreme eigenvalues.
+std::pair<double, double> CheckSpd(const Eigen::MatrixXd& a, const std::string& field) {
   if (a.rows() == 0 || a.rows() != a.cols()) {
     throw InputError(field, "must be a non-empty square matrix, got " +
                                 std::to_string(a.rows()) + "x" + std::to_string(a.cols()));
@@ -29,11 +30,12 @@ void CheckSpd(const Eigen::MatrixXd& a, const std::string& field) {
   if (asym > 1e-12 * scale) {
     throw InputError(field, "is not symmetric (max |A - A^T| = " + FormatValue(asym) + ")");
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(a);
-  const double lmin = eig.eigenvalues().minCoeff();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(a, Eigen::EigenvaluesOnly);
+  const double lmin = eig.eigenvalues().minCoeff(), lmax = eig.eigenvalues().maxCoeff();
   if (!(lmin > 0.0)) {
     throw InputError(field, "is not positive definite (smallest eigenvalue " + FormatValue(lmin) + ")");
   }
+  return {lmin, lmax};
 }
 
 }  // namespace
@@ -79,8 +81,19 @@ Model MakeChain(const std::vector<double>& masses, const std::vector<double>& sp
 Model PaperModel() { return MakeChain({1.0, 1.0}, {0.85, 2.0}, 1, 1.0, 1.0); }
 
 void Validate(const Model& model) {
-  CheckSpd(model.mass, "system.mass_matrix");
-  CheckSpd(model.stiffness, "system.stiffness_matrix");
+  const auto [mass_min, mass_max] = CheckSpd(model.mass, "system.mass_matrix");
+  const auto [stiffness_min, stiffness_max] = CheckSpd(model.stiffness, "system.stiffness_matrix");
+  if (mass_max > kMaxCondition * mass_min) {
+    throw InputError("system.mass_matrix", "is too close to singular: eigenvalues from " + FormatValue(mass_min) +
+                                               " to " + FormatValue(mass_max) + " (nsmodal honours a ratio up to " +
+                                               FormatValue(kMaxCondition) + ")");
+  }
+  if (stiffness_max > kMaxCondition * stiffness_min) {
+    throw InputError("system.stiffness_matrix", "is too close to singular: eigenvalues from " +
+                                                    FormatValue(stiffness_min) + " to " + FormatValue(stiffness_max) +
+                                                    " (nsmodal honours a ratio up to " + FormatValue(kMaxCondition) +
+                                                    ")");
+  }
   if (model.stiffness.rows() != model.mass.rows()) {
     throw InputError("system.stiffness_matrix", "must have the size of system.mass_matrix (" +
                                                     std::to_string(model.mass.rows()) + ")");
@@ -91,6 +104,13 @@ void Validate(const Model& model) {
   }
   if (!(model.gap > 0.0) || !std::isfinite(model.gap)) {
     throw InputError("system.gap", "must be positive and finite, got " + FormatValue(model.gap));
+  }
+  // The energy of a state at the obstacle, K d^2 / 2, must leave room for
+  // impact velocities and sums: at most kMaxEnergyScale.
+  const double energy_scale = 0.5 * stiffness_max * model.gap * model.gap;
+  if (!(energy_scale <= kMaxEnergyScale) || !(energy_scale >= 1.0 / kMaxEnergyScale)) {
+    throw InputError("system.gap", "gives energies of order " + FormatValue(energy_scale) +
+                                       " (K d^2 / 2); nsmodal honours 1e-200 to 1e200: rescale the units");
   }
   if (!(model.restitution >= 0.0 && model.restitution <= 1.0)) {
     throw InputError("system.restitution", "must lie in [0, 1], got " + FormatValue(model.restitution));

@@ -87,14 +87,24 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
   }
   if (const toml::node* n = sys->get("contact_dof")) {
     const double c = ReadNumber(*n, "system.contact_dof");
-    if (c != static_cast<double>(static_cast<long>(c)) || c < 1 || c > model.dofs()) {
+    // Range first: casting a non-finite or huge value to an integer is undefined.
+    if (!(c >= 1 && c <= model.dofs()) || c != std::floor(c)) {
       throw InputError("system.contact_dof", "must be an integer between 1 and " +
                                                  std::to_string(model.dofs()) + ", got " + FormatValue(c));
     }
     model.contact = static_cast<int>(c) - 1;
   }
-  if (const toml::node* n = sys->get("gap")) model.gap = ReadNumber(*n, "system.gap");
-  if (const toml::node* n = sys->get("restitution")) model.restitution = ReadNumber(*n, "system.restitution");
+  // No silent defaults for the obstacle and the impact law: a scene that
+  // forgot them would run another system.
+  const toml::node* gap = sys->get("gap");
+  if (gap == nullptr) throw InputError("system.gap", "is missing: the distance d from rest to the obstacle");
+  model.gap = ReadNumber(*gap, "system.gap");
+  const toml::node* restitution = sys->get("restitution");
+  if (restitution == nullptr) {
+    throw InputError("system.restitution",
+                     "is missing: the coefficient e of Newton's impact law, 0 <= e <= 1 (1 for periodic orbits)");
+  }
+  model.restitution = ReadNumber(*restitution, "system.restitution");
   Validate(model);
   Scene scene{source, model, {}, {}};
   if (const toml::node* node = root.get("simulate")) {

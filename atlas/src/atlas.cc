@@ -97,6 +97,7 @@ long Sweep::Admissible() const {
 
 std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts, const SweepOptions& options) {
   CheckImpacts(impacts);
+  b.CheckPeriod(period);
   std::vector<Orbit> orbits;
   if (impacts == 1) {
     orbits.push_back(OneImpactOrbit(b, period));
@@ -116,6 +117,8 @@ std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int imp
 Sweep ComputeSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, const SweepOptions& options) {
   CheckImpacts(impacts);
   grid.Validate();
+  b.CheckPeriod(grid.from);
+  b.CheckPeriod(grid.to);
   Sweep s;
   s.impacts = impacts;
   s.periods = grid.Values();
@@ -151,6 +154,8 @@ std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& on
 
 Atlas ComputeAtlas(const AnalysisBasis& b, const PeriodGrid& grid, const AtlasOptions& options) {
   grid.Validate();
+  b.CheckPeriod(grid.from);
+  b.CheckPeriod(grid.to);
   Atlas a;
   a.grid = grid;
   a.one.impacts = 1;

@@ -43,8 +43,8 @@ void SimulateOptions::Validate(const FieldNames& name) const {
   if (!(sample_dt >= 0.0) || !std::isfinite(sample_dt)) {
     throw InputError(name("sample_dt"), "must be >= 0 and finite, got " + FormatValue(sample_dt));
   }
-  if (sample_dt > 0.0 && t_end / sample_dt > 1e8) {
-    throw InputError(name("sample_dt"), "gives more than 1e8 samples over t_end = " + FormatValue(t_end));
+  if (sample_dt > 0.0 && t_end / sample_dt > 1e7) {
+    throw InputError(name("sample_dt"), "gives more than 1e7 samples over t_end = " + FormatValue(t_end));
   }
   positive(root_tol, "root_tol");
   if (root_tol >= 1e-3) throw InputError(name("root_tol"), "must be below 1e-3, got " + FormatValue(root_tol));
@@ -85,6 +85,15 @@ SimulationSummary Simulate(const Model& model, const Eigen::VectorXd& x0, const 
                          " lies beyond the obstacle at d = " + FormatValue(model.gap));
   }
   const ContactModel cm(model);
+  // The start's energy within the scales honoured (model.h): energies and
+  // velocities of every later state stay finite.
+  const double e0 = cm.EnergyOf(x0, v0);
+  if (!(e0 <= kMaxEnergyScale)) {
+    throw InputError(!(0.5 * v0.dot(model.mass * v0) <= kMaxEnergyScale) ? "simulate.initial_velocity"
+                                                                           : "simulate.initial_position",
+                     "gives an energy of " + FormatValue(e0) + "; nsmodal honours up to " +
+                         FormatValue(kMaxEnergyScale) + ": rescale the units");
+  }
   const auto start = std::chrono::steady_clock::now();
   SimulationSummary s;
   switch (options.integrator) {
@@ -96,6 +105,11 @@ SimulationSummary Simulate(const Model& model, const Eigen::VectorXd& x0, const 
   s.initial_energy = cm.EnergyOf(x0, v0);
   s.final_energy = cm.EnergyOf(s.final_state.head(n), s.final_state.tail(n));
   s.energy_drift = s.initial_energy > 0.0 ? std::abs(s.final_energy - s.initial_energy) / s.initial_energy : 0.0;
+  // Never a silent NaN: a non-finite end is a failed run.
+  if (s.status == SimulationStatus::kFinished && (!s.final_state.allFinite() || !std::isfinite(s.final_energy))) {
+    s.status = SimulationStatus::kSolverError;
+    s.message = "the state became non-finite at t = " + FormatValue(s.final_time);
+  }
   return s;
 }
 

@@ -9,6 +9,7 @@
 //   the impact is s <- s - (1 + e) r (r.s)/|r|^2 with r = row c of Phi (eq. 10-12);
 // for e = 1 the impact is a reflection, so S(t) and N are orthogonal.
 #include <Eigen/Dense>
+#include <string>
 
 #include "nsmodal/model.h"
 
@@ -38,7 +39,15 @@ ModalBasis MakeModalBasis(const Model& model);
 // function takes one, and kRestitution is the one place the analysis states e.
 struct AnalysisBasis : ModalBasis {
   static constexpr double kRestitution = 1.0;
+  // Periods the analysis honours, relative to the shortest linear period
+  // T_min: below 1e-6 T_min the flow is the identity to round-off (the
+  // "orbits" are artefacts); above 1e5 T_min the NC3 search on one flight
+  // scans more than 1e5 oscillations of the fastest mode.
+  static constexpr double kMinPeriodRatio = 1e-6;
+  static constexpr double kMaxPeriodRatio = 1e5;
   explicit AnalysisBasis(const Model& model);
+  // Throws InputError naming `field` when T is outside that range.
+  void CheckPeriod(double period, const std::string& field = "period") const;
 };
 
 // Conversions between the physical state z = (x, v) and the scaled modal y.

@@ -32,8 +32,20 @@ Model MakeChain(const std::vector<double>& masses, const std::vector<double>& sp
 // The paper's default system: m1 = m2 = 1, k1 = 0.85, k2 = 2, d = 1, e = 1, c = x2.
 Model PaperModel();
 
-// Checks every field; throws InputError naming the field ("system.mass_matrix",
-// "system.contact_dof", "system.gap", "system.restitution", ...) and the value.
+// Scales nsmodal honours, checked by Validate and MakeModalBasis:
+//   the eigenvalues of M, and those of K, span at most kMaxCondition (a
+//   nearly singular matrix leaves no digits in M^-1 K);
+//   the linear frequencies span at most kMaxFrequencyRatio (the exact flight
+//   and the guaranteed impact search step at the fastest mode's scale over the
+//   slowest one's periods);
+//   the energy scale K d^2 / 2 lies within [1 / kMaxEnergyScale, kMaxEnergyScale].
+inline constexpr double kMaxCondition = 1e12;
+inline constexpr double kMaxFrequencyRatio = 1e6;
+inline constexpr double kMaxEnergyScale = 1e200;
+
+// Checks every field and the scales above; throws InputError naming the field
+// ("system.mass_matrix", "system.contact_dof", "system.gap",
+// "system.restitution", ...) and the value.
 void Validate(const Model& model);
 
 std::string FormatValue(double v);

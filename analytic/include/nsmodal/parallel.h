@@ -3,11 +3,13 @@
 // calling progress(done, count) from the calling thread about ten times a second.
 // The first exception thrown by body stops the remaining work and is rethrown
 // on the calling thread.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -16,6 +18,9 @@ namespace nsmodal {
 inline void ParallelFor(long count, int threads, const std::function<void(long)>& body,
                         const std::function<void(long, long)>& progress = {}) {
   if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  // No more threads than items; and if the system refuses a thread, the ones
+  // already started (and this one) do the work.
+  threads = static_cast<int>(std::min<long>(threads, std::max(1L, count)));
   std::atomic<long> next{0};
   std::atomic<long> done{0};
   std::exception_ptr error;
@@ -33,7 +38,13 @@ inline void ParallelFor(long count, int threads, const std::function<void(long)>
     }
   };
   std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  for (int t = 1; t < threads; ++t) {
+    try {
+      pool.emplace_back(worker);
+    } catch (const std::system_error&) {
+      break;
+    }
+  }
   if (progress) {
     // The calling thread reports while the pool works, then joins in.
     while (done.load() < count && !pool.empty()) {
