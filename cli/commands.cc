@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <nlohmann/json.hpp>
@@ -54,7 +56,21 @@ void CheckT2Step(double step) {
 }  // namespace
 
 std::function<void(long, long)> ProgressBar(const std::string& label) {
-  if (!isatty(STDERR_FILENO)) return {};
+  if (!isatty(STDERR_FILENO)) {
+    // A log, not a terminal: a plain line every 10 s and at the end, once a
+    // run has lasted that long (short runs stay quiet).
+    const auto every = std::chrono::seconds(10);
+    const auto start = std::chrono::steady_clock::now();
+    auto last = std::make_shared<std::chrono::steady_clock::time_point>(start);
+    return [label, every, start, last](long done, long count) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now - *last < every && (done < count || now - start < every)) return;
+      *last = now;
+      std::fprintf(stderr, "%s: %ld/%ld (%.0f s)\n", label.c_str(), done, count,
+                   std::chrono::duration<double>(now - start).count());
+      std::fflush(stderr);
+    };
+  }
   return [label](long done, long count) {
     const int width = 40;
     const int filled = count > 0 ? static_cast<int>(width * done / count) : width;

@@ -30,8 +30,8 @@ T Pick(const std::optional<T>& flag, const std::string& flag_name, const std::op
   return fallback;
 }
 
-// A progress callback for ParallelFor drawing a bar on stderr, or none when
-// stderr is not a terminal.
+// A progress callback for ParallelFor: a bar on stderr when it is a terminal,
+// else a plain line every 10 s once the run has lasted that long.
 std::function<void(long, long)> ProgressBar(const std::string& label);
 
 

@@ -156,6 +156,10 @@ def test_bad_arguments_raise_value_error_naming_the_field(paper):
         nsmodal.orbits(paper, period=(1.0, 2.0))
     with pytest.raises(ValueError, match="impacts"):
         nsmodal.orbits(paper, impacts=3, period=2.0)
+    with pytest.raises(ValueError, match="period"):  # beyond 1e5 T_min: refused, not a hang
+        nsmodal.orbits(paper, period=1e15)
+    with pytest.raises(ValueError, match="period"):
+        nsmodal.multipliers(paper, 1e-300)
     with pytest.raises(ValueError, match="integrator"):
         nsmodal.simulate(paper, x0=[0, 0], integrator="euler")
     with pytest.raises(ValueError, match="initial_position"):
