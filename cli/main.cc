@@ -1,6 +1,7 @@
 // nsmodal: nonsmooth modal analysis of vibro-impact oscillators.
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <new>
 
 #include "commands.h"
 #include "nsmodal/error.h"
@@ -103,6 +104,10 @@ int main(int argc, char** argv) {
   } catch (const nsmodal::report::OutputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 5;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "error: out of memory: the run asked for more than this machine has (a smaller grid, fewer "
+                 "samples or fewer periods)\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;

@@ -137,6 +137,22 @@ TEST(Bridge, OrbitsInsideTheBridgeAreUnstableExceptItsMiddleWhereAllMultipliersA
   }
 }
 
+// Issue 14: exactly grazing orbits were labelled "stable". At the bridge's
+// origin the impact at t2 = t_g has zero velocity: the saltation matrix
+// divides by it, so no verdict is given; a little inside the bridge there is.
+TEST(Bridge, AGrazingImpactHasNoStabilityVerdict) {
+  const AnalysisBasis b = testing::PaperBasis();
+  for (double tg : GrazingPeriods(b)) {
+    const Bridge br = BridgeAt(b, tg);
+    const Stability at_graze = OrbitStability(b, BridgeOrbit(b, br, 0.0));
+    EXPECT_FALSE(at_graze.defined) << "T_G = " << tg;
+    EXPECT_FALSE(at_graze.stable) << "T_G = " << tg;
+    EXPECT_TRUE(std::isnan(at_graze.max_modulus)) << "T_G = " << tg;
+    EXPECT_TRUE(OrbitStability(b, BridgeOrbit(b, br, 0.05 * br.s_end)).defined) << "T_G = " << tg;
+  }
+  EXPECT_TRUE(OrbitStability(b, OneImpactOrbit(b, 7.5)).defined);
+}
+
 TEST(Bridge, ThePaperBridgeIsBornAtAPeriodDoublingOfTheHalfPeriodOrbit) {
   // At T_G / 2 the 1-ipp orbit's nontrivial pair sits at -1: below it the
   // orbit is stable, above it a real multiplier < -1 makes it unstable. The

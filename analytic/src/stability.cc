@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "nsmodal/flow.h"
 
@@ -36,12 +37,22 @@ Stability OrbitStability(const AnalysisBasis& b, const Orbit& orbit, double tol)
   double prev = 0.0;
   std::vector<double> ends = orbit.times;
   ends.push_back(orbit.period);
+  // The largest |v_c| a state of this energy can have: |r| |y|.
+  const double contact_speed_scale = b.r.norm() * orbit.y0.norm();
   for (double t : ends) {
     Flow(b, t - prev, y);
+    if (!(std::abs(ContactVelocity(b, y)) > 1e-9 * contact_speed_scale)) out.defined = false;
     m = FlowMatrix(b, t - prev) * m;
     m = SaltationMatrix(b, y) * m;
     ElasticImpact(b, y);
     prev = t;
+  }
+  if (!out.defined) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    out.monodromy = Eigen::MatrixXd::Constant(dim, dim, nan);
+    out.multipliers = Eigen::VectorXcd::Constant(dim, std::complex<double>(nan, nan));
+    out.max_modulus = out.growth_per_period = nan;
+    return out;
   }
   out.monodromy = m;
   Eigen::EigenSolver<Eigen::MatrixXd> es(m);

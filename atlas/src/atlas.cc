@@ -108,7 +108,10 @@ std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int imp
   records.reserve(orbits.size());
   for (Orbit& o : orbits) {
     OrbitRecord r{std::move(o), std::nullopt};
-    if (WantsStability(options.stability, r.orbit)) r.stability = OrbitStability(b, r.orbit);
+    if (WantsStability(options.stability, r.orbit)) {
+      Stability st = OrbitStability(b, r.orbit);
+      if (st.defined) r.stability = std::move(st);  // a grazing impact: no verdict (stability.h)
+    }
     records.push_back(std::move(r));
   }
   return records;

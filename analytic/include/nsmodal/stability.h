@@ -26,6 +26,11 @@ struct Stability {
   // log(max_modulus): the rate per period at which a perturbation grows.
   double growth_per_period = 0.0;
   bool stable = false;
+  // False when an impact of the orbit is a graze (|v_c-| below 1e-9 of the
+  // largest contact velocity its energy allows): the saltation matrix divides
+  // by v_c-, the linearisation does not exist there, and no verdict is given
+  // (stable = false, the multipliers and max_modulus NaN).
+  bool defined = true;
 };
 
 // tol: |lambda| <= 1 + tol counts as on the unit circle. The trivial pair at 1

@@ -42,7 +42,8 @@ enum class StabilityPolicy {
   kAdmissible,  // admissible orbits only
 };
 
-// One orbit with, as the policy asked, its stability.
+// One orbit with, as the policy asked, its stability (none where it is not
+// defined: an orbit with a grazing impact, stability.h).
 struct OrbitRecord {
   Orbit orbit;
   std::optional<Stability> stability;
