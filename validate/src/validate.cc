@@ -91,7 +91,9 @@ double ManifoldRun(const Model& model, const AnalysisBasis& b, const Eigen::Vect
 
 // Growth of a deviation series: the least-squares slope of log(deviation) per
 // period, from the first period where the deviation exceeds ten times `floor`
-// (the integrator's own floor) to the last below 1e-2 (saturation).
+// (the integrator's own floor) to the last one before it first reaches 1e-2
+// (saturation: past it the motion is nonlinear, and a trajectory that wanders
+// back near the orbit, below 1e-2 again, says nothing of the growth rate).
 // Measurable only over at least three periods and two decades: above a large
 // floor (Moreau-Jean's ~1e-4) the deviation is dominated by the integrator's
 // drift along the orbit, which grows polynomially, not at the multipliers'
@@ -99,8 +101,9 @@ double ManifoldRun(const Model& model, const AnalysisBasis& b, const Eigen::Vect
 std::optional<double> FitGrowth(const std::vector<double>& dev, double floor) {
   int first = -1, last = -1;
   for (int k = 0; k < static_cast<int>(dev.size()); ++k) {
+    if (dev[k] >= 1e-2) break;
     if (first < 0 && dev[k] > 10.0 * floor) first = k;
-    if (dev[k] < 1e-2) last = k;
+    last = k;
   }
   if (!(first >= 0 && last >= first + 3 && dev[last] >= 100.0 * dev[first])) return std::nullopt;
   double sk = 0.0, sl = 0.0, skk = 0.0, skl = 0.0;
