@@ -19,4 +19,4 @@ import nsmodal
 m = nsmodal.load_scene('$src/configs/paper.toml')
 print('python module from the install:', nsmodal.__file__, m.linear_periods)
 ")
-echo "install check: 1 passed, 0 failed"
+echo "install: 1 passed, 0 failed"

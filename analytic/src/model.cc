@@ -42,6 +42,10 @@ std::pair<double, double> CheckSpd(const Eigen::MatrixXd& a, const std::string& 
 
 Model MakeChain(const std::vector<double>& masses, const std::vector<double>& springs,
                 int contact, double gap, double restitution) {
+  if (masses.size() > static_cast<std::size_t>(kMaxDofs)) {
+    throw InputError("system.masses", "lists " + std::to_string(masses.size()) + " masses; nsmodal honours up to " +
+                                          std::to_string(kMaxDofs));
+  }
   const int n = static_cast<int>(masses.size());
   if (n == 0) throw InputError("system.masses", "must list at least one mass");
   if (static_cast<int>(springs.size()) != n) {
@@ -81,6 +85,10 @@ Model MakeChain(const std::vector<double>& masses, const std::vector<double>& sp
 Model PaperModel() { return MakeChain({1.0, 1.0}, {0.85, 2.0}, 1, 1.0, 1.0); }
 
 void Validate(const Model& model) {
+  if (model.mass.rows() > kMaxDofs) {
+    throw InputError("system.mass_matrix", "has " + std::to_string(model.mass.rows()) +
+                                               " rows; nsmodal honours up to " + std::to_string(kMaxDofs) + " dofs");
+  }
   const auto [mass_min, mass_max] = CheckSpd(model.mass, "system.mass_matrix");
   const auto [stiffness_min, stiffness_max] = CheckSpd(model.stiffness, "system.stiffness_matrix");
   if (mass_max > kMaxCondition * mass_min) {

@@ -51,7 +51,7 @@ std::vector<double> IsolateRoots(const std::function<std::pair<double, double>(d
   };
   auto opposite = [](double x, double y) { return (x < 0.0) != (y < 0.0); };
   auto g = [&g_dg](double t) { return g_dg(t).first; };
-  auto make = [&g_dg](double p, double q, std::pair<double, double> at_p, std::pair<double, double> at_q) {
+  auto make = [](double p, double q, std::pair<double, double> at_p, std::pair<double, double> at_q) {
     return Cell{p, q, at_p.first, at_q.first, at_p.second, at_q.second};
   };
   std::vector<Cell> stack{make(a, b, g_dg(a), g_dg(b))};

@@ -39,6 +39,9 @@ Model PaperModel();
 //   and the guaranteed impact search step at the fastest mode's scale over the
 //   slowest one's periods);
 //   the energy scale K d^2 / 2 lies within [1 / kMaxEnergyScale, kMaxEnergyScale].
+//   at most kMaxDofs degrees of freedom (dense N x N matrices and O(N^3)
+//   eigen-decompositions: 2000 dofs take 32 MB a matrix and seconds).
+inline constexpr int kMaxDofs = 2000;
 inline constexpr double kMaxCondition = 1e12;
 inline constexpr double kMaxFrequencyRatio = 1e6;
 inline constexpr double kMaxEnergyScale = 1e200;

@@ -1,0 +1,116 @@
+#include "command_line.h"
+
+#include <iostream>
+#include <new>
+
+#include "nsmodal/error.h"
+#include "nsmodal/output.h"
+
+namespace nsmodal::cli {
+
+CommandLine::CommandLine() {
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "nsmodal " NSMODAL_VERSION);
+
+  c_orbits = app.add_subcommand("orbits", "Potential and admissible orbits over a period grid (CSV)");
+  c_orbits->add_option("scene", orbits.scene, "Scene file (TOML)")->required();
+  c_orbits->add_option("--impacts", orbits.impacts, "Impacts per period (1 or 2)")->default_val(1);
+  c_orbits->add_option("--period", orbits.period, "Period grid FROM:TO:STEP")->required();
+  c_orbits->add_option("--out", orbits.out, "Output directory")->required();
+  c_orbits->add_option("--threads", orbits.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
+  c_orbits->add_option("--t2-step", orbits.t2_step, "Grid spacing of the t2 root scan (m = 2)")->default_val(0.01);
+
+  c_orbit = app.add_subcommand("orbit", "Every potential orbit at one period");
+  c_orbit->add_option("scene", orbit.scene, "Scene file (TOML)")->required();
+  c_orbit->add_option("--impacts", orbit.impacts, "Impacts per period (1 or 2)")->default_val(1);
+  c_orbit->add_option("--period", orbit.period, "Period T")->required();
+  c_orbit->add_flag("--json", orbit.json, "Print JSON {\"orbits\": [...]}");
+  c_orbit->add_option("--t2-step", orbit.t2_step, "Grid spacing of the t2 root scan (m = 2)")->default_val(0.01);
+
+  c_explore = app.add_subcommand("explore", "Exploratory search for 3 or more impacts per period (section 2.3)");
+  c_explore->add_option("scene", explore.scene, "Scene file (TOML)")->required();
+  c_explore->add_option("--impacts", explore.impacts, "Impacts per period (3 to 6)")->default_val(3);
+  c_explore->add_option("--period", explore.period, "Period grid FROM:TO:STEP")->required();
+  c_explore->add_option("--grid", explore.grid, "Grid nodes per impact-time axis")->default_val(24);
+  c_explore->add_flag("--json", explore.json, "Print JSON");
+
+  c_sim = app.add_subcommand("simulate", "Simulate an initial condition (exact, cvode or moreau-jean)");
+  c_sim->add_option("scene", simulate.scene, "Scene file (TOML) with a [simulate] table")->required();
+  c_sim->add_option("--out", simulate.out, "Output directory")->required();
+  c_sim->add_option("--integrator", simulate.integrator, "exact, cvode or moreau-jean");
+  c_sim->add_option("--method", simulate.method, "CVODE method: bdf or adams");
+  c_sim->add_option("--t-end", simulate.t_end, "Final time");
+  c_sim->add_option("--rtol", simulate.rtol, "CVODE relative tolerance");
+  c_sim->add_option("--atol", simulate.atol, "CVODE absolute tolerance");
+  c_sim->add_option("--step", simulate.step, "Moreau-Jean time step");
+  c_sim->add_option("--theta", simulate.theta, "Moreau-Jean theta in [0.5, 1]");
+  c_sim->add_option("--root-tol", simulate.root_tol, "Exact integrator contact tolerance (relative)");
+  c_sim->add_option("--sample-dt", simulate.sample_dt, "Trajectory sampling interval (0: none)");
+  c_sim->add_option("--x0", simulate.x0, "Initial position (N values)")->expected(-1);
+  c_sim->add_option("--v0", simulate.v0, "Initial velocity (N values)")->expected(-1);
+
+  c_val = app.add_subcommand("validate", "Validate analytic orbits by long simulations (batch)");
+  c_val->add_option("scene", validate.scene, "Scene file (TOML); an optional [validate] table")->required();
+  c_val->add_option("--out", validate.out, "Output directory")->required();
+  c_val->add_option("--period", validate.period, "Period grid FROM:TO:STEP");
+  c_val->add_option("--impacts", validate.impacts, "Impacts per period: 1, 2 or both (1 2)")->expected(1, 2);
+  c_val->add_option("--periods", validate.periods, "Periods simulated per orbit (default 1000)");
+  c_val->add_option("--integrators", validate.integrators, "exact, cvode, moreau-jean (default exact)")->expected(1, 3);
+  c_val->add_option("--rtol", validate.rtol, "CVODE relative tolerance (default 1e-10)");
+  c_val->add_option("--atol", validate.atol, "CVODE absolute tolerance (default 1e-12)");
+  c_val->add_option("--step", validate.step, "Moreau-Jean step (default 1e-4)");
+  c_val->add_option("--root-tol", validate.root_tol, "Exact integrator contact tolerance (default 1e-14)");
+  c_val->add_option("--threads", validate.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
+
+  c_bench = app.add_subcommand("bench", "Speed against accuracy of the integrators, and grazing failures");
+  c_bench->add_option("scene", bench.scene, "Scene file (the paper's system: configs/paper.toml)")->required();
+  c_bench->add_option("--out", bench.out, "Output directory")->required();
+  c_bench->add_flag("--quick", bench.quick, "Fewer settings and a 100-period long case");
+
+  c_fig = app.add_subcommand("figures", "Redraw the paper's Figs. 2-15 (PNG, SVG and CSV) with stability");
+  c_fig->add_option("scene", figures.scene, "Scene file (the paper's system: configs/paper.toml)")->required();
+  c_fig->add_option("--out", figures.out, "Output directory")->required();
+  c_fig->add_option("--period", figures.period, "FROM:TO:STEP of the 1-ipp and 2-ipp sweeps (default 0.01:4 T_max:0.01)");
+  c_fig->add_option("--threads", figures.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
+}
+
+int CommandLine::Run() const {
+  try {
+    int status = 1;
+    if (*c_orbits) status = RunOrbits(orbits);
+    if (*c_orbit) status = RunOrbit(orbit);
+    if (*c_explore) status = RunExplore(explore);
+    if (*c_sim) status = RunSimulate(simulate);
+    if (*c_val) status = RunValidate(validate);
+    if (*c_bench) status = RunBench(bench);
+    if (*c_fig) status = RunFigures(figures);
+    report::CheckStdout();
+    return status;
+  } catch (const InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const report::OutputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 5;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "error: out of memory: the run asked for more than this machine has (a smaller grid, fewer "
+                 "samples or fewer periods)\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+int Main(int argc, char** argv) {
+  CommandLine cl;
+  try {
+    cl.app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; every refused command line exits 2.
+    return cl.app.exit(e) == 0 ? 0 : 2;
+  }
+  return cl.Run();
+}
+
+}  // namespace nsmodal::cli
