@@ -48,6 +48,12 @@ struct SimulateOptions {
   // Adams is the default: the problem is not stiff, and at equal rtol Adams
   // was 30x more accurate than BDF over 100 periods of an orbit, in 3x fewer steps.
   std::string cvode_method = "adams";
+  // cvode, e = 1: after an impact where the energy has drifted from the
+  // initial one by more than 100 rtol E0, the state is put back on the energy
+  // level by scaling its velocities. Energy is invariant for e = 1; left
+  // alone, CVODE's energy error per flight accumulates and, on motions whose
+  // period depends on the energy, grows into a phase error quadratic in time.
+  bool cvode_energy_projection = true;
   // moreau-jean: time step and theta in [1/2, 1].
   double step = 1e-3;
   double theta = 0.5;
