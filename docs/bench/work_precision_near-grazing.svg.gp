@@ -1,5 +1,6 @@
 set terminal svg size 900,650 dynamic font ',11'
-set output 'work_precision_near-grazing.svg'
+if (!exists('nsmodal_output')) nsmodal_output = 'work_precision_near-grazing.svg'
+set output nsmodal_output
 set datafile separator ','
 set logscale xy
 set format y '10^{%T}'
@@ -9,5 +10,5 @@ set ylabel 'relative error of the final state (vs exact, root\_tol 1e-14)'
 set title 'work-precision: near-grazing'
 set key outside right
 set grid
-plot for [i in 'exact cvode-adams cvode-bdf moreau-jean'] 'work_precision.csv' using (strcol(1) eq 'near-grazing' && strcol(2) eq i && $4 > 0 ? $5 : 1/0):4 with linespoints lw 2 pt 7 title i
+plot for [i in 'exact cvode-adams cvode-bdf cvode-plain moreau-jean'] 'work_precision.csv' using (strcol(1) eq 'near-grazing' && strcol(2) eq i && $4 > 0 ? $5 : 1/0):4 with linespoints lw 2 pt 7 title i
 

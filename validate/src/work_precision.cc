@@ -95,9 +95,9 @@ std::vector<Setting> Settings(bool long_horizon, bool quick) {
     }
   }
   // Before/after of the energy projection at impacts (simulate.h): Adams
-  // without it, the CVODE of earlier versions.
+  // without it ("cvode-plain"), the CVODE of earlier versions.
   for (double r : rtols) {
-    out.push_back({"cvode-adams-unprojected", "rtol", r, [r](SimulateOptions& o) {
+    out.push_back({"cvode-plain", "rtol", r, [r](SimulateOptions& o) {
                      o.integrator = Integrator::kCvode;
                      o.cvode_method = "adams";
                      o.cvode_energy_projection = false;
