@@ -1,7 +1,9 @@
 // libFuzzer target: the scene parser, and what a parsed scene reaches at once
 // (the modal basis, the analysis basis, the orbits at one period). Any input
 // must end in a scene or an InputError naming a field: never a crash, a hang
-// (libFuzzer's -timeout) or memory exhaustion (-rss_limit_mb).
+// (libFuzzer's -timeout), memory exhaustion (-rss_limit_mb) or a potential
+// orbit with a non-finite energy, state or multiplier (trapped here).
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -17,7 +19,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const nsmodal::AnalysisBasis b(scene.model);
     nsmodal::SweepOptions opt;
     opt.threads = 1;
-    for (int impacts : {1, 2}) nsmodal::OrbitsAt(b, 1.37 * b.Periods().minCoeff(), impacts, opt);
+    for (int impacts : {1, 2}) {
+      for (const nsmodal::OrbitRecord& r : nsmodal::OrbitsAt(b, 1.37 * b.Periods().minCoeff(), impacts, opt)) {
+        // A potential orbit is a result: never a silent inf or NaN in it.
+        if (r.orbit.potential && (!std::isfinite(r.orbit.energy) || !r.orbit.z0.allFinite())) __builtin_trap();
+        if (r.stability && !std::isfinite(r.stability->max_modulus)) __builtin_trap();
+      }
+    }
   } catch (const nsmodal::InputError&) {
   }
   return 0;

@@ -9,6 +9,11 @@ prefix=$(mktemp -d)
 work=$(mktemp -d)
 trap 'rm -rf "$prefix" "$work"' EXIT
 cmake --install build --prefix "$prefix" >/dev/null
+# The exported targets carry no warning flags into a consumer's build.
+if grep -rq -- '-Werror\|-Wpedantic' "$prefix"/lib/cmake/nsmodal/; then
+  echo "the installed package exports warning flags" >&2
+  exit 1
+fi
 cmake -S tests/consumer -B "$work" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$work" -j"$(nproc)" >/dev/null
 "$work/consumer"

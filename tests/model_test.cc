@@ -3,6 +3,7 @@
 #include "nsmodal/error.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/model.h"
+#include "nsmodal/roots.h"
 #include "nsmodal/scene.h"
 
 namespace nsmodal {
@@ -113,6 +114,20 @@ TEST(Model, ScalesOutsideWhatIsHonouredAreRefused) {
   ExpectModelError(unit, unit, 1e-160, "system.gap", "energies");
   // Inside the ranges: accepted.
   EXPECT_NO_THROW(MakeModalBasis(MakeChain({1.0, 1e-10}, unit, 1, 1.0, 1.0)));
+}
+
+}  // namespace
+}  // namespace nsmodal
+
+namespace nsmodal {
+namespace {
+
+// Issue 10: the invariant checks were asserts, compiled out in every build the
+// project configures. NSMODAL_CHECK is armed in release builds too: a root
+// polish without a bracket is a bug of the caller, and aborts saying where.
+TEST(CheckDeathTest, AnInternalInvariantAbortsWithFileAndLine) {
+  EXPECT_DEATH(PolishRoot([](double t) { return t * t + 1.0; }, -1.0, 1.0),
+               "internal invariant violated: .*roots.cc:[0-9]+");
 }
 
 }  // namespace
