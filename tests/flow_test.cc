@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
 #include "fixtures.h"
 #include "nsmodal/flow.h"
+#include "nsmodal/roots.h"
 
 namespace nsmodal {
 namespace {
@@ -60,6 +64,21 @@ TEST(Flow, ContactSignalMatchesFlowAndItsBounds) {
     EXPECT_LE(std::abs(f.Acceleration(t)), f.bound[2]);
     EXPECT_DOUBLE_EQ(f.VelocityAcceleration(t).first, f.Velocity(t));
   }
+}
+
+// Issue 14: every searching loop has a bound and says when it hit it. The
+// root isolation of NC3 stops at its cell budget and reports it; with the
+// budget the caller derives from the scales it completes.
+TEST(Roots, IsolationStopsAtItsWorkLimitAndSaysSo) {
+  // sin(50 t) on [0, 10]: roots k pi / 50 for k = 0..159 (t = 0 included), 160.
+  auto g = [](double t) { return std::pair<double, double>{std::sin(50.0 * t), 50.0 * std::cos(50.0 * t)}; };
+  bool complete = true;
+  const std::vector<double> few = IsolateRoots(g, 50.0, 2500.0, 0.0, 10.0, 1e-12, 20, &complete);
+  EXPECT_FALSE(complete);
+  EXPECT_LT(few.size(), 160u);
+  const std::vector<double> all = IsolateRoots(g, 50.0, 2500.0, 0.0, 10.0, 1e-12, 1000 * (2 + 500 / 3), &complete);
+  EXPECT_TRUE(complete);
+  EXPECT_EQ(all.size(), 160u);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "nsmodal/admissibility.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -12,13 +13,17 @@ namespace nsmodal {
 SegmentCheck CheckSegment(const AnalysisBasis& b, const Eigen::Ref<const Eigen::VectorXd>& y, double duration) {
   const ContactSignal f(b, y);
   SegmentCheck out{-std::numeric_limits<double>::infinity(), 0.0, f.Velocity(0.0), f.Velocity(duration), 0.0,
-                   0.0};
+                   0.0, true};
   out.position_scale = f.bound[0];
   out.velocity_scale = f.bound[1];
   // Tangencies of v_c (inflections of x_c at zero slope) resolved to 1e-12 of the segment.
+  // Work limit from the problem's scale: v_c has about w_max duration / pi
+  // roots, each isolated in ~40 halvings.
+  const double w_max = f.omega.size() > 0 ? f.omega.maxCoeff() : 0.0;
+  const long max_cells = static_cast<long>(std::min(1e9, 1000.0 * (2.0 + w_max * duration / M_PI)));
   const std::vector<double> critical =
       IsolateRoots([&f](double t) { return f.VelocityAcceleration(t); }, f.bound[2], f.bound[3], 0.0, duration,
-                   1e-12 * duration);
+                   1e-12 * duration, max_cells, &out.complete);
   for (double t : critical) {
     if (t <= 0.0 || t >= duration) continue;
     const double excess = f.Position(t) - b.gap;
@@ -53,7 +58,11 @@ Orbit EvaluateOrbit(const AnalysisBasis& b, const Eigen::VectorXd& y0, const std
     const double xtol = options.rel_tol * std::max(b.gap, seg.position_scale);
     const double vtol = options.rel_tol * seg.velocity_scale;
     if (seg.max_excess > orbit.max_excess) orbit.max_excess = seg.max_excess;
-    if (nc3 && seg.max_excess > xtol) {
+    if (nc3 && !seg.complete) {
+      why << "NC3 undetermined: the search for maxima of x_c on the flight from t = " << start
+          << " hit its work limit";
+      nc3 = false;
+    } else if (nc3 && seg.max_excess > xtol) {
       why << "NC3: x_c exceeds d by " << seg.max_excess << " at t = " << start + seg.t_at_max;
       nc3 = false;
     } else if (nc3 && seg.start_velocity > vtol) {

@@ -44,7 +44,9 @@ double PolishRoot(const std::function<double(double)>& g, double lo, double hi) 
 }
 
 std::vector<double> IsolateRoots(const std::function<std::pair<double, double>(double)>& g_dg, double l1,
-                                 double l2, double a, double b, double min_width) {
+                                 double l2, double a, double b, double min_width, long max_cells, bool* complete) {
+  if (complete != nullptr) *complete = true;
+  long cells = 0;
   std::vector<double> roots;
   struct Cell {
     double p, q, gp, gq, dp, dq;
@@ -56,6 +58,10 @@ std::vector<double> IsolateRoots(const std::function<std::pair<double, double>(d
   };
   std::vector<Cell> stack{make(a, b, g_dg(a), g_dg(b))};
   while (!stack.empty()) {
+    if (++cells > max_cells) {
+      if (complete != nullptr) *complete = false;
+      break;
+    }
     const Cell c = stack.back();
     stack.pop_back();
     const bool zero_p = c.gp == 0.0, zero_q = c.gq == 0.0;

@@ -19,6 +19,10 @@ struct SegmentCheck {
   double end_velocity;    // v_c just before the segment ends
   double position_scale;  // sum_i amp_i: the size of the terms of x_c (round-off scale)
   double velocity_scale;  // sum_i w_i amp_i
+  // False when the search for interior maxima hit its work limit (1000 cells
+  // per half-oscillation of the fastest mode, about 25 times what it needs):
+  // NC3 is then undetermined and the orbit is not called admissible.
+  bool complete = true;
 };
 
 SegmentCheck CheckSegment(const AnalysisBasis& b, const Eigen::Ref<const Eigen::VectorXd>& y, double duration);

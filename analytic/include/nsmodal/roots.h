@@ -20,7 +20,12 @@ double PolishRoot(const std::function<double(double)>& g, double lo, double hi);
 // midpoint (a tangency, an even root, to within min_width). Roots come out sorted.
 // g_dg(t) returns (g(t), g'(t)). An exact zero at a cell end is a root, and the
 // cell's interior is still searched.
+//
+// Work limit: at most max_cells cells are examined; when the limit is hit the
+// search stops, *complete (if given) is set false and the roots found so far
+// are returned. Callers size the limit from the problem's scales.
 std::vector<double> IsolateRoots(const std::function<std::pair<double, double>(double)>& g_dg, double l1,
-                                 double l2, double a, double b, double min_width);
+                                 double l2, double a, double b, double min_width, long max_cells = 100000000,
+                                 bool* complete = nullptr);
 
 }  // namespace nsmodal
