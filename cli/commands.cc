@@ -2,17 +2,12 @@
 
 #include <unistd.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -22,19 +17,13 @@
 #include "nsmodal/explore.h"
 #include "nsmodal/figure_subjects.h"
 #include "nsmodal/figures.h"
-#include "nsmodal/gnuplot.h"
 #include "nsmodal/modal_basis.h"
-#include "nsmodal/one_impact.h"
 #include "nsmodal/json.h"
 #include "nsmodal/output.h"
 #include "nsmodal/tables.h"
-#include "nsmodal/parallel.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate.h"
-#include "nsmodal/stability.h"
 #include "nsmodal/validate.h"
-#include "nsmodal/transitions.h"
-#include "nsmodal/two_impact.h"
 #include "nsmodal/work_precision.h"
 #include "common.h"
 
