@@ -172,9 +172,9 @@ int RunValidate(const ValidateArgs& a) {
            "integrators", names);
   opt.integrators.clear();
   for (const std::string& name : integrators) opt.integrators.push_back(ParseIntegrator(name, names("integrators")));
-  opt.simulate.rtol = Pick(a.rtol, "--rtol", none, "", 1e-10, "rtol", names);
-  opt.simulate.atol = Pick(a.atol, "--atol", none, "", 1e-12, "atol", names);
-  opt.simulate.step = Pick(a.step, "--step", none, "", 1e-4, "step", names);
+  opt.simulate.rtol = Pick(a.rtol, "--rtol", none, "", opt.simulate.rtol, "rtol", names);
+  opt.simulate.atol = Pick(a.atol, "--atol", none, "", opt.simulate.atol, "atol", names);
+  opt.simulate.step = Pick(a.step, "--step", none, "", opt.simulate.step, "step", names);
   opt.simulate.root_tol = Pick(a.root_tol, "--root-tol", none, "", opt.simulate.root_tol, "root_tol", names);
   opt.threads = a.threads;
   opt.Validate(names);
@@ -254,8 +254,7 @@ int RunSimulate(const SimulateArgs& a) {
   report::WriteCsvHeader(imp.stream(), impact_columns);
   SimulationObserver obs;
   obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
-    const double energy = 0.5 * z.tail(n).dot(m.mass * z.tail(n)) + 0.5 * z.head(n).dot(m.stiffness * z.head(n));
-    report::WriteCsvRow(traj.stream(), trajectory_columns, report::Sample{t, z, energy});
+    report::WriteCsvRow(traj.stream(), trajectory_columns, report::SampleOf(m, t, z));
   };
   obs.on_impact = [&](const ContactEvent& ev) { report::WriteCsvRow(imp.stream(), impact_columns, ev); };
   const auto bar = ProgressBar("simulate");

@@ -391,10 +391,7 @@ monodromy with the impact saltation matrices. Two are the trivial pair at 1.)doc
         std::vector<report::Sample> samples;
         std::vector<ContactEvent> impacts;
         SimulationObserver obs;
-        obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
-          const double e = 0.5 * z.tail(n).dot(model.mass * z.tail(n)) + 0.5 * z.head(n).dot(model.stiffness * z.head(n));
-          samples.push_back({t, z, e});
-        };
+        obs.on_sample = [&](double t, const Eigen::VectorXd& z) { samples.push_back(report::SampleOf(model, t, z)); };
         obs.on_impact = [&](const ContactEvent& ev) { impacts.push_back(ev); };
         SimulationSummary s;
         {
@@ -453,8 +450,9 @@ A run that stopped early has "status" != "finished" and says why in "message".)d
         return d;
       },
       py::arg("model"), py::arg("period"), py::arg("impacts") = std::vector<int>{1, 2}, py::arg("periods") = 1000,
-      py::arg("integrators") = std::vector<std::string>{"exact"}, py::arg("rtol") = 1e-10, py::arg("atol") = 1e-12,
-      py::arg("step") = 1e-4, py::arg("threads") = 0,
+      py::arg("integrators") = std::vector<std::string>{"exact"}, py::arg("rtol") = ValidateOptions::Defaults().rtol,
+      py::arg("atol") = ValidateOptions::Defaults().atol, py::arg("step") = ValidateOptions::Defaults().step,
+      py::arg("threads") = 0,
       R"doc(Validate the potential 1- and/or 2-ipp orbits of a grid by long simulations.
 
 Returns {"rows": arrays keyed as validation.csv, one per orbit and

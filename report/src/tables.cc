@@ -132,6 +132,12 @@ Columns<GrazingRow> GrazingColumns() {
           {"expected_impacts", K::kInteger, [](const R& r) -> Cell { return r.expected_impacts; }}};
 }
 
+Sample SampleOf(const Model& model, double t, const Eigen::VectorXd& z) {
+  const int n = model.dofs();
+  const double energy = 0.5 * z.tail(n).dot(model.mass * z.tail(n)) + 0.5 * z.head(n).dot(model.stiffness * z.head(n));
+  return {t, z, energy};
+}
+
 Columns<Sample> TrajectoryColumns(int dofs) {
   Columns<Sample> c{{"t", K::kReal, [](const Sample& s) -> Cell { return s.t; }}};
   AddState<Sample>(c, dofs, "", [](const Sample& s) -> const Eigen::VectorXd& { return s.z; });

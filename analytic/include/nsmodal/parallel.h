@@ -9,7 +9,6 @@
 #include <exception>
 #include <functional>
 #include <mutex>
-#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -41,7 +40,7 @@ inline void ParallelFor(long count, int threads, const std::function<void(long)>
   for (int t = 1; t < threads; ++t) {
     try {
       pool.emplace_back(worker);
-    } catch (const std::system_error&) {
+    } catch (const std::exception&) {  // no thread (a system error) or no memory for it
       break;
     }
   }

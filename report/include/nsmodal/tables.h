@@ -36,6 +36,8 @@ struct Sample {
   Eigen::VectorXd z;  // physical (x, v)
   double energy = 0.0;
 };
+// The sample at t of state z = (x, v), with its energy v'Mv/2 + x'Kx/2.
+Sample SampleOf(const Model& model, double t, const Eigen::VectorXd& z);
 Columns<Sample> TrajectoryColumns(int dofs);
 // impacts.csv: t, x1_before..vN_before, x1_after..vN_after.
 Columns<ContactEvent> ImpactColumns(int dofs);

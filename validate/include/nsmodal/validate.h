@@ -43,7 +43,17 @@ namespace nsmodal {
 struct ValidateOptions {
   int periods = 1000;
   std::vector<Integrator> integrators{Integrator::kExact};
-  SimulateOptions simulate;       // tolerances and steps of the integrators
+  // Tolerances and steps of the integrators; validation's defaults differ
+  // from a simulation's in the Moreau-Jean step (1e-4: 1,000 periods at 1e-3
+  // drift past any useful tolerance).
+  SimulateOptions simulate = Defaults();
+  static SimulateOptions Defaults() {
+    SimulateOptions o;
+    o.rtol = 1e-10;
+    o.atol = 1e-12;
+    o.step = 1e-4;
+    return o;
+  }
   // Relative size of the perturbed starts: of T for the on-manifold start, of
   // |y| for the off-family one.
   double perturbation = 1e-6;
