@@ -39,6 +39,16 @@ const Model& ElasticModel(const Model& model) {
                      "when e < 1, paper section 1); got " +
                          FormatValue(model.restitution));
   }
+  // The nonsmooth modes are those of the conservative system (paper eq. 1).
+  if (model.HasDamping()) {
+    throw InputError("system", "has damping: nonsmooth modes are the periodic orbits of the undamped system; "
+                               "remove the damping key to compute them (forced, damped responses are a "
+                               "separate computation)");
+  }
+  if (model.forcing.HasConstant() || model.forcing.HasHarmonic()) {
+    throw InputError("forcing", "is given: nonsmooth modes are the free periodic orbits of the unforced system; "
+                                "remove the [forcing] table to compute them");
+  }
   return model;
 }
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <Eigen/Eigenvalues>
 
 #include "nsmodal/error.h"
 
@@ -123,6 +124,95 @@ void Validate(const Model& model) {
   if (!(model.restitution >= 0.0 && model.restitution <= 1.0)) {
     throw InputError("system.restitution", "must lie in [0, 1], got " + FormatValue(model.restitution));
   }
+  // Bounds on the linear frequencies from the extreme eigenvalues (Rayleigh
+  // quotients): w_min^2 >= k_min / m_max, w_max^2 <= k_max / m_min.
+  const double w_low = std::sqrt(stiffness_min / mass_max), w_high = std::sqrt(stiffness_max / mass_min);
+  const int n = model.dofs();
+  if (model.damping.size() > 0) {
+    const std::string field = "system.damping_matrix";
+    if (model.damping.rows() != n || model.damping.cols() != n) {
+      throw InputError(field, "must be " + std::to_string(n) + "x" + std::to_string(n) + ", got " +
+                                  std::to_string(model.damping.rows()) + "x" + std::to_string(model.damping.cols()));
+    }
+    if (!model.damping.allFinite()) throw InputError(field, "has a non-finite entry");
+    const double scale = model.damping.cwiseAbs().maxCoeff();
+    const double asym = (model.damping - model.damping.transpose()).cwiseAbs().maxCoeff();
+    if (asym > 1e-12 * scale) {
+      throw InputError(field, "is not symmetric (max |C - C^T| = " + FormatValue(asym) + ")");
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(model.damping, Eigen::EigenvaluesOnly);
+    const double lmin = eig.eigenvalues().minCoeff(), lmax = eig.eigenvalues().maxCoeff();
+    // Round-off of a matrix assembled from products (Rayleigh, modal) leaves
+    // eigenvalues of order 1e-16 of the largest on either side of zero.
+    if (lmin < -1e-12 * std::max(lmax, 0.0)) {
+      throw InputError(field, "is not positive semi-definite (smallest eigenvalue " + FormatValue(lmin) +
+                                  "): negative damping feeds energy in");
+    }
+    // Decay rates c / m beyond kMaxFrequencyRatio times the fastest frequency
+    // make the flight a stiff problem the integrators do not resolve.
+    if (lmax / mass_min > kMaxFrequencyRatio * w_high) {
+      throw InputError(field, "has decay rates up to " + FormatValue(lmax / mass_min) + " 1/s, more than " +
+                                  FormatValue(kMaxFrequencyRatio) + " times the fastest linear frequency " +
+                                  FormatValue(w_high) + " rad/s: rescale the damping");
+    }
+  }
+  auto check_force = [&](const Eigen::VectorXd& f, const std::string& field) {
+    if (f.size() == 0) return;
+    if (f.size() != n) {
+      throw InputError(field, "must have " + std::to_string(n) + " entries (one per dof), got " +
+                                  std::to_string(f.size()));
+    }
+    for (int i = 0; i < n; ++i) {
+      if (!std::isfinite(f[i])) {
+        throw InputError(field, "entry " + std::to_string(i + 1) + " must be finite, got " + FormatValue(f[i]));
+      }
+    }
+    // The static response's energy |f|^2 / (2 k_min) within the scales honoured.
+    if (!(f.squaredNorm() / (2.0 * stiffness_min) <= kMaxEnergyScale)) {
+      throw InputError(field, "gives static energies above " + FormatValue(kMaxEnergyScale) + ": rescale the units");
+    }
+  };
+  check_force(model.forcing.constant, "forcing.constant");
+  check_force(model.forcing.amplitude, "forcing.amplitude");
+  const double w = model.forcing.frequency;
+  if (model.forcing.HasHarmonic() &&
+      (!std::isfinite(w) || !(w >= w_low / kMaxFrequencyRatio) || !(w <= w_high * kMaxFrequencyRatio))) {
+    throw InputError("forcing.frequency",
+                     "must be positive, within " + FormatValue(kMaxFrequencyRatio) +
+                         " times the linear frequencies (" + FormatValue(w_low / kMaxFrequencyRatio) + " to " +
+                         FormatValue(w_high * kMaxFrequencyRatio) + " rad/s), got " + FormatValue(w));
+  }
+}
+
+Eigen::MatrixXd RayleighDamping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& stiffness, double a, double b) {
+  if (!(a >= 0.0) || !std::isfinite(a)) {
+    throw InputError("system.rayleigh_damping", "coefficient a (of M) must be >= 0 and finite, got " + FormatValue(a));
+  }
+  if (!(b >= 0.0) || !std::isfinite(b)) {
+    throw InputError("system.rayleigh_damping", "coefficient b (of K) must be >= 0 and finite, got " + FormatValue(b));
+  }
+  return a * mass + b * stiffness;
+}
+
+Eigen::MatrixXd ModalDamping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& stiffness,
+                             const std::vector<double>& ratios) {
+  const int n = static_cast<int>(mass.rows());
+  if (static_cast<int>(ratios.size()) != n) {
+    throw InputError("system.damping_ratios", "must have one entry per linear mode (" + std::to_string(n) +
+                                                  "), got " + std::to_string(ratios.size()));
+  }
+  for (int i = 0; i < n; ++i) {
+    if (!(ratios[i] >= 0.0) || !std::isfinite(ratios[i])) {
+      throw InputError("system.damping_ratios", "entry " + std::to_string(i + 1) + " must be >= 0 and finite, got " +
+                                                    FormatValue(ratios[i]));
+    }
+  }
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(stiffness, mass);
+  const Eigen::MatrixXd mphi = mass * ges.eigenvectors();  // M Phi
+  Eigen::VectorXd rate(n);
+  for (int i = 0; i < n; ++i) rate[i] = 2.0 * ratios[i] * std::sqrt(std::max(ges.eigenvalues()[i], 0.0));
+  const Eigen::MatrixXd c = mphi * rate.asDiagonal() * mphi.transpose();
+  return 0.5 * (c + c.transpose());
 }
 
 }  // namespace nsmodal

@@ -45,6 +45,59 @@ Eigen::MatrixXd ReadMatrix(const toml::node& node, const std::string& field) {
   return m;
 }
 
+// At most one of the three damping forms; none means C = 0.
+void ReadDamping(const toml::table& sys, Model& model) {
+  const char* forms[] = {"rayleigh_damping", "damping_ratios", "damping_matrix"};
+  int given = 0;
+  for (const char* f : forms) given += sys.contains(f) ? 1 : 0;
+  if (given > 1) {
+    throw InputError("system", "give at most one of rayleigh_damping, damping_ratios and damping_matrix");
+  }
+  if (const toml::node* node = sys.get("rayleigh_damping")) {
+    const std::vector<double> ab = ReadVector(*node, "system.rayleigh_damping");
+    if (ab.size() != 2) {
+      throw InputError("system.rayleigh_damping", "must be [a, b] (C = a M + b K), got " +
+                                                      std::to_string(ab.size()) + " entries");
+    }
+    model.damping = RayleighDamping(model.mass, model.stiffness, ab[0], ab[1]);
+  } else if (const toml::node* ratios = sys.get("damping_ratios")) {
+    model.damping = ModalDamping(model.mass, model.stiffness, ReadVector(*ratios, "system.damping_ratios"));
+  } else if (const toml::node* matrix = sys.get("damping_matrix")) {
+    model.damping = ReadMatrix(*matrix, "system.damping_matrix");
+  }
+}
+
+// [forcing]: f0 + f cos(w t). amplitude and frequency come together.
+void ReadForcing(const toml::node& node, Model& model) {
+  const toml::table* table = node.as_table();
+  if (table == nullptr) throw InputError("forcing", "must be a table");
+  auto to_vector = [](const std::vector<double>& v) {
+    return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())).eval();
+  };
+  for (auto&& [key, value] : *table) {
+    const std::string k(key.str());
+    const std::string field = "forcing." + k;
+    if (k == "amplitude") {
+      model.forcing.amplitude = to_vector(ReadVector(value, field));
+    } else if (k == "constant") {
+      model.forcing.constant = to_vector(ReadVector(value, field));
+    } else if (k == "frequency") {
+      model.forcing.frequency = ReadNumber(value, field);
+    } else {
+      throw InputError(field, "is not a known key");
+    }
+  }
+  if (table->contains("amplitude") && !table->contains("frequency")) {
+    throw InputError("forcing.frequency", "is missing: the angular frequency w (rad/s) of f cos(w t)");
+  }
+  if (table->contains("frequency") && !table->contains("amplitude")) {
+    throw InputError("forcing.amplitude", "is missing: the force amplitude f on each dof");
+  }
+  if (table->contains("frequency") && !(model.forcing.frequency > 0.0)) {
+    throw InputError("forcing.frequency", "must be positive, got " + FormatValue(model.forcing.frequency));
+  }
+}
+
 }  // namespace
 
 Scene ParseScene(const std::string& toml_text, const std::string& source) {
@@ -60,8 +113,9 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
   const toml::table* sys = root["system"].as_table();
   if (sys == nullptr) throw InputError("system", "the scene has no [system] table");
   for (auto&& [key, value] : *sys) {
-    static const char* kKnown[] = {"masses", "springs", "mass_matrix", "stiffness_matrix",
-                                   "contact_dof", "gap", "restitution"};
+    static const char* kKnown[] = {"masses",      "springs",          "mass_matrix",    "stiffness_matrix",
+                                   "contact_dof", "gap",              "restitution",    "rayleigh_damping",
+                                   "damping_ratios", "damping_matrix"};
     bool known = false;
     for (const char* k : kKnown) known = known || key.str() == k;
     if (!known) throw InputError("system." + std::string(key.str()), "is not a known key");
@@ -105,6 +159,9 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
                      "is missing: the coefficient e of Newton's impact law, 0 <= e <= 1 (1 for periodic orbits)");
   }
   model.restitution = ReadNumber(*restitution, "system.restitution");
+  Validate(model);  // M and K first: the damping forms are built from them
+  ReadDamping(*sys, model);
+  if (const toml::node* node = root.get("forcing")) ReadForcing(*node, model);
   Validate(model);
   Scene scene{source, model, {}, {}};
   if (const toml::node* node = root.get("simulate")) {
@@ -178,7 +235,7 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
     }
   }
   for (auto&& [key, value] : root) {
-    if (key.str() != "system" && key.str() != "simulate" && key.str() != "validate") {
+    if (key.str() != "system" && key.str() != "simulate" && key.str() != "validate" && key.str() != "forcing") {
       throw InputError(std::string(key.str()), "is not a known table");
     }
   }

@@ -5,13 +5,51 @@
 namespace nsmodal {
 
 ContactModel::ContactModel(const Model& m) : model(m), basis(MakeModalBasis(m)) {
-  minv_k = m.mass.ldlt().solve(m.stiffness);
-  minv_c = m.mass.ldlt().solve(Eigen::VectorXd::Unit(m.dofs(), m.contact));
+  const int n = m.dofs();
+  const Eigen::LDLT<Eigen::MatrixXd> m_ldlt(m.mass);
+  minv_k = m_ldlt.solve(m.stiffness);
+  minv_d = m_ldlt.solve(m.DampingMatrix());
+  minv_f0 = m_ldlt.solve(m.ConstantForce());
+  minv_f = m_ldlt.solve(m.ForceAmplitude());
+  minv_c = m_ldlt.solve(Eigen::VectorXd::Unit(n, m.contact));
   w_cc = minv_c[m.contact];
+}
+
+Eigen::VectorXd ContactModel::FreeAcceleration(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                                               const Eigen::Ref<const Eigen::VectorXd>& v) const {
+  Eigen::VectorXd a = -(minv_k * x);
+  if (model.HasDamping()) a.noalias() -= minv_d * v;
+  if (model.forcing.HasConstant()) a += minv_f0;
+  if (model.forcing.HasHarmonic()) a += std::cos(model.forcing.frequency * t) * minv_f;
+  return a;
+}
+
+double ContactModel::FreeContactAcceleration(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                                             const Eigen::Ref<const Eigen::VectorXd>& v) const {
+  const int c = model.contact;
+  double a = -minv_k.row(c).dot(x) + minv_f0[c] + std::cos(model.forcing.frequency * t) * minv_f[c];
+  if (model.HasDamping()) a -= minv_d.row(c).dot(v);
+  return a;
 }
 
 void ContactModel::ApplyImpact(double e, Eigen::Ref<Eigen::VectorXd> v) const {
   v -= ((1.0 + e) * v[model.contact] / w_cc) * minv_c;
+}
+
+double ContactModel::EnergyScale(const Eigen::VectorXd& x0, const Eigen::VectorXd& v0) const {
+  double e = EnergyOf(x0, v0);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.dofs());
+  if (model.forcing.HasConstant()) e += EnergyOf(model.stiffness.ldlt().solve(model.forcing.constant), zero);
+  if (model.forcing.HasHarmonic()) {
+    const double w = model.forcing.frequency;
+    // At an undamped resonance (no bounded steady state) the static response
+    // to f stands for it.
+    const Eigen::VectorXcd x =
+        HarmonicResponse(model.mass, model.damping, model.stiffness, model.forcing.amplitude, w)
+            .value_or(model.stiffness.ldlt().solve(model.forcing.amplitude).cast<std::complex<double>>());
+    e += EnergyOf(x.real(), w * x.imag()) + EnergyOf(x.imag(), w * x.real());
+  }
+  return e;
 }
 
 ContactDecision DecideContact(double vc, double ac, double e, const ContactResolution& r) {
@@ -92,6 +130,76 @@ SinusoidSum StickingFlow::ContactAcceleration(const Eigen::VectorXd& yr) const {
   if (nr_ == 0) return SinusoidSum(a0_, Eigen::VectorXd(), Eigen::VectorXd(), Eigen::VectorXd());
   const Eigen::VectorXd r = rho_.cwiseQuotient(omega_);
   return SinusoidSum(a0_, r.cwiseProduct(yr.head(nr_)), r.cwiseProduct(yr.tail(nr_)), omega_);
+}
+
+}  // namespace nsmodal
+
+namespace nsmodal {
+namespace {
+
+// Z: the dofs other than the contact one, as columns of the identity.
+Eigen::MatrixXd Others(int n, int contact) {
+  Eigen::MatrixXd z = Eigen::MatrixXd::Zero(n, n - 1);
+  for (int i = 0, j = 0; i < n; ++i) {
+    if (i != contact) z(i, j++) = 1.0;
+  }
+  return z;
+}
+
+ForcedFlow HeldFlow(const ContactModel& cm) {
+  const Model& m = cm.model;
+  const int n = m.dofs();
+  const Eigen::MatrixXd z = Others(n, m.contact);
+  const Eigen::VectorXd ec = Eigen::VectorXd::Unit(n, m.contact);
+  const Eigen::VectorXd f0 = m.ConstantForce() - m.gap * (m.stiffness * ec);
+  return ForcedFlow(z.transpose() * m.mass * z, z.transpose() * m.DampingMatrix() * z,
+                    z.transpose() * m.stiffness * z, z.transpose() * f0, z.transpose() * m.ForceAmplitude(),
+                    m.forcing.frequency);
+}
+
+}  // namespace
+
+ForcedStickingFlow::ForcedStickingFlow(const ContactModel& cm) : cm_(&cm), flow_(HeldFlow(cm)) {
+  const Model& m = cm.model;
+  const int n = m.dofs(), c = m.contact;
+  for (int i = 0; i < n; ++i) {
+    if (i != c) others_.push_back(i);
+  }
+  const Eigen::MatrixXd z = Others(n, c);
+  const Eigen::VectorXd ec = Eigen::VectorXd::Unit(n, c);
+  // a_c = row (f0 + f cos(w t) - C Z xi' - K (Z xi + d e_c)), row = e_c' M^-1;
+  // the release signal is -a_c.
+  const Eigen::RowVectorXd row = cm.minv_c.transpose();  // M^-1 symmetric: its row c is (M^-1 e_c)'
+  release_row_.resize(2 * (n - 1));
+  release_row_.head(n - 1) = row * m.stiffness * z;
+  release_row_.tail(n - 1) = row * m.DampingMatrix() * z;
+  release_c0_ = -(cm.minv_f0[c] - m.gap * row.dot(m.stiffness * ec));
+  release_c1_ = -cm.minv_f[c];
+}
+
+Eigen::VectorXd ForcedStickingFlow::Enter(const Eigen::VectorXd& z) const {
+  const int n = cm_->model.dofs(), nr = n - 1;
+  Eigen::VectorXd zr(2 * nr);
+  for (int j = 0; j < nr; ++j) {
+    zr[j] = z[others_[j]];
+    zr[nr + j] = z[n + others_[j]];
+  }
+  return zr;
+}
+
+Eigen::VectorXd ForcedStickingFlow::Physical(const Eigen::VectorXd& zr) const {
+  const int n = cm_->model.dofs(), nr = n - 1;
+  Eigen::VectorXd z = Eigen::VectorXd::Zero(2 * n);
+  z[cm_->model.contact] = cm_->model.gap;
+  for (int j = 0; j < nr; ++j) {
+    z[others_[j]] = zr[j];
+    z[n + others_[j]] = zr[nr + j];
+  }
+  return z;
+}
+
+void ForcedStickingFlow::Release(double t, const Eigen::VectorXd& zr, DampedSignal& out) const {
+  flow_.Observe(t, zr, release_row_, release_c0_, release_c1_, out);
 }
 
 }  // namespace nsmodal

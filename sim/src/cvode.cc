@@ -1,4 +1,5 @@
-// CVODE event-driven integrator (SUNDIALS 6.4). Free flight: z' = (v, -M^-1 K x)
+// CVODE event-driven integrator (SUNDIALS 6.4). Free flight:
+// z' = (v, M^-1 (f0 + f cos(w t) - C v - K x))
 // with two root functions, g0 = d - x_c (direction -1: x_c rising through d,
 // an impact) and g1 = v_c (direction -1: a maximum of x_c). CVODE misses
 // roots of even multiplicity and two crossings inside one step; a maximum of
@@ -28,13 +29,17 @@ struct UserData {
   bool sticking = false;
 };
 
-int Rhs(realtype, N_Vector zv, N_Vector dzv, void* data) {
+int Rhs(realtype t, N_Vector zv, N_Vector dzv, void* data) {
   const auto* ud = static_cast<const UserData*>(data);
-  const int n = ud->cm->model.dofs();
+  const ContactModel& cm = *ud->cm;
+  const int n = cm.model.dofs();
   Eigen::Map<const Eigen::VectorXd> z(N_VGetArrayPointer(zv), 2 * n);
   Eigen::Map<Eigen::VectorXd> dz(N_VGetArrayPointer(dzv), 2 * n);
   dz.head(n) = z.tail(n);
-  dz.tail(n).noalias() = -ud->cm->minv_k * z.head(n);
+  dz.tail(n).noalias() = -cm.minv_k * z.head(n);
+  if (cm.model.HasDamping()) dz.tail(n).noalias() -= cm.minv_d * z.tail(n);
+  if (cm.model.forcing.HasConstant()) dz.tail(n) += cm.minv_f0;
+  if (cm.model.forcing.HasHarmonic()) dz.tail(n) += std::cos(cm.model.forcing.frequency * t) * cm.minv_f;
   if (ud->sticking) {
     const double lambda = dz[n + ud->cm->model.contact] / ud->cm->w_cc;
     dz.tail(n) -= lambda * ud->cm->minv_c;
@@ -45,7 +50,9 @@ int Rhs(realtype, N_Vector zv, N_Vector dzv, void* data) {
 int Jac(realtype, N_Vector, N_Vector, SUNMatrix jm, void* data, N_Vector, N_Vector, N_Vector) {
   const auto* ud = static_cast<const UserData*>(data);
   const int n = ud->cm->model.dofs();
-  Eigen::MatrixXd a = -ud->cm->minv_k;
+  // d(acceleration)/d(x, v) = [-M^-1 K, -M^-1 C], projected while sticking.
+  Eigen::MatrixXd a(n, 2 * n);
+  a << -ud->cm->minv_k, -ud->cm->minv_d;
   if (ud->sticking) {
     const Eigen::RowVectorXd row = a.row(ud->cm->model.contact) / ud->cm->w_cc;
     a -= ud->cm->minv_c * row;
@@ -53,18 +60,18 @@ int Jac(realtype, N_Vector, N_Vector, SUNMatrix jm, void* data, N_Vector, N_Vect
   SUNMatZero(jm);
   for (int i = 0; i < n; ++i) {
     SM_ELEMENT_D(jm, i, n + i) = 1.0;
-    for (int j = 0; j < n; ++j) SM_ELEMENT_D(jm, n + i, j) = a(i, j);
+    for (int j = 0; j < 2 * n; ++j) SM_ELEMENT_D(jm, n + i, j) = a(i, j);
   }
   return 0;
 }
 
-int Roots(realtype, N_Vector zv, realtype* g, void* data) {
+int Roots(realtype t, N_Vector zv, realtype* g, void* data) {
   const auto* ud = static_cast<const UserData*>(data);
   const Model& m = ud->cm->model;
   const int n = m.dofs();
   Eigen::Map<const Eigen::VectorXd> z(N_VGetArrayPointer(zv), 2 * n);
   if (ud->sticking) {
-    g[0] = ud->cm->FreeContactAcceleration(z.head(n));
+    g[0] = ud->cm->FreeContactAcceleration(t, z.head(n), z.tail(n));
     g[1] = 1.0;  // inactive
   } else {
     g[0] = m.gap - z[m.contact];
@@ -198,13 +205,13 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
   // The contact band: CVODE's error control keeps x_c within ~atol + rtol d of
   // its true value, so contact decisions use that scale.
   const double xtol = 10.0 * (opt.atol + opt.rtol * d);
-  const double vscale = std::sqrt(cm.EnergyOf(x0, v0) * 2.0 * cm.w_cc) + 1e-300;
+  const double vscale = std::sqrt(cm.EnergyScale(x0, v0) * 2.0 * cm.w_cc) + 1e-300;
   const double vtol_floor = 10.0 * (opt.atol + opt.rtol * vscale);
   bool sticking = false;
-  // e = 1: the energy of the start is an invariant; each restart is put back
+  // e = 1 without damping or forcing: the energy of the start is an invariant; each restart is put back
   // on it (simulate.h, cvode_energy_projection).
   const double e0 = cm.EnergyOf(x0, v0);
-  const bool project = opt.cvode_energy_projection && e == 1.0;
+  const bool project = opt.cvode_energy_projection && e == 1.0 && m.Conservative();
   double t = 0.0, stick_start = 0.0;
   long base_steps = 0, next_progress = 0;
   auto z = solver.State();
@@ -225,7 +232,7 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
   // rebound lower than xtol would never move the root function away from zero
   // after the restart.
   auto handle_contact = [&] {
-    const double ac = cm.FreeContactAcceleration(z.head(n));
+    const double ac = cm.FreeContactAcceleration(t, z.head(n), z.tail(n));
     const double vtol = std::max(vtol_floor, std::sqrt(2.0 * std::abs(ac) * xtol));
     const ContactDecision dec = DecideContact(z[n + c], ac, e, {vtol, xtol, zeno_flight});
     if (dec.outcome == ContactOutcome::kGraze) {
@@ -251,7 +258,7 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
 
   try {
     if (z[c] >= d - xtol && (z[n + c] > vtol_floor || (std::abs(z[n + c]) <= vtol_floor &&
-                                                       cm.FreeContactAcceleration(z.head(n)) > 0.0))) {
+                                                       cm.FreeContactAcceleration(t, z.head(n), z.tail(n)) > 0.0))) {
       handle_contact();
     }
     while (t < opt.t_end) {

@@ -26,12 +26,14 @@ double FirstPositiveRootQuartic(const double c[5]) {
   return best;
 }
 
-}  // namespace
+double MaxRate(const SinusoidSum& g) { return g.omega.size() > 0 ? g.omega.maxCoeff() : 1.0; }
+double MaxRate(const DampedSignal& g) { return g.MaxRate(); }
 
-FirstRiseResult FirstRise(const SinusoidSum& g, double horizon, double tol) {
+template <typename Signal>
+FirstRiseResult Search(const Signal& g, double horizon, double tol) {
   FirstRiseResult out;
   const double l2 = g.bound[2], l4 = g.bound[4];
-  const double w_max = g.omega.size() > 0 ? g.omega.maxCoeff() : 1.0;
+  const double w_max = MaxRate(g);
   double s = 0.0;
   double d[4];
   g.Derivatives(0.0, d);
@@ -70,6 +72,14 @@ FirstRiseResult FirstRise(const SinusoidSum& g, double horizon, double tol) {
         const double c[5] = {g0, d[1], 0.5 * d[2], d[3] / 6.0, l4 / 24.0};
         sigma = std::max(sigma, FirstPositiveRootQuartic(c));
       }
+      // Unarmed and moving away (after an impact), stop at the vertex of the
+      // quadratic bound: g there is below g + ... - g'^2 / (2 L2), so the
+      // search arms wherever the flight provably dips below -2 tol. A longer
+      // step can land on the return when the bound is tight (a constant
+      // acceleration, as under a preload), where the unarmed rule would stop
+      // at +tol without the Newton finish: the contact found a band-width
+      // past the wall, an error that accumulates over a Zeno sequence.
+      if (!armed && d[1] < 0.0) sigma = std::min(sigma, -d[1] / l2);
     }
     if (!(sigma > 1e-15 * std::max(1.0, s))) {
       if (++no_progress > 1000) {
@@ -90,5 +100,10 @@ FirstRiseResult FirstRise(const SinusoidSum& g, double horizon, double tol) {
     if (!armed && d[0] < -2.0 * tol) armed = true;
   }
 }
+
+}  // namespace
+
+FirstRiseResult FirstRise(const SinusoidSum& g, double horizon, double tol) { return Search(g, horizon, tol); }
+FirstRiseResult FirstRise(const DampedSignal& g, double horizon, double tol) { return Search(g, horizon, tol); }
 
 }  // namespace nsmodal

@@ -1,6 +1,8 @@
 // Moreau-Jean event-capturing time-stepping (theta-method), the standard of
 // nonsmooth contact dynamics (Jean 1999; Acary and Brogliato 2008, ch. 10):
-//   W v+ = (M - h^2 theta (1 - theta) K) v - h K x + r,   W = M + h^2 theta^2 K,
+//   W v+ = (M - h (1 - theta) C - h^2 theta (1 - theta) K) v - h K x
+//          + h (theta F(t + h) + (1 - theta) F(t)) + r,
+//   W = M + h theta C + h^2 theta^2 K,   F(t) = f0 + f cos(w t),
 //   x+ = x + h ((1 - theta) v + theta v+),
 // with the impulse r = -e_c p (p >= 0 pushes the mass off the wall). When the
 // predicted gap d - (x_c + h v_c / 2) is closed, Newton's law at velocity level
@@ -20,11 +22,18 @@ SimulationSummary SimulateMoreauJean(const ContactModel& cm, const Eigen::Vector
   const Model& m = cm.model;
   const int n = m.dofs(), c = m.contact;
   const double e = m.restitution, d = m.gap, h = opt.step, th = opt.theta;
-  const Eigen::MatrixXd w_mat = m.mass + h * h * th * th * m.stiffness;
+  const Eigen::MatrixXd damping = m.DampingMatrix();
+  const Eigen::MatrixXd w_mat = m.mass + h * th * damping + h * h * th * th * m.stiffness;
   const Eigen::LDLT<Eigen::MatrixXd> w_ldlt(w_mat);
-  const Eigen::MatrixXd b_v = w_ldlt.solve(m.mass - h * h * th * (1.0 - th) * m.stiffness);
+  const Eigen::MatrixXd b_v =
+      w_ldlt.solve(m.mass - h * (1.0 - th) * damping - h * h * th * (1.0 - th) * m.stiffness);
   const Eigen::MatrixXd b_x = w_ldlt.solve(-h * m.stiffness);
   const Eigen::VectorXd w_c = w_ldlt.solve(Eigen::VectorXd::Unit(n, c));  // W^-1 e_c
+  // The forces' impulse over a step: h W^-1 (f0 + f (theta cos(w (t + h)) + (1 - theta) cos(w t))).
+  const bool forced = m.forcing.HasConstant() || m.forcing.HasHarmonic();
+  const Eigen::VectorXd b_f0 = h * w_ldlt.solve(m.ConstantForce());
+  const Eigen::VectorXd b_f = h * w_ldlt.solve(m.ForceAmplitude());
+  const double w_force = m.forcing.frequency;
   const double w = w_c[c];
   SimulationSummary sum;
   Sampler sampler(opt, observer);
@@ -36,7 +45,7 @@ SimulationSummary SimulateMoreauJean(const ContactModel& cm, const Eigen::Vector
   };
   sampler.Emit(0.0, [&](double) { return state(); });
   const long steps = static_cast<long>(std::ceil(opt.t_end / h - 1e-9));
-  const double vscale = std::sqrt(2.0 * cm.EnergyOf(x0, v0) * cm.w_cc) + 1e-300;
+  const double vscale = std::sqrt(2.0 * cm.EnergyScale(x0, v0) * cm.w_cc) + 1e-300;
   // An active step with incoming gap rate below -1e-8 of the velocity scale is
   // an impact; with |u| below it, a sustained (sticking) contact.
   const double vtol = 1e-8 * vscale;
@@ -55,6 +64,10 @@ SimulationSummary SimulateMoreauJean(const ContactModel& cm, const Eigen::Vector
     }
     const Eigen::VectorXd x_prev = x, v_prev = v;
     Eigen::VectorXd v_free = b_v * v + b_x * x;
+    if (forced) {
+      const double tk = k * h;
+      v_free += b_f0 + (th * std::cos(w_force * (tk + h)) + (1.0 - th) * std::cos(w_force * tk)) * b_f;
+    }
     double p = 0.0;
     const bool active = d - (x[c] + 0.5 * h * v[c]) <= 0.0;
     if (active) {

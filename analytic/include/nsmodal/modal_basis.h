@@ -37,6 +37,8 @@ ModalBasis MakeModalBasis(const Model& model);
 // So an AnalysisBasis can only be built from a model with e = 1 (the
 // constructor throws InputError naming system.restitution), every analysis
 // function takes one, and kRestitution is the one place the analysis states e.
+// Nonsmooth modes are those of the conservative system: a model with damping
+// or forcing is refused too (InputError naming "system" or "forcing").
 struct AnalysisBasis : ModalBasis {
   static constexpr double kRestitution = 1.0;
   // Periods the analysis honours, relative to the shortest linear period

@@ -1,5 +1,6 @@
 #pragma once
-// The vibro-impact model: M xdd + K x = 0 in free flight, one unilateral
+// The vibro-impact model: M xdd + C xd + K x = f0 + f cos(w t) in free flight
+// (C = 0, f0 = f = 0 in the paper: M xdd + K x = 0), one unilateral
 // contact x_c <= d (Signorini, paper eq. 1) with a Newton impact law.
 //
 // Impact law (paper eq. 2b generalised to any SPD M): the impulse acts along
@@ -13,15 +14,49 @@
 
 namespace nsmodal {
 
+// External forces f0 + f cos(w t) on the dofs (scene table [forcing]).
+// An empty vector means no such force.
+struct Forcing {
+  Eigen::VectorXd constant;   // f0: a constant force (preload, gravity), length N or empty
+  Eigen::VectorXd amplitude;  // f: amplitude of the harmonic force, length N or empty
+  double frequency = 0.0;     // w in rad/s, > 0 when f is given
+
+  bool HasConstant() const { return constant.size() > 0 && constant.cwiseAbs().maxCoeff() > 0.0; }
+  bool HasHarmonic() const { return amplitude.size() > 0 && amplitude.cwiseAbs().maxCoeff() > 0.0; }
+};
+
 struct Model {
   Eigen::MatrixXd mass;       // M, symmetric positive definite, N x N
   Eigen::MatrixXd stiffness;  // K, symmetric positive definite, N x N
+  Eigen::MatrixXd damping;    // C, symmetric positive semi-definite N x N, or empty (none)
+  Forcing forcing;            // none by default
   int contact = 0;            // c, 0-based index of the dof that meets the obstacle
   double gap = 1.0;           // d > 0
   double restitution = 1.0;   // e in [0, 1]
 
   int dofs() const { return static_cast<int>(mass.rows()); }
+  bool HasDamping() const { return damping.size() > 0 && damping.cwiseAbs().maxCoeff() > 0.0; }
+  // C, f0 and f as full-size values (zero where absent).
+  Eigen::MatrixXd DampingMatrix() const {
+    return damping.size() > 0 ? damping : Eigen::MatrixXd::Zero(dofs(), dofs());
+  }
+  Eigen::VectorXd ConstantForce() const {
+    return forcing.constant.size() > 0 ? forcing.constant : Eigen::VectorXd::Zero(dofs());
+  }
+  Eigen::VectorXd ForceAmplitude() const {
+    return forcing.amplitude.size() > 0 ? forcing.amplitude : Eigen::VectorXd::Zero(dofs());
+  }
+  // No damping and no force: the paper's system, whose energy flight conserves.
+  bool Conservative() const { return !HasDamping() && !forcing.HasConstant() && !forcing.HasHarmonic(); }
 };
+
+// Damping matrices from the usual engineering forms (scene keys in scene.h).
+// Rayleigh: C = a M + b K, a, b >= 0 (field "system.rayleigh_damping").
+Eigen::MatrixXd RayleighDamping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& stiffness, double a, double b);
+// Modal: C = M Phi diag(2 zeta_i w_i) Phi' M with Phi' M Phi = I, the linear
+// modes in ascending frequency; one zeta_i >= 0 per mode ("system.damping_ratios").
+Eigen::MatrixXd ModalDamping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& stiffness,
+                             const std::vector<double>& ratios);
 
 // A chain ground - k1 - m1 - k2 - m2 - ... (the paper's Figure 1 for N = 2).
 // springs[0] links the ground to m1, springs[i] links m_i to m_{i+1}.
@@ -48,7 +83,11 @@ inline constexpr double kMaxEnergyScale = 1e200;
 
 // Checks every field and the scales above; throws InputError naming the field
 // ("system.mass_matrix", "system.contact_dof", "system.gap",
-// "system.restitution", ...) and the value.
+// "system.restitution", "system.damping_matrix", "forcing.amplitude",
+// "forcing.frequency", ...) and the value. The damping must be symmetric
+// positive semi-definite (a negative eigenvalue would feed energy in); a
+// harmonic force needs w > 0 within kMaxFrequencyRatio of the linear
+// frequencies.
 void Validate(const Model& model);
 
 std::string FormatValue(double v);

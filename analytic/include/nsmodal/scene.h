@@ -8,6 +8,15 @@
 //   contact_dof = 2            # 1-based; default: the last dof
 //   gap = 1.0                  # d
 //   restitution = 1.0          # e
+//   # damping, at most one of (none: C = 0):
+//   rayleigh_damping = [0.0, 0.01]  # C = a M + b K
+//   damping_ratios = [0.01, 0.02]   # modal damping, one ratio per linear mode
+//   damping_matrix = [[...]]        # any symmetric positive semi-definite C
+//
+//   [forcing]                  # optional: f0 + f cos(w t) on the dofs
+//   amplitude = [0.05, 0.0]    # f, length N (needs frequency)
+//   frequency = 0.6            # w in rad/s
+//   constant = [0.0, 0.0]      # f0, length N (preload, gravity)
 //
 //   [simulate]                 # optional; the simulate command's flags override it
 //   initial_position = [0.0, 0.5]   # length N

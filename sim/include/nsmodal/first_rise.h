@@ -1,5 +1,6 @@
 #pragma once
-// The first time a sum of sinusoids g rises to zero: the impact search of the
+// The first time a sum of sinusoids (or of damped sinusoids, forced_flow.h)
+// g rises to zero: the impact search of the
 // exact integrator (g = x_c - d) and the release search while sticking
 // (g = -a_c).
 //
@@ -13,10 +14,13 @@
 // Trigger rule (as Drake's witness functions): the search is armed once
 // g < -2 tol; armed, it stops at g >= -tol; unarmed (starting inside the
 // contact band |g| <= tol, right after an impact, a graze or a release) it
-// stops only at g > max(tol, g(0) + tol), and steps with that level, so a
-// contact is never reported twice and never at s = 0. A transversal crossing
+// stops only at g > max(tol, g(0) + tol), and steps with that level but no
+// further than the vertex of the quadratic bound while g' < 0, so it arms
+// wherever the bound proves a dip below -2 tol; a contact is never reported
+// twice and never at s = 0. A transversal crossing
 // (g' > sqrt(2 L2 tol)) found inside the band is finished by one Newton step.
 #include "nsmodal/flow.h"
+#include "nsmodal/forced_flow.h"
 
 namespace nsmodal {
 
@@ -28,5 +32,7 @@ struct FirstRiseResult {
 };
 
 FirstRiseResult FirstRise(const SinusoidSum& g, double horizon, double tol);
+// The same search; the bounds hold for s >= 0 because every term decays.
+FirstRiseResult FirstRise(const DampedSignal& g, double horizon, double tol);
 
 }  // namespace nsmodal

@@ -1,7 +1,10 @@
 #pragma once
-// Simulation of any initial condition, any restitution 0 <= e <= 1, with three
-// integrators behind one interface:
-//   exact        closed-form modal flight, impacts isolated by conservative
+// Simulation of any initial condition, any restitution 0 <= e <= 1, with or
+// without damping and forcing (model.h), with three integrators behind one
+// interface:
+//   exact        closed-form flight (modal rotations for the conservative
+//                model; forced_flow.h's first-order modes plus the static and
+//                harmonic particular solutions otherwise), impacts isolated by conservative
 //                advancement (a Taylor upper bound of x_c - d that provably
 //                cannot step over a crossing), polished to root_tol;
 //   cvode        SUNDIALS CVODE (BDF or Adams) with CVodeRootInit on d - x_c,
@@ -15,7 +18,7 @@
 //              pulls away: no impulse, counted apart, never twice;
 //   sticking   x_c = d, v_c = 0 and the free acceleration a_c pushes into the
 //              wall: the mass is held (reaction lambda = a_c / (M^-1)_cc >= 0)
-//              until a_c falls through 0;
+//              until a_c falls through 0 (with forcing, at any phase of it);
 //   Zeno       for 0 < e < 1 with a_c > 0, when the rebound after an impact
 //              is below the integrator's resolution (exact: inside the contact
 //              band; cvode: a bounce height v+^2 / 2 a_c below its position
@@ -48,7 +51,7 @@ struct SimulateOptions {
   // Adams is the default: the problem is not stiff, and at equal rtol Adams
   // was 30x more accurate than BDF over 100 periods of an orbit, in 3x fewer steps.
   std::string cvode_method = "adams";
-  // cvode, e = 1: after an impact where the energy has drifted from the
+  // cvode, e = 1, no damping and no forcing: after an impact where the energy has drifted from the
   // initial one by more than 100 rtol E0, the state is put back on the energy
   // level by scaling its velocities. Energy is invariant for e = 1; left
   // alone, CVODE's energy error per flight accumulates and, on motions whose

@@ -1,0 +1,202 @@
+#include "nsmodal/forced_flow.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "nsmodal/check.h"
+#include "nsmodal/error.h"
+
+namespace nsmodal {
+
+void DampedSignal::UpdateBounds() {
+  for (double& b : bound) b = 0.0;
+  for (int j = 0; j < beta.size(); ++j) {
+    const double amp = std::abs(beta[j]), rate = std::abs(mu[j]);
+    double rk = 1.0;
+    for (double& b : bound) {
+      b += amp * rk;
+      rk *= rate;
+    }
+  }
+}
+
+double DampedSignal::Position(double s) const {
+  double out[4];
+  Derivatives(s, out);
+  return out[0];
+}
+
+double DampedSignal::Velocity(double s) const {
+  double out[4];
+  Derivatives(s, out);
+  return out[1];
+}
+
+double DampedSignal::Acceleration(double s) const {
+  double out[4];
+  Derivatives(s, out);
+  return out[2];
+}
+
+void DampedSignal::Derivatives(double s, double out[4]) const {
+  out[0] = offset;
+  out[1] = out[2] = out[3] = 0.0;
+  for (int j = 0; j < beta.size(); ++j) {
+    std::complex<double> term = beta[j] * std::exp(mu[j] * s);
+    for (int k = 0; k < 4; ++k) {
+      out[k] += term.real();
+      term *= mu[j];
+    }
+  }
+}
+
+double DampedSignal::MaxRate() const {
+  double r = 0.0;
+  for (int j = 0; j < mu.size(); ++j) r = std::max(r, std::abs(mu[j]));
+  return r > 0.0 ? r : 1.0;
+}
+
+std::optional<Eigen::VectorXcd> HarmonicResponse(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
+                                                 const Eigen::MatrixXd& stiffness, const Eigen::VectorXd& force,
+                                                 double frequency) {
+  using Complex = std::complex<double>;
+  const double w = frequency;
+  Eigen::MatrixXcd dyn = stiffness.cast<Complex>() - (w * w) * mass.cast<Complex>();
+  if (damping.size() > 0) dyn += Complex(0.0, w) * damping.cast<Complex>();
+  const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(dyn);
+  if (!(lu.rcond() > kMinResonanceCondition)) return std::nullopt;
+  return Eigen::VectorXcd(lu.solve(force.cast<Complex>()));
+}
+
+ForcedFlow::ForcedFlow(const Model& model)
+    : ForcedFlow(model.mass, model.damping, model.stiffness, model.forcing.constant, model.forcing.amplitude,
+                 model.forcing.frequency) {}
+
+ForcedFlow::ForcedFlow(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping, const Eigen::MatrixXd& stiffness,
+                       const Eigen::VectorXd& constant_force, const Eigen::VectorXd& force_amplitude, double frequency)
+    : n_(static_cast<int>(mass.rows())), w_(frequency) {
+  const int n = n_;
+  NSMODAL_CHECK(stiffness.rows() == n && stiffness.cols() == n && mass.cols() == n);
+  NSMODAL_CHECK(damping.size() == 0 || (damping.rows() == n && damping.cols() == n));
+  NSMODAL_CHECK(constant_force.size() == 0 || constant_force.size() == n);
+  NSMODAL_CHECK(force_amplitude.size() == 0 || force_amplitude.size() == n);
+  const Eigen::MatrixXd c = damping.size() > 0 ? damping : Eigen::MatrixXd::Zero(n, n);
+  const bool damped = n > 0 && c.cwiseAbs().maxCoeff() > 0.0;
+  x_static_ = Eigen::VectorXd::Zero(n);
+  x_harmonic_ = Eigen::VectorXcd::Zero(n);
+  if (n == 0) return;
+  const Eigen::LDLT<Eigen::MatrixXd> k_ldlt(stiffness);
+  if (constant_force.size() > 0) x_static_ = k_ldlt.solve(constant_force);
+  if (force_amplitude.size() > 0 && force_amplitude.cwiseAbs().maxCoeff() > 0.0) {
+    const std::optional<Eigen::VectorXcd> x = HarmonicResponse(mass, c, stiffness, force_amplitude, w_);
+    if (!x) {
+      throw InputError("forcing.frequency", "w = " + FormatValue(w_) +
+                                                " resonates with an undamped linear mode (K - w^2 M + i w C is "
+                                                "singular): the closed-form flight has no bounded steady state; "
+                                                "add damping or move w");
+    }
+    x_harmonic_ = *x;
+  }
+  // The first-order matrix and its modes.
+  const Eigen::LDLT<Eigen::MatrixXd> m_ldlt(mass);
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  a.topRightCorner(n, n).setIdentity();
+  a.bottomLeftCorner(n, n) = -m_ldlt.solve(stiffness);
+  a.bottomRightCorner(n, n) = -m_ldlt.solve(c);
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(a);
+  NSMODAL_CHECK(eig.info() == Eigen::Success);
+  Eigen::MatrixXcd v = eig.eigenvectors();
+  for (int j = 0; j < 2 * n; ++j) v.col(j).normalize();
+  const Eigen::PartialPivLU<Eigen::MatrixXcd> v_lu(v);
+  if (!(v_lu.rcond() * kMaxModeCondition > 1.0)) {
+    throw InputError("system", "has a nearly critically damped mode (the first-order modes are nearly "
+                               "parallel, condition number " +
+                                   FormatValue(1.0 / v_lu.rcond()) + " > " + FormatValue(kMaxModeCondition) +
+                                   "): the closed-form flight needs damping ratios away from 1");
+  }
+  const Eigen::MatrixXcd v_inv = v_lu.inverse();
+  std::vector<int> kept;
+  for (int j = 0; j < 2 * n; ++j) {
+    if (eig.eigenvalues()[j].imag() >= 0.0) kept.push_back(j);
+  }
+  const int m = static_cast<int>(kept.size());
+  lambda_.resize(m);
+  v_.resize(2 * n, m);
+  v_inv_.resize(m, 2 * n);
+  weight_.resize(m);
+  for (int k = 0; k < m; ++k) {
+    std::complex<double> l = eig.eigenvalues()[kept[k]];
+    // A positive semi-definite C gives Re lambda <= 0; the solver's round-off
+    // (~1e-16 |lambda|) may put an undamped mode on either side: it is put
+    // on the axis, which the signal bounds (|e^{mu s}| <= 1) rely on.
+    if (!damped || l.real() > 0.0) l = {0.0, l.imag()};
+    lambda_[k] = l;
+    v_.col(k) = v.col(kept[k]);
+    v_inv_.row(k) = v_inv.row(kept[k]);
+    weight_[k] = eig.eigenvalues()[kept[k]].imag() > 0.0 ? 2.0 : 1.0;
+  }
+}
+
+Eigen::VectorXcd ForcedFlow::Eigenvalues() const { return lambda_; }
+
+Eigen::VectorXd ForcedFlow::Particular(double t) const {
+  Eigen::VectorXd z(2 * n_);
+  if (n_ == 0) return z;
+  const std::complex<double> e = std::polar(1.0, w_ * t);
+  const std::complex<double> iw(0.0, w_);
+  z.head(n_) = x_static_ + (x_harmonic_ * e).real();
+  z.tail(n_) = (x_harmonic_ * (iw * e)).real();
+  return z;
+}
+
+void ForcedFlow::Advance(double t, double s, Eigen::Ref<Eigen::VectorXd> z) const {
+  if (n_ == 0) return;
+  const Eigen::VectorXcd q = v_inv_ * (z - Particular(t));
+  Eigen::VectorXd out = Particular(t + s);
+  for (int k = 0; k < lambda_.size(); ++k) {
+    out += weight_[k] * (v_.col(k) * (q[k] * std::exp(lambda_[k] * s))).real();
+  }
+  z = out;
+}
+
+void ForcedFlow::Observe(double t, const Eigen::Ref<const Eigen::VectorXd>& z,
+                         const Eigen::Ref<const Eigen::RowVectorXd>& l, double c0, double c1,
+                         DampedSignal& out) const {
+  const int m = static_cast<int>(lambda_.size());
+  const bool harmonic = w_ > 0.0;
+  out.beta.resize(m + (harmonic ? 1 : 0));
+  out.mu.resize(out.beta.size());
+  out.offset = c0;
+  if (n_ > 0) {
+    out.offset += l.head(n_).dot(x_static_);
+    const Eigen::VectorXcd q = v_inv_ * (z - Particular(t));
+    const Eigen::RowVectorXcd lv = l.cast<std::complex<double>>() * v_;
+    for (int k = 0; k < m; ++k) {
+      out.beta[k] = weight_[k] * lv[k] * q[k];
+      out.mu[k] = lambda_[k];
+    }
+  }
+  if (harmonic) {
+    // l' z_p's oscillating part plus c1 cos(w t), as Re[beta e^{i w s}].
+    const std::complex<double> iw(0.0, w_);
+    std::complex<double> amp = c1;
+    if (n_ > 0) {
+      amp += l.head(n_).cast<std::complex<double>>().dot(x_harmonic_) +
+             iw * l.tail(n_).cast<std::complex<double>>().dot(x_harmonic_);
+    }
+    // Eigen's complex dot conjugates its first argument; l is real.
+    out.beta[m] = amp * std::polar(1.0, w_ * t);
+    out.mu[m] = iw;
+  }
+  out.UpdateBounds();
+}
+
+Eigen::MatrixXd ForcedFlow::Transition(double s) const {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(2 * n_, 2 * n_);
+  for (int k = 0; k < lambda_.size(); ++k) {
+    out += weight_[k] * (v_.col(k) * std::exp(lambda_[k] * s) * v_inv_.row(k)).real();
+  }
+  return out;
+}
+
+}  // namespace nsmodal
