@@ -1,0 +1,117 @@
+#pragma once
+// Periodic forced responses (DESIGN.md "Damping and forcing"): orbits of
+//   M x'' + C x' + K x = f0 + a f_hat cos(w t)
+// with period P = n 2 pi / w and m impacts per period, (m, n) = (impacts, periods).
+//
+// Unknowns: the impact times t_1 < t_2 < ... < t_m < t_1 + P, written as
+// u = (phi, tau_1, ..., tau_{m-1}) with phi = w t_1 the forcing phase at the
+// first impact and tau_i = t_{i+1} - t_i (tau_m = P - sum tau_i). Flight is
+// affine in the state (forced_flow.h): z(t + s) = z_p(t + s) + E(s) (z(t) - z_p(t)),
+// and the Newton impact law is linear, z+ = R z-. So for given times the
+// state just after the first impact is the fixed point of an affine map,
+//   z_1+ = A z_1+ + b,   A = R E(tau_m) R E(tau_{m-1}) ... R E(tau_1),
+// one linear solve (I - A is regular when the model is damped or e < 1:
+// then no multiplier is 1 generically), and the m conditions
+//   x_c(t_i-) = d,  i = 1..m
+// close the system: Newton on u with the state eliminated exactly.
+//
+// Admissibility (as for free orbits, paper section 2): every flight stays
+// on its side, x_c(t) <= d strictly inside (checked by the guaranteed search
+// of first_rise.h on the flight's DampedSignal, not by sampling), and every
+// impact arrives towards the obstacle (v_c(t_i-) > 0).
+// Stability: the monodromy just after the first impact,
+//   Phi = S_1 E(tau_m) S_m ... S_2 E(tau_1),
+// with the saltation matrix of an impact under a time-dependent field,
+//   S = R + (f(t, z+) - R f(t, z-)) e_c' / v_c(t-)
+// (f the vector field at the impact time, e_c' z = x_c); multipliers = eig(Phi).
+#include <Eigen/Dense>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nsmodal/forced_flow.h"
+#include "nsmodal/model.h"
+
+namespace nsmodal {
+
+// Limits of the (m, n) nsmodal searches: m <= kMaxResponseImpacts,
+// n <= kMaxResponsePeriods ((0, 1) is the non-impacting linear response).
+inline constexpr int kMaxResponseImpacts = 8;
+inline constexpr int kMaxResponsePeriods = 16;
+
+struct ForcedOrbit {
+  int impacts = 0, periods = 1;
+  double frequency = 0.0;  // w
+  double amplitude = 0.0;  // a = max_i |f_i| of the harmonic force
+  double period = 0.0;     // P = n 2 pi / w
+  Eigen::VectorXd u;       // (phi, tau_1, ..., tau_{m-1})
+  std::vector<double> times;                   // t_1 in [0, 2 pi / w), t_1 < ... < t_m < t_1 + P
+  std::vector<Eigen::VectorXd> before, after;  // physical (x, v) at each impact
+  double residual = 0.0;   // max_i |x_c(t_i-) - d|
+  // Over one period:
+  double energy = 0.0;     // mean mechanical energy (1/P) int E dt, E = v'Mv/2 + x'Kx/2
+  double max_xc = 0.0;     // max x_c (d for an impacting orbit)
+  double min_impact_velocity = 0.0;  // min_i v_c(t_i-): > 0 when every impact arrives
+  double max_interior_gap = 0.0;     // max of x_c - d at interior maxima of the flights (-inf: none)
+  double work = 0.0;         // int v'(f0 + f cos(w t)) dt
+  double dissipated = 0.0;   // int v'C v dt
+  double impact_loss = 0.0;  // sum_i E(t_i-) - E(t_i+)
+  bool admissible = false;
+  std::string verdict;     // "admissible", or why not
+  Eigen::VectorXcd multipliers;
+  double max_multiplier = 0.0;
+  bool stable = false;     // max |multiplier| < 1
+};
+
+// One response problem: the model at one frequency and forcing amplitude.
+class ForcedProblem {
+ public:
+  // Throws InputError: "forcing.amplitude" (no harmonic force to scale),
+  // "forcing.frequency" (w <= 0 or an undamped resonance), "impacts"/"periods"
+  // (an impossible (m, n)), "system" (undamped with e = 1: the responses are
+  // not isolated).
+  ForcedProblem(const Model& model, int impacts, int periods, double frequency, double amplitude);
+
+  int impacts() const { return m_; }
+  double period() const { return period_; }
+  // x_c(t_i-) - d for i = 1..m; false outside the domain (a flight <= 0, or
+  // I - A singular).
+  bool Residual(const Eigen::VectorXd& u, Eigen::VectorXd& r) const;
+  // Newton from u0 (finite-difference Jacobian), at most max_iterations;
+  // converged when max |r| <= tol * d. nullopt when it leaves the domain or
+  // does not converge.
+  std::optional<Eigen::VectorXd> Solve(Eigen::VectorXd u0, int max_iterations = 30, double tol = 1e-13) const;
+  // The orbit at a solution u with its admissibility, energies and multipliers.
+  ForcedOrbit Orbit(const Eigen::VectorXd& u) const;
+  // The state of the orbit at time t.
+  Eigen::VectorXd StateAt(const ForcedOrbit& orbit, double t) const;
+  // Every solution at this (w, a) from a grid of starts (m = 1: a scan of the
+  // phase with Brent on each sign change; m >= 2: Newton from a grid), each
+  // once (the same orbit from another first impact is recognised).
+  std::vector<Eigen::VectorXd> FindAll() const;
+  // The canonical u of an orbit: the first impact the one earliest in the
+  // forcing cycle, phi in [0, 2 pi).
+  Eigen::VectorXd Canonical(const Eigen::VectorXd& u) const;
+
+ private:
+  struct Pass {
+    std::vector<double> times;
+    std::vector<Eigen::VectorXd> before, after;
+  };
+  bool Run(const Eigen::VectorXd& u, Pass& pass) const;
+  Eigen::VectorXd Field(double t, const Eigen::VectorXd& z) const;
+
+  Model model_;
+  int m_, n_;
+  double w_, amplitude_, period_;
+  ForcedFlow flow_;
+  Eigen::MatrixXd impact_;  // R
+  Eigen::MatrixXd minv_k_, minv_d_;
+  Eigen::VectorXd minv_f0_, minv_f_;
+};
+
+// The non-impacting steady state (m = 0): x_s + Re[X e^{i w t}] with
+// max x_c = x_s,c + |X_c|; admissible while max x_c <= d.
+ForcedOrbit LinearResponse(const Model& model, double frequency, double amplitude);
+
+}  // namespace nsmodal

@@ -1,0 +1,433 @@
+#include "nsmodal/forced_orbit.h"
+
+#include <gsl/gsl_integration.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include "nsmodal/check.h"
+#include "nsmodal/error.h"
+#include "nsmodal/first_rise.h"
+#include "nsmodal/roots.h"
+
+namespace nsmodal {
+namespace {
+
+// The model with its harmonic force rescaled to max_i |f_i| = amplitude at w.
+Model ScaledModel(const Model& model, double frequency, double amplitude) {
+  if (!model.forcing.HasHarmonic()) {
+    throw InputError("forcing.amplitude", "is needed: a forced response needs a harmonic force f cos(w t) "
+                                          "(its direction; the level is the response's amplitude)");
+  }
+  if (!(frequency > 0.0) || !std::isfinite(frequency)) {
+    throw InputError("forcing.frequency", "must be positive and finite for a response, got " + FormatValue(frequency));
+  }
+  if (!(amplitude >= 0.0) || !std::isfinite(amplitude)) {
+    throw InputError("forcing.amplitude", "the response's amplitude must be >= 0 and finite, got " +
+                                              FormatValue(amplitude));
+  }
+  Model m = model;
+  m.forcing.amplitude = model.forcing.amplitude * (amplitude / model.forcing.amplitude.cwiseAbs().maxCoeff());
+  m.forcing.frequency = frequency;
+  if (amplitude == 0.0) {
+    // A zero force is no force: keep the direction with a zero level.
+    m.forcing.amplitude.setZero();
+  }
+  Validate(m);
+  return m;
+}
+
+double EnergyOf(const Model& m, const Eigen::VectorXd& z) {
+  const int n = m.dofs();
+  return 0.5 * z.tail(n).dot(m.mass * z.tail(n)) + 0.5 * z.head(n).dot(m.stiffness * z.head(n));
+}
+
+// Gauss-Legendre nodes and weights on [-1, 1] (GSL's fixed tables).
+struct Quadrature {
+  static constexpr int kNodes = 10;
+  double x[kNodes], w[kNodes];
+  Quadrature() {
+    std::unique_ptr<gsl_integration_glfixed_table, void (*)(gsl_integration_glfixed_table*)> t(
+        gsl_integration_glfixed_table_alloc(kNodes), gsl_integration_glfixed_table_free);
+    NSMODAL_CHECK(t != nullptr);
+    for (int i = 0; i < kNodes; ++i) NSMODAL_CHECK(gsl_integration_glfixed_point(-1.0, 1.0, i, &x[i], &w[i], t.get()) == 0);
+  }
+};
+
+}  // namespace
+
+ForcedProblem::ForcedProblem(const Model& model, int impacts, int periods, double frequency, double amplitude)
+    : model_(ScaledModel(model, frequency, amplitude)),
+      m_(impacts),
+      n_(periods),
+      w_(frequency),
+      amplitude_(amplitude),
+      period_(periods * 2.0 * M_PI / frequency),
+      flow_(model_) {
+  if (impacts < 1 || impacts > kMaxResponseImpacts) {
+    throw InputError("impacts", "must be between 1 and " + std::to_string(kMaxResponseImpacts) +
+                                    " for an impacting response (0: the linear response), got " +
+                                    std::to_string(impacts));
+  }
+  if (periods < 1 || periods > kMaxResponsePeriods) {
+    throw InputError("periods", "must be between 1 and " + std::to_string(kMaxResponsePeriods) + ", got " +
+                                    std::to_string(periods));
+  }
+  if (model_.restitution == 1.0 && !model_.HasDamping()) {
+    throw InputError("system", "has no damping and e = 1: its forced periodic responses are not isolated (the "
+                               "return map keeps the multiplier 1 of the free orbits, paper section 2); "
+                               "give damping or e < 1");
+  }
+  const int n = model_.dofs(), c = model_.contact;
+  const Eigen::LDLT<Eigen::MatrixXd> m_ldlt(model_.mass);
+  const Eigen::VectorXd minv_c = m_ldlt.solve(Eigen::VectorXd::Unit(n, c));
+  impact_ = Eigen::MatrixXd::Identity(2 * n, 2 * n);
+  impact_.bottomRightCorner(n, n) -= ((1.0 + model_.restitution) / minv_c[c]) * minv_c *
+                                     Eigen::RowVectorXd::Unit(n, c);
+  minv_k_ = m_ldlt.solve(model_.stiffness);
+  minv_d_ = m_ldlt.solve(model_.DampingMatrix());
+  minv_f0_ = m_ldlt.solve(model_.ConstantForce());
+  minv_f_ = m_ldlt.solve(model_.ForceAmplitude());
+}
+
+Eigen::VectorXd ForcedProblem::Field(double t, const Eigen::VectorXd& z) const {
+  const int n = model_.dofs();
+  Eigen::VectorXd f(2 * n);
+  f.head(n) = z.tail(n);
+  f.tail(n) = -minv_k_ * z.head(n) - minv_d_ * z.tail(n) + minv_f0_ + std::cos(w_ * t) * minv_f_;
+  return f;
+}
+
+bool ForcedProblem::Run(const Eigen::VectorXd& u, Pass& pass) const {
+  NSMODAL_CHECK(u.size() == m_);
+  if (!u.allFinite()) return false;
+  std::vector<double> tau(m_);
+  double used = 0.0;
+  for (int i = 1; i < m_; ++i) {
+    tau[i - 1] = u[i];
+    used += u[i];
+  }
+  tau[m_ - 1] = period_ - used;
+  for (double t : tau) {
+    if (!(t > 1e-12 * period_)) return false;
+  }
+  pass.times.assign(m_, u[0] / w_);
+  for (int i = 1; i < m_; ++i) pass.times[i] = pass.times[i - 1] + tau[i - 1];
+  // The affine map z_1+ -> z_1+ over one period.
+  const int dim = 2 * model_.dofs();
+  Eigen::MatrixXd a = Eigen::MatrixXd::Identity(dim, dim);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(dim);
+  std::vector<Eigen::MatrixXd> e(m_);
+  for (int i = 0; i < m_; ++i) {
+    e[i] = flow_.Transition(tau[i]);
+    const double t0 = pass.times[i];
+    a = impact_ * (e[i] * a);
+    b = impact_ * (e[i] * (b - flow_.Particular(t0)) + flow_.Particular(t0 + tau[i]));
+  }
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(Eigen::MatrixXd::Identity(dim, dim) - a);
+  if (!(lu.rcond() > 1e-14)) return false;
+  Eigen::VectorXd z = lu.solve(b);
+  pass.before.assign(m_, Eigen::VectorXd());
+  pass.after.assign(m_, Eigen::VectorXd());
+  pass.after[0] = z;
+  for (int i = 0; i < m_; ++i) {
+    const double t0 = pass.times[i];
+    const Eigen::VectorXd zb = flow_.Particular(t0 + tau[i]) + e[i] * (z - flow_.Particular(t0));
+    const int next = (i + 1) % m_;
+    pass.before[next] = zb;
+    z = impact_ * zb;
+    if (next != 0) pass.after[next] = z;
+  }
+  return true;
+}
+
+bool ForcedProblem::Residual(const Eigen::VectorXd& u, Eigen::VectorXd& r) const {
+  Pass pass;
+  if (!Run(u, pass)) return false;
+  r.resize(m_);
+  for (int i = 0; i < m_; ++i) r[i] = pass.before[i][model_.contact] - model_.gap;
+  return r.allFinite();
+}
+
+std::optional<Eigen::VectorXd> ForcedProblem::Solve(Eigen::VectorXd u, int max_iterations, double tol) const {
+  Eigen::VectorXd r(m_), rp(m_), rm(m_);
+  if (!Residual(u, r)) return std::nullopt;
+  for (int it = 0; it < max_iterations; ++it) {
+    if (r.cwiseAbs().maxCoeff() <= tol * model_.gap) return u;
+    // Central differences: the Jacobian to ~h^2, enough for Newton's
+    // quadratic convergence to the residual's round-off.
+    Eigen::MatrixXd j(m_, m_);
+    for (int k = 0; k < m_; ++k) {
+      const double h = 1e-6 * (k == 0 ? 1.0 : period_);
+      Eigen::VectorXd up = u, um = u;
+      up[k] += h;
+      um[k] -= h;
+      if (!Residual(up, rp) || !Residual(um, rm)) return std::nullopt;
+      j.col(k) = (rp - rm) / (2.0 * h);
+    }
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(j);
+    if (!lu.isInvertible()) return std::nullopt;
+    const Eigen::VectorXd step = lu.solve(-r);
+    // Backtracking: the full step unless it leaves the domain or does not
+    // reduce the residual.
+    double lambda = 1.0;
+    bool moved = false;
+    for (int k = 0; k < 12 && !moved; ++k, lambda *= 0.5) {
+      const Eigen::VectorXd trial = u + lambda * step;
+      if (Residual(trial, rp) && rp.norm() < r.norm()) {
+        u = trial;
+        r = rp;
+        moved = true;
+      }
+    }
+    if (!moved) return r.cwiseAbs().maxCoeff() <= 1e3 * tol * model_.gap ? std::optional(u) : std::nullopt;
+  }
+  return r.cwiseAbs().maxCoeff() <= tol * model_.gap ? std::optional(u) : std::nullopt;
+}
+
+Eigen::VectorXd ForcedProblem::Canonical(const Eigen::VectorXd& u) const {
+  const double cycle = 2.0 * M_PI / w_;
+  std::vector<double> tau(m_);
+  double used = 0.0;
+  for (int i = 1; i < m_; ++i) used += (tau[i - 1] = u[i]);
+  tau[m_ - 1] = period_ - used;
+  std::vector<double> t(m_, u[0] / w_);
+  for (int i = 1; i < m_; ++i) t[i] = t[i - 1] + tau[i - 1];
+  int best = 0;
+  double best_phase = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < m_; ++k) {
+    double p = std::fmod(t[k], cycle);
+    if (p < 0.0) p += cycle;
+    // Equal phases (1e-12 of a cycle) keep the earlier impact: n > 1 orbits
+    // can meet the same forcing phase at two impacts.
+    if (p < best_phase - 1e-12 * cycle) {
+      best_phase = p;
+      best = k;
+    }
+  }
+  Eigen::VectorXd out(m_);
+  out[0] = w_ * best_phase;
+  for (int i = 1; i < m_; ++i) out[i] = tau[(best + i - 1) % m_];
+  return out;
+}
+
+std::vector<Eigen::VectorXd> ForcedProblem::FindAll() const {
+  std::vector<Eigen::VectorXd> found;
+  auto add = [&](const std::optional<Eigen::VectorXd>& sol) {
+    if (!sol) return;
+    const Eigen::VectorXd c = Canonical(*sol);
+    for (const Eigen::VectorXd& f : found) {
+      Eigen::VectorXd d = f - c;
+      d[0] = std::remainder(d[0], 2.0 * M_PI);
+      if (d.cwiseAbs().maxCoeff() <= 1e-7 * std::max(1.0, period_)) return;
+    }
+    found.push_back(c);
+  };
+  if (m_ == 1) {
+    // r(phi) on 256 phases; Brent on each sign change, then Newton.
+    constexpr int kScan = 256;
+    Eigen::VectorXd r(1), u(1);
+    double prev_phi = 0.0, prev_r = std::numeric_limits<double>::quiet_NaN();
+    for (int k = 0; k <= kScan; ++k) {
+      const double phi = 2.0 * M_PI * k / kScan;
+      u[0] = phi;
+      const double val = Residual(u, r) ? r[0] : std::numeric_limits<double>::quiet_NaN();
+      if (std::isfinite(val) && std::isfinite(prev_r) && (val == 0.0 || (val > 0.0) != (prev_r > 0.0))) {
+        auto g = [&](double p) {
+          Eigen::VectorXd uu(1), rr(1);
+          uu[0] = p;
+          return Residual(uu, rr) ? rr[0] : std::numeric_limits<double>::quiet_NaN();
+        };
+        const double root = PolishRoot(g, prev_phi, phi);
+        Eigen::VectorXd start(1);
+        start[0] = root;
+        add(Solve(start));
+      }
+      prev_phi = phi;
+      prev_r = val;
+    }
+    return found;
+  }
+  // m >= 2: Newton from a grid of phases and flight durations (K per axis,
+  // fewer as m grows: K^m starts).
+  const int k_axis = m_ == 2 ? 24 : (m_ == 3 ? 10 : 6);
+  std::vector<int> idx(m_, 0);
+  while (true) {
+    Eigen::VectorXd u(m_);
+    u[0] = 2.0 * M_PI * (idx[0] + 0.5) / k_axis;
+    double used = 0.0;
+    for (int i = 1; i < m_; ++i) used += (u[i] = period_ * (idx[i] + 0.5) / (k_axis * (m_ - 1) + 1));
+    if (used < period_) add(Solve(u));
+    int i = 0;
+    while (i < m_ && ++idx[i] == k_axis) idx[i++] = 0;
+    if (i == m_) break;
+  }
+  return found;
+}
+
+ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
+  Pass pass;
+  const bool ok = Run(u, pass);
+  NSMODAL_CHECK(ok);
+  const int n = model_.dofs(), c = model_.contact;
+  const double d = model_.gap;
+  ForcedOrbit o;
+  o.impacts = m_;
+  o.periods = n_;
+  o.frequency = w_;
+  o.amplitude = amplitude_;
+  o.period = period_;
+  o.u = u;
+  o.times = pass.times;
+  o.before = pass.before;
+  o.after = pass.after;
+  o.min_impact_velocity = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < m_; ++i) {
+    o.residual = std::max(o.residual, std::abs(pass.before[i][c] - d));
+    o.min_impact_velocity = std::min(o.min_impact_velocity, pass.before[i][n + c]);
+    o.impact_loss += EnergyOf(model_, pass.before[i]) - EnergyOf(model_, pass.after[i]);
+  }
+  // Flights: energy integrals by Gauss-Legendre panels no longer than an
+  // eighth of the fastest time scale (the integrands are smooth there: the
+  // quadrature is exact to round-off); interior maxima of x_c; NC3.
+  static const Quadrature q;
+  const double fastest = std::max(flow_.Eigenvalues().cwiseAbs().maxCoeff(), w_);
+  Eigen::RowVectorXd gap_row = Eigen::RowVectorXd::Zero(2 * n);
+  gap_row[c] = 1.0;
+  o.max_interior_gap = -std::numeric_limits<double>::infinity();
+  o.verdict = "admissible";
+  o.admissible = true;
+  double energy_integral = 0.0;
+  DampedSignal g;
+  for (int i = 0; i < m_; ++i) {
+    const double t0 = pass.times[i];
+    const double tau = (i + 1 < m_ ? pass.times[i + 1] : pass.times[0] + period_) - t0;
+    const Eigen::VectorXd& z0 = pass.after[i];
+    const int panels = 1 + static_cast<int>(std::ceil(tau * fastest / (M_PI / 4.0)));
+    const double hp = tau / panels;
+    for (int p = 0; p < panels; ++p) {
+      for (int k = 0; k < Quadrature::kNodes; ++k) {
+        const double s = hp * (p + 0.5 * (q.x[k] + 1.0));
+        Eigen::VectorXd z = z0;
+        flow_.Advance(t0, s, z);
+        const double wt = 0.5 * hp * q.w[k];
+        const Eigen::VectorXd v = z.tail(n);
+        energy_integral += wt * EnergyOf(model_, z);
+        o.work += wt * v.dot(model_.ConstantForce() + std::cos(w_ * (t0 + s)) * model_.ForceAmplitude());
+        o.dissipated += wt * v.dot(model_.DampingMatrix() * v);
+      }
+    }
+    flow_.Observe(t0, z0, gap_row, -d, 0.0, g);
+    // Interior maxima: g' from + to - between samples 1/16 of the fastest
+    // time scale apart, polished by Brent on g'.
+    const int samples = 16 + static_cast<int>(std::ceil(tau * fastest * 16.0 / (2.0 * M_PI)));
+    double prev_s = 0.0, prev_v = g.Velocity(0.0);
+    for (int k = 1; k <= samples; ++k) {
+      const double s = tau * k / samples;
+      const double v = g.Velocity(s);
+      if (prev_v > 0.0 && v <= 0.0 && k < samples) {
+        const double smax = PolishRoot([&](double x) { return g.Velocity(x); }, prev_s, s);
+        o.max_interior_gap = std::max(o.max_interior_gap, g.Position(smax));
+      }
+      prev_s = s;
+      prev_v = v;
+    }
+    // NC3, exactly: the guaranteed search finds the first contact of the
+    // flight; it must be the impact that ends it.
+    if (o.admissible) {
+      const double tol = 1e-13 * std::max(d, g.bound[0]);
+      const FirstRiseResult r = FirstRise(g, tau, tol);
+      const double vc = pass.before[(i + 1) % m_][n + c];
+      const double window = 1e-9 * period_ + 4.0 * tol / std::max(std::abs(vc), 1e-300);
+      if (r.found && r.s < tau - window) {
+        o.admissible = false;
+        o.verdict = "NC3: x_c reaches d inside flight " + std::to_string(i + 1) + " at t = " + FormatValue(t0 + r.s);
+      }
+    }
+  }
+  o.energy = energy_integral / period_;
+  o.max_xc = std::max(d, d + o.max_interior_gap);
+  if (o.admissible && !(o.min_impact_velocity > 0.0)) {
+    o.admissible = false;
+    o.verdict = "an impact arrives moving away from the obstacle (v_c = " + FormatValue(o.min_impact_velocity) + ")";
+  }
+  // Monodromy just after the first impact, with the saltation matrices.
+  const int dim = 2 * n;
+  Eigen::MatrixXd phi = Eigen::MatrixXd::Identity(dim, dim);
+  for (int i = 0; i < m_; ++i) {
+    const double tau = (i + 1 < m_ ? pass.times[i + 1] : pass.times[0] + period_) - pass.times[i];
+    const int next = (i + 1) % m_;
+    const double t_imp = pass.times[next] + (next == 0 ? period_ : 0.0);
+    const Eigen::VectorXd& zm = pass.before[next];
+    const Eigen::VectorXd zp = impact_ * zm;
+    Eigen::MatrixXd s = impact_;
+    const double vc = zm[n + c];
+    if (vc != 0.0) s += (Field(t_imp, zp) - impact_ * Field(t_imp, zm)) * Eigen::RowVectorXd::Unit(dim, c) / vc;
+    phi = s * (flow_.Transition(tau) * phi);
+  }
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(phi, false);
+  o.multipliers = eig.eigenvalues();
+  o.max_multiplier = o.multipliers.cwiseAbs().maxCoeff();
+  o.stable = o.max_multiplier < 1.0;
+  return o;
+}
+
+Eigen::VectorXd ForcedProblem::StateAt(const ForcedOrbit& orbit, double t) const {
+  // The last impact at or before t (times repeat with the period).
+  const double shift = std::floor((t - orbit.times[0]) / period_) * period_;
+  int k = 0;
+  for (int i = 0; i < m_; ++i) {
+    if (orbit.times[i] + shift <= t) k = i;
+  }
+  Eigen::VectorXd z = orbit.after[k];
+  flow_.Advance(orbit.times[k] + shift, t - (orbit.times[k] + shift), z);
+  return z;
+}
+
+ForcedOrbit LinearResponse(const Model& model, double frequency, double amplitude) {
+  const Model m = ScaledModel(model, frequency, amplitude);
+  const ForcedFlow flow(m);
+  const int c = m.contact;
+  const double w = frequency, d = m.gap;
+  ForcedOrbit o;
+  o.impacts = 0;
+  o.periods = 1;
+  o.frequency = w;
+  o.amplitude = amplitude;
+  o.period = 2.0 * M_PI / w;
+  const std::complex<double> xc = flow.harmonic_response()[c];
+  // x_c(t) = x_s,c + |X_c| cos(w t + arg X_c): largest at w t = -arg X_c.
+  double t_max = std::fmod(-std::arg(xc) / w, o.period);
+  if (t_max < 0.0) t_max += o.period;
+  o.times = {t_max};
+  o.after = {flow.Particular(t_max)};
+  o.before = o.after;
+  o.max_xc = flow.static_response()[c] + std::abs(xc);
+  o.max_interior_gap = o.max_xc - d;
+  o.min_impact_velocity = std::numeric_limits<double>::quiet_NaN();
+  // Means over a period of x'Kx/2 and v'Mv/2 for x = x_s + Re[X e^{i w t}].
+  const Eigen::VectorXd xr = flow.harmonic_response().real(), xi = flow.harmonic_response().imag();
+  const Eigen::VectorXd& xs = flow.static_response();
+  o.energy = 0.5 * xs.dot(m.stiffness * xs) + 0.25 * (xr.dot(m.stiffness * xr) + xi.dot(m.stiffness * xi)) +
+             0.25 * w * w * (xr.dot(m.mass * xr) + xi.dot(m.mass * xi));
+  o.dissipated = 0.5 * o.period * w * w * (xr.dot(m.DampingMatrix() * xr) + xi.dot(m.DampingMatrix() * xi));
+  o.work = o.dissipated;  // the steady state's balance, exactly
+  o.admissible = o.max_xc <= d;
+  o.verdict = o.admissible ? "admissible" : "x_c exceeds d (max x_c = " + FormatValue(o.max_xc) + ")";
+  // Multipliers e^{lambda P} of the flight's modes (both of each pair).
+  const Eigen::VectorXcd lambda = flow.Eigenvalues();
+  std::vector<std::complex<double>> mult;
+  for (int k = 0; k < lambda.size(); ++k) {
+    mult.push_back(std::exp(lambda[k] * o.period));
+    if (lambda[k].imag() > 0.0) mult.push_back(std::conj(mult.back()));
+  }
+  o.multipliers = Eigen::Map<Eigen::VectorXcd>(mult.data(), static_cast<Eigen::Index>(mult.size()));
+  o.max_multiplier = o.multipliers.cwiseAbs().maxCoeff();
+  o.stable = o.max_multiplier < 1.0;
+  return o;
+}
+
+}  // namespace nsmodal
