@@ -62,6 +62,14 @@ CommandLine::CommandLine() {
   c_val->add_option("--root-tol", validate.root_tol, "Exact integrator contact tolerance (default 1e-14)");
   c_val->add_option("--threads", validate.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
 
+  c_resp = app.add_subcommand("response", "Forced, damped response curves beside the nonsmooth modes (CSV, charts)");
+  c_resp->add_option("scene", response.scene, "Scene file (TOML) with damping or e < 1 and a [forcing] table")->required();
+  c_resp->add_option("--out", response.out, "Output directory")->required();
+  c_resp->add_option("--impacts", response.impacts, "Impacts per response period m (0: the linear response)")->default_val(1);
+  c_resp->add_option("--periods", response.periods, "Forcing periods per response period n")->default_val(1);
+  c_resp->add_option("--frequency", response.frequency, "Grid FROM:TO:STEP of w, or w (default: the scene's)");
+  c_resp->add_option("--amplitude", response.amplitude, "Grid FROM:TO:STEP of max|f_i|, or levels a,b,c (default: the scene's)");
+
   c_bench = app.add_subcommand("bench", "Speed against accuracy of the integrators, and grazing failures");
   c_bench->add_option("scene", bench.scene, "Scene file (the paper's system: configs/paper.toml)")->required();
   c_bench->add_option("--out", bench.out, "Output directory")->required();
@@ -83,6 +91,7 @@ int CommandLine::Run() const {
     if (*c_sim) status = RunSimulate(simulate);
     if (*c_val) status = RunValidate(validate);
     if (*c_bench) status = RunBench(bench);
+    if (*c_resp) status = RunResponse(response);
     if (*c_fig) status = RunFigures(figures);
     report::CheckStdout();
     return status;

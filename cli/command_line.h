@@ -25,9 +25,10 @@ struct CommandLine {
   SimulateArgs simulate;
   ValidateArgs validate;
   BenchArgs bench;
+  ResponseArgs response;
   FiguresArgs figures;
   CLI::App *c_orbits = nullptr, *c_orbit = nullptr, *c_explore = nullptr, *c_sim = nullptr, *c_val = nullptr,
-           *c_bench = nullptr, *c_fig = nullptr;
+           *c_bench = nullptr, *c_fig = nullptr, *c_resp = nullptr;
 };
 
 // Parses argv and runs; CLI11's own errors exit 2 (0 for --help, --version).

@@ -56,6 +56,16 @@ struct FiguresArgs {
   int threads = 0;
 };
 
+// Flags of `response` (response.cc): one of frequency and amplitude is a
+// grid FROM:TO:STEP, the other one value or a list a,b,c (default: the
+// scene's [forcing]).
+struct ResponseArgs {
+  std::string scene, out;
+  int impacts = 1, periods = 1;
+  std::optional<std::string> frequency, amplitude;
+};
+
+int RunResponse(const ResponseArgs& a);
 int RunFigures(const FiguresArgs& a);
 int RunOrbits(const OrbitsArgs& a);
 int RunBench(const BenchArgs& a);

@@ -251,19 +251,39 @@ std::vector<Eigen::VectorXd> ForcedProblem::FindAll() const {
     }
     return found;
   }
-  // m >= 2: Newton from a grid of phases and flight durations (K per axis,
-  // fewer as m grows: K^m starts).
-  const int k_axis = m_ == 2 ? 24 : (m_ == 3 ? 10 : 6);
-  std::vector<int> idx(m_, 0);
-  while (true) {
+  // m >= 2: the residual on a grid of phases and flight durations (K per
+  // axis, fewer as m grows), Newton from each local minimum of |r| (over the
+  // grid neighbours, the phase periodic).
+  const int k_axis = m_ == 2 ? 32 : (m_ == 3 ? 12 : 6);
+  long cells = 1;
+  for (int i = 0; i < m_; ++i) cells *= k_axis;
+  auto point = [&](long index) {
     Eigen::VectorXd u(m_);
-    u[0] = 2.0 * M_PI * (idx[0] + 0.5) / k_axis;
-    double used = 0.0;
-    for (int i = 1; i < m_; ++i) used += (u[i] = period_ * (idx[i] + 0.5) / (k_axis * (m_ - 1) + 1));
-    if (used < period_) add(Solve(u));
-    int i = 0;
-    while (i < m_ && ++idx[i] == k_axis) idx[i++] = 0;
-    if (i == m_) break;
+    for (int i = 0; i < m_; ++i, index /= k_axis) {
+      const long k = index % k_axis;
+      u[i] = i == 0 ? 2.0 * M_PI * (k + 0.5) / k_axis : period_ * (k + 0.5) / (k_axis * (m_ - 1) + 1);
+    }
+    return u;
+  };
+  std::vector<double> norm(cells, std::numeric_limits<double>::infinity());
+  Eigen::VectorXd r(m_);
+  for (long c = 0; c < cells; ++c) {
+    if (Residual(point(c), r)) norm[c] = r.norm();
+  }
+  for (long c = 0; c < cells; ++c) {
+    if (!std::isfinite(norm[c])) continue;
+    bool minimum = true;
+    long stride = 1;
+    for (int i = 0; i < m_ && minimum; ++i, stride *= k_axis) {
+      const long k = (c / stride) % k_axis;
+      for (int dk : {-1, 1}) {
+        long kk = k + dk;
+        if (i == 0) kk = (kk + k_axis) % k_axis;  // the phase wraps
+        if (kk < 0 || kk >= k_axis) continue;
+        if (norm[c + (kk - k) * stride] < norm[c]) minimum = false;
+      }
+    }
+    if (minimum) add(Solve(point(c)));
   }
   return found;
 }

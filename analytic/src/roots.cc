@@ -1,6 +1,7 @@
 #include "nsmodal/roots.h"
 
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_min.h>
 #include <gsl/gsl_roots.h>
 
 #include <algorithm>
@@ -17,7 +18,27 @@ struct SolverDeleter {
   void operator()(gsl_root_fsolver* s) const { gsl_root_fsolver_free(s); }
 };
 
+struct MinimizerDeleter {
+  void operator()(gsl_min_fminimizer* m) const { gsl_min_fminimizer_free(m); }
+};
+
 }  // namespace
+
+double MinimizeOn(const std::function<double(double)>& f_in, double lo, double mid, double hi, double rel_tol) {
+  internal::FiniteFunction finite(f_in, std::numeric_limits<double>::max());
+  gsl_function f = finite.Gsl();
+  // GSL needs f(mid) below both ends (gsl_call.h): else mid is the answer.
+  const double f_mid = f.function(mid, f.params);
+  if (!(f_mid < f.function(lo, f.params) && f_mid < f.function(hi, f.params))) return mid;
+  std::unique_ptr<gsl_min_fminimizer, MinimizerDeleter> m(gsl_min_fminimizer_alloc(gsl_min_fminimizer_goldensection));
+  if (gsl_min_fminimizer_set(m.get(), &f, mid, lo, hi) != GSL_SUCCESS) return mid;
+  for (int iter = 0; iter < 200; ++iter) {  // 0.618^80 < 1e-16
+    if (gsl_min_fminimizer_iterate(m.get()) != GSL_SUCCESS) break;
+    const double a = gsl_min_fminimizer_x_lower(m.get()), c = gsl_min_fminimizer_x_upper(m.get());
+    if (gsl_min_test_interval(a, c, 0.0, rel_tol) == GSL_SUCCESS) break;
+  }
+  return finite.saw_non_finite() ? mid : gsl_min_fminimizer_x_minimum(m.get());
+}
 
 double PolishRoot(const std::function<double(double)>& g, double lo, double hi) {
   const double glo = g(lo);

@@ -2,12 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_min.h>
-#include <limits>
-#include <memory>
 
-#include "gsl_call.h"
 #include "nsmodal/error.h"
 #include "nsmodal/flow.h"
 #include "nsmodal/return_map.h"
@@ -24,26 +19,9 @@ double SmallestSingularValue(const AnalysisBasis& b, double t2, double period) {
   return Eigen::JacobiSVD<Eigen::MatrixXd>(MatrixA(b, {t2}, period)).singularValues().minCoeff();
 }
 
-struct MinimizerDeleter {
-  void operator()(gsl_min_fminimizer* m) const { gsl_min_fminimizer_free(m); }
-};
-
 // Minimises sigma_min(A_2) on [lo, hi] from mid; returns the minimiser.
 double MinimizeSigma(const AnalysisBasis& b, double period, double lo, double mid, double hi) {
-  internal::FiniteFunction finite([&](double t) { return SmallestSingularValue(b, t, period); },
-                                  std::numeric_limits<double>::max());
-  gsl_function f = finite.Gsl();
-  // GSL needs f(mid) below both ends (gsl_call.h): else mid is the answer.
-  const double f_mid = f.function(mid, f.params);
-  if (!(f_mid < f.function(lo, f.params) && f_mid < f.function(hi, f.params))) return mid;
-  std::unique_ptr<gsl_min_fminimizer, MinimizerDeleter> m(gsl_min_fminimizer_alloc(gsl_min_fminimizer_goldensection));
-  if (gsl_min_fminimizer_set(m.get(), &f, mid, lo, hi) != GSL_SUCCESS) return mid;
-  for (int iter = 0; iter < 200; ++iter) {  // 0.618^80 < 1e-16
-    if (gsl_min_fminimizer_iterate(m.get()) != GSL_SUCCESS) break;
-    const double a = gsl_min_fminimizer_x_lower(m.get()), c = gsl_min_fminimizer_x_upper(m.get());
-    if (gsl_min_test_interval(a, c, 0.0, 1e-15) == GSL_SUCCESS) break;
-  }
-  return finite.saw_non_finite() ? mid : gsl_min_fminimizer_x_minimum(m.get());
+  return MinimizeOn([&](double t) { return SmallestSingularValue(b, t, period); }, lo, mid, hi);
 }
 
 }  // namespace

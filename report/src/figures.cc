@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 #include "nsmodal/figures.h"
 #include "nsmodal/admissibility.h"
@@ -636,6 +638,57 @@ int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisio
     const ChartStatus chart = DrawChart(dir, "work_precision_" + name, body.str());
     if (!chart.drawn) {
       log << "work_precision_" << name << " not drawn: " << chart.message << "\n";
+      ++failed;
+    }
+  }
+  return failed;
+}
+
+int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& rows, int dofs, bool backbone,
+                       bool frequency, std::ostream& log) {
+  double e_min = std::numeric_limits<double>::infinity(), e_max = 0.0, x_max = 0.0;
+  for (const ResponseRow& r : rows) {
+    if (r.orbit.energy > 0.0) e_min = std::min(e_min, r.orbit.energy);
+    e_max = std::max(e_max, r.orbit.energy);
+    x_max = std::max(x_max, r.orbit.max_xc);
+  }
+  if (rows.empty() || !(e_max > 0.0)) return 0;
+  // response.csv columns (1-based, tables.h): w 1, amplitude 2, energy 5,
+  // max_xc 6, admissible 8, stable 9, branch 12 + 2N.
+  const int branch_col = 12 + 2 * dofs;
+  const int x = frequency ? 1 : 2;
+  int failed = 0;
+  for (const auto& [name, col, label] : {std::tuple<std::string, int, std::string>{"response_energy", 5, "mean energy (J)"},
+                                         {"response_max_xc", 6, "max x_c (m)"}}) {
+    std::ostringstream body;
+    body << "set datafile separator ','\nset grid\nset key outside right top\n"
+         << "set xlabel '" << (frequency ? "forcing frequency w (rad/s)" : "forcing amplitude a (N)") << "'\n"
+         << "set ylabel '" << label << "'\n"
+         << (col == 5 ? "set logscale y\nset yrange [" + std::to_string(0.5 * e_min) + ":" + std::to_string(3.0 * e_max) + "]\n"
+                      : "set yrange [0:" + std::to_string(1.1 * x_max) + "]\n")
+         << "okabe = '#E69F00 #56B4E9 #009E73 #0072B2 #D55E00 #CC79A7 #F0E442'\n"
+         << "stats 'response.csv' using " << branch_col << " nooutput\n"
+         << "nb = int(STATS_max)\n"
+         << "plot for [b=1:nb] 'response.csv' using ($" << branch_col << "==b && $8==0 ? $" << x << " : 1/0):" << col
+         << " with lines lw 0.8 lc rgb '#BBBBBB' title (b==1 ? 'not admissible' : ''), \\\n"
+         << "  for [b=1:nb] '' using ($" << branch_col << "==b && $8==1 && $9==1 ? $" << x << " : 1/0):" << col
+         << " with lines lw 2.5 lc rgb word(okabe, (b-1)%7+1) title (b==1 ? 'admissible, stable' : ''), \\\n"
+         << "  for [b=1:nb] '' using ($" << branch_col << "==b && $8==1 && $9==0 ? $" << x << " : 1/0):" << col
+         << " with lines lw 1.5 dt 2 lc rgb word(okabe, (b-1)%7+1) title (b==1 ? 'admissible, unstable' : '')";
+    if (backbone && col == 5) {
+      body << ", \\\n  'backbone.csv' using ($4==1 && $5==1 ? $1 : 1/0):3 with lines lw 2 lc rgb 'black' "
+              "title 'nonsmooth mode (stable)', \\\n"
+           << "  'backbone.csv' using ($4==1 && $5==0 ? $1 : 1/0):3 with lines lw 1.5 dt 3 lc rgb 'black' "
+              "title 'nonsmooth mode (unstable)'";
+    }
+    // response_points.csv: w 1, amplitude 2, kind 3, energy 4, max_xc 6.
+    const int pcol = col == 5 ? 4 : 6;
+    body << ", \\\n  for [k in 'fold period-doubling grazing zero-velocity peak'] 'response_points.csv' using "
+         << "(strcol(3) eq k ? $" << x << " : 1/0):" << pcol << " with points pt (k eq 'peak' ? 7 : (k eq 'fold' ? 5 : "
+         << "(k eq 'grazing' ? 9 : (k eq 'period-doubling' ? 13 : 3)))) ps 1.2 lc rgb 'black' title k\n";
+    const ChartStatus chart = DrawChart(dir, name, body.str());
+    if (!chart.drawn) {
+      log << name << " not drawn: " << chart.message << "\n";
       ++failed;
     }
   }

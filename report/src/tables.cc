@@ -51,6 +51,55 @@ Columns<OrbitRecord> OrbitColumns(int dofs) {
   return c;
 }
 
+Columns<ResponseRow> ResponseColumns(int dofs) {
+  using R = ResponseRow;
+  Columns<R> c{
+      {"w", K::kReal, [](const R& r) -> Cell { return r.orbit.frequency; }},
+      {"amplitude", K::kReal, [](const R& r) -> Cell { return r.orbit.amplitude; }},
+      {"period", K::kReal, [](const R& r) -> Cell { return r.orbit.period; }},
+      {"impacts", K::kInteger, [](const R& r) -> Cell { return static_cast<long>(r.orbit.impacts); }},
+      {"energy", K::kReal, [](const R& r) -> Cell { return r.orbit.energy; }},
+      {"max_xc", K::kReal, [](const R& r) -> Cell { return r.orbit.max_xc; }},
+      {"impact_velocity", K::kReal,
+       [](const R& r) { return OrMissing(r.orbit.impacts > 0, r.orbit.min_impact_velocity); }},
+      {"admissible", K::kBool, [](const R& r) -> Cell { return r.orbit.admissible; }},
+      {"stable", K::kBool, [](const R& r) -> Cell { return r.orbit.stable; }},
+      {"max_multiplier", K::kReal, [](const R& r) -> Cell { return r.orbit.max_multiplier; }},
+      {"t_impact", K::kReal, [](const R& r) -> Cell { return r.orbit.times.front(); }},
+  };
+  AddState<R>(c, dofs, "", [](const R& r) -> const Eigen::VectorXd& { return r.orbit.after.front(); });
+  c.push_back({"branch", K::kInteger, [](const R& r) -> Cell { return static_cast<long>(r.branch); }});
+  c.push_back({"periods", K::kInteger, [](const R& r) -> Cell { return static_cast<long>(r.orbit.periods); }});
+  c.push_back({"residual", K::kReal, [](const R& r) -> Cell { return r.orbit.residual; }});
+  return c;
+}
+
+Columns<SpecialPoint> ResponsePointColumns() {
+  using P = SpecialPoint;
+  return {{"w", K::kReal, [](const P& p) -> Cell { return p.orbit.frequency; }},
+          {"amplitude", K::kReal, [](const P& p) -> Cell { return p.orbit.amplitude; }},
+          {"kind", K::kText, [](const P& p) -> Cell { return ToString(p.kind); }},
+          {"energy", K::kReal, [](const P& p) -> Cell { return p.orbit.energy; }},
+          {"branch", K::kInteger, [](const P& p) -> Cell { return static_cast<long>(p.branch + 1); }},
+          {"max_xc", K::kReal, [](const P& p) -> Cell { return p.orbit.max_xc; }},
+          {"impact_velocity", K::kReal,
+           [](const P& p) { return OrMissing(p.orbit.impacts > 0, p.orbit.min_impact_velocity); }},
+          {"admissible", K::kBool, [](const P& p) -> Cell { return p.orbit.admissible; }},
+          {"stable", K::kBool, [](const P& p) -> Cell { return p.orbit.stable; }},
+          {"max_multiplier", K::kReal, [](const P& p) -> Cell { return p.orbit.max_multiplier; }}};
+}
+
+Columns<OrbitRecord> BackboneColumns() {
+  using R = OrbitRecord;
+  return {{"w", K::kReal, [](const R& r) -> Cell { return 2.0 * M_PI / r.orbit.period; }},
+          {"T", K::kReal, [](const R& r) -> Cell { return r.orbit.period; }},
+          {"energy", K::kReal, [](const R& r) -> Cell { return r.orbit.energy; }},
+          {"admissible", K::kBool, [](const R& r) -> Cell { return r.orbit.admissible; }},
+          {"stable", K::kBool, [](const R& r) { return r.stability ? Cell(r.stability->stable) : Cell(); }},
+          {"max_multiplier", K::kReal,
+           [](const R& r) { return OrMissing(r.stability.has_value(), r.stability ? r.stability->max_modulus : 0.0); }}};
+}
+
 Columns<Transition> TransitionColumns() {
   return {{"T", K::kReal, [](const Transition& t) -> Cell { return t.period; }},
           {"kind", K::kText, [](const Transition& t) -> Cell { return ToString(t.kind); }},

@@ -10,6 +10,13 @@ namespace nsmodal {
 // Converges to |hi - lo| <= 4 eps (|lo| + |hi|) or an exact zero.
 double PolishRoot(const std::function<double(double)>& g, double lo, double hi);
 
+// The minimiser of f on [lo, hi] by golden-section search (GSL), from mid
+// with f(mid) below f(lo) and f(hi) (else mid is returned, as it is when f
+// is not finite somewhere), to a bracket of relative width rel_tol: the
+// abscissa of a smooth minimum comes out to ~sqrt(eps) relative, its value
+// to ~eps.
+double MinimizeOn(const std::function<double(double)>& f, double lo, double mid, double hi, double rel_tol = 1e-15);
+
 // Every root of g on [a, b], given g' and the bounds L1 >= sup |g'| and
 // L2 >= sup |g''| on [a, b]. On a cell [p, q] of width h:
 //   g(p), g(q) of one sign and |g(p)| + |g(q)| > L1 h   -> provably no root;

@@ -10,6 +10,7 @@
 
 #include "nsmodal/atlas.h"
 #include "nsmodal/output.h"
+#include "nsmodal/tables.h"
 #include "nsmodal/work_precision.h"
 
 namespace nsmodal::report {
@@ -28,5 +29,18 @@ FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas&
 // DIR/work_precision.csv (written before). Returns the number of charts gnuplot
 // could not draw, each named in `log`.
 int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisionRow>& rows, std::ostream& log);
+
+// The response charts from DIR/response.csv, DIR/response_points.csv and (if
+// `backbone`) DIR/backbone.csv, written before: DIR/response_energy.{png,svg}
+// (mean energy) and DIR/response_max_xc.{png,svg} against w (or the forcing
+// amplitude when `frequency` is false). Okabe-Ito colours, one per branch
+// (cycled); admissible and stable: solid; admissible and unstable: dashed;
+// not admissible: thin grey; the backbone black (dotted where unstable);
+// special points as symbols. Returns the number of charts not drawn, each
+// named in `log`.
+// The energy axis is logarithmic, up to 3 times the largest response energy
+// (the backbone's singular transitions go to infinity).
+int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& rows, int dofs, bool backbone,
+                       bool frequency, std::ostream& log);
 
 }  // namespace nsmodal::report

@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 
 #include "nsmodal/atlas.h"
+#include "nsmodal/response.h"
 #include "nsmodal/simulate.h"
 #include "nsmodal/table.h"
 #include "nsmodal/validate.h"
@@ -29,6 +30,24 @@ Columns<OrbitValidation> ValidationColumns();
 // work_precision.csv and grazing.csv of the bench.
 Columns<WorkPrecisionRow> WorkPrecisionColumns();
 Columns<GrazingRow> GrazingColumns();
+
+// response.csv, one row per point of a response branch:
+// w,amplitude,period,impacts,energy,max_xc,impact_velocity,admissible,stable,
+// max_multiplier,t_impact,x1..xN,v1..vN,branch,periods,residual: the state
+// just after the first impact, at t_impact (m = 0: at the maximum of x_c;
+// impact_velocity missing); impact_velocity is the smallest v_c(t_i-).
+struct ResponseRow {
+  int branch = 0;  // 1-based
+  ForcedOrbit orbit;
+};
+Columns<ResponseRow> ResponseColumns(int dofs);
+// response_points.csv: w,amplitude,kind,energy,branch,max_xc,impact_velocity,
+// admissible,stable,max_multiplier.
+Columns<SpecialPoint> ResponsePointColumns();
+
+// backbone.csv: the conservative twin's 1-ipp mode beside a response,
+// w,T,energy,admissible,stable,max_multiplier (w = 2 pi / T).
+Columns<OrbitRecord> BackboneColumns();
 
 // A trajectory sample of a simulation: t, x1..xN, v1..vN, energy.
 struct Sample {

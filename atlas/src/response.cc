@@ -1,0 +1,486 @@
+#include "nsmodal/response.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+
+#include "nsmodal/error.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/roots.h"
+
+namespace nsmodal {
+
+std::string ToString(SpecialKind kind) {
+  switch (kind) {
+    case SpecialKind::kFold: return "fold";
+    case SpecialKind::kPeriodDoubling: return "period-doubling";
+    case SpecialKind::kGrazing: return "grazing";
+    case SpecialKind::kZeroVelocity: return "zero-velocity";
+    case SpecialKind::kPeak: return "peak";
+  }
+  return "?";
+}
+
+void ResponseOptions::Validate() const {
+  const bool frequency = parameter == ResponseParameter::kFrequency;
+  grid.Validate(frequency ? "frequency" : "amplitude");
+  if (impacts < 0 || impacts > kMaxResponseImpacts) {
+    throw InputError("impacts", "must be between 0 (the linear response) and " +
+                                    std::to_string(kMaxResponseImpacts) + ", got " + std::to_string(impacts));
+  }
+  if (periods < 1 || periods > kMaxResponsePeriods || (impacts == 0 && periods != 1)) {
+    throw InputError("periods", impacts == 0 ? "must be 1 for the linear response (m = 0), got " +
+                                                   std::to_string(periods)
+                                             : "must be between 1 and " + std::to_string(kMaxResponsePeriods) +
+                                                   ", got " + std::to_string(periods));
+  }
+  if (!(fixed > 0.0) || !std::isfinite(fixed)) {
+    throw InputError(frequency ? "amplitude" : "frequency",
+                     "must be positive and finite, got " + FormatValue(fixed));
+  }
+  if (max_steps < 1 || max_branches < 1) throw InputError("max_steps", "bounds must be positive");
+}
+
+namespace {
+
+using Vec = Eigen::VectorXd;
+
+// Continuation of the (m, n) family in scaled coordinates
+// xi = (phi / 2 pi, tau_1 / P0, ..., tau_{m-1} / P0, lambda / L).
+class Tracer {
+ public:
+  Tracer(const Model& model, const ResponseOptions& opt) : model_(model), opt_(opt), m_(opt.impacts) {
+    const double mid = 0.5 * (opt.grid.from + opt.grid.to);
+    const double w_mid = opt.parameter == ResponseParameter::kFrequency ? mid : opt.fixed;
+    period_scale_ = opt.periods * 2.0 * M_PI / w_mid;
+    lambda_scale_ = std::max(opt.grid.to - opt.grid.from, opt.grid.step);
+  }
+  int dim() const { return m_ + 1; }
+  double Lambda(const Vec& xi) const { return xi[m_] * lambda_scale_; }
+  double LambdaScale() const { return lambda_scale_; }
+  // Frequency and amplitude at lambda.
+  double Frequency(double lambda) const { return opt_.parameter == ResponseParameter::kFrequency ? lambda : opt_.fixed; }
+  double Amplitude(double lambda) const { return opt_.parameter == ResponseParameter::kFrequency ? opt_.fixed : lambda; }
+  std::unique_ptr<ForcedProblem> Problem(double lambda) const {
+    return std::make_unique<ForcedProblem>(model_, m_, opt_.periods, Frequency(lambda), Amplitude(lambda));
+  }
+  Vec U(const Vec& xi) const {
+    Vec u = xi.head(m_);
+    u[0] *= 2.0 * M_PI;
+    for (int i = 1; i < m_; ++i) u[i] *= period_scale_;
+    return u;
+  }
+  Vec Xi(const Vec& u, double lambda) const {
+    Vec xi(m_ + 1);
+    xi.head(m_) = u;
+    xi[0] /= 2.0 * M_PI;
+    for (int i = 1; i < m_; ++i) xi[i] /= period_scale_;
+    xi[m_] = lambda / lambda_scale_;
+    return xi;
+  }
+  // H(xi) = (x_c(t_i-) - d) / d.
+  bool H(const Vec& xi, Vec& r) const {
+    const double lambda = Lambda(xi);
+    if (!(lambda > 0.0)) return false;
+    const std::unique_ptr<ForcedProblem> p = Problem(lambda);
+    if (!p->Residual(U(xi), r)) return false;
+    r /= model_.gap;
+    return true;
+  }
+  // dH/dxi, m x (m + 1), by central differences (h = 1e-7: truncation
+  // ~1e-14, round-off ~1e-9 relative; Newton needs no more).
+  bool Jacobian(const Vec& xi, Eigen::MatrixXd& j) const {
+    j.resize(m_, m_ + 1);
+    Vec rp, rm;
+    for (int k = 0; k <= m_; ++k) {
+      const double h = 1e-7;
+      Vec a = xi, b = xi;
+      a[k] += h;
+      b[k] -= h;
+      if (!H(a, rp) || !H(b, rm)) return false;
+      j.col(k) = (rp - rm) / (2.0 * h);
+    }
+    return true;
+  }
+  // The unit kernel vector of J, oriented along `along`.
+  static Vec Tangent(const Eigen::MatrixXd& j, const Vec& along) {
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(j.transpose());
+    Vec t = qr.householderQ() * Vec::Unit(j.cols(), j.cols() - 1);
+    if (t.dot(along) < 0.0) t = -t;
+    return t;
+  }
+  // Newton on [H(xi); n'(xi - xi0)] = 0: the branch's crossing of the
+  // hyperplane through xi0 normal to n.
+  std::optional<Vec> Correct(Vec xi, const Vec& xi0, const Vec& n) const {
+    Vec r;
+    Eigen::MatrixXd j;
+    for (int it = 0; it < 12; ++it) {
+      if (!H(xi, r) || !Jacobian(xi, j)) return std::nullopt;
+      Eigen::MatrixXd a(m_ + 1, m_ + 1);
+      a << j, n.transpose();
+      Vec f(m_ + 1);
+      f << r, n.dot(xi - xi0);
+      const Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
+      if (!lu.isInvertible()) return std::nullopt;
+      const Vec step = lu.solve(-f);
+      xi += step;
+      if (!xi.allFinite()) return std::nullopt;
+      if (step.norm() <= 1e-12 * (1.0 + xi.norm())) {
+        if (H(xi, r) && r.cwiseAbs().maxCoeff() <= 1e-12) return xi;
+      }
+    }
+    return std::nullopt;
+  }
+  // The orbit at fixed lambda from a guess.
+  std::optional<Vec> SolveAt(double lambda, const Vec& guess) const {
+    const std::unique_ptr<ForcedProblem> p = Problem(lambda);
+    const std::optional<Vec> u = p->Solve(U(guess));
+    if (!u) return std::nullopt;
+    return Xi(*u, lambda);
+  }
+  ForcedOrbit Orbit(const Vec& xi) const { return Problem(Lambda(xi))->Orbit(U(xi)); }
+
+ private:
+  const Model& model_;
+  const ResponseOptions& opt_;
+  int m_;
+  double period_scale_ = 1.0, lambda_scale_ = 1.0;
+};
+
+// A point of a branch with its test functions.
+struct Node {
+  Vec xi, tangent;
+  ForcedOrbit orbit;
+  bool grid = false;  // solved at a grid value
+};
+
+double PeriodDoublingTest(const ForcedOrbit& o) {
+  std::complex<double> p = 1.0;
+  for (int i = 0; i < o.multipliers.size(); ++i) p *= 1.0 + o.multipliers[i];
+  return p.real();
+}
+
+// The location of a special point between two nodes: Brent on a test
+// function along the chord's hyperplanes.
+class SegmentLocator {
+ public:
+  SegmentLocator(const Tracer& tr, const Node& a, const Node& b) : tr_(tr), a_(a.xi), chord_(b.xi - a.xi) {
+    n_ = chord_.normalized();
+  }
+  std::optional<Vec> At(double sigma) const { return tr_.Correct(a_ + sigma * chord_, a_ + sigma * chord_, n_); }
+  // The root of test(xi, tangent) on (0, 1); nullopt if the corrector fails.
+  std::optional<Vec> Root(const std::function<double(const Vec&, const Vec&)>& test) const {
+    bool failed = false;
+    auto g = [&](double sigma) {
+      const std::optional<Vec> xi = At(sigma);
+      Eigen::MatrixXd j;
+      if (!xi || !tr_.Jacobian(*xi, j)) {
+        failed = true;
+        return std::numeric_limits<double>::quiet_NaN();
+      }
+      return test(*xi, Tracer::Tangent(j, n_));
+    };
+    const double g0 = g(0.0), g1 = g(1.0);
+    if (failed || !((g0 < 0.0) != (g1 < 0.0))) return std::nullopt;
+    const double sigma = PolishRoot(g, 0.0, 1.0);
+    if (failed) return std::nullopt;
+    return At(sigma);
+  }
+
+ private:
+  const Tracer& tr_;
+  Vec a_, chord_, n_;
+};
+
+constexpr const char* kClosed = "closed on itself";
+
+class Responder {
+ public:
+  Responder(const Model& model, const ResponseOptions& opt) : model_(model), opt_(opt), tr_(model, opt) {
+    curve_.options = opt;
+  }
+
+  ResponseCurve Run() {
+    const std::vector<double> grid = opt_.grid.Values();
+    if (opt_.impacts == 0) {
+      Linear(grid);
+      return curve_;
+    }
+    for (std::size_t g = 0; g < grid.size(); ++g) {
+      if (opt_.progress) opt_.progress(static_cast<long>(g), static_cast<long>(grid.size()));
+      const std::unique_ptr<ForcedProblem> p = tr_.Problem(grid[g]);
+      for (const Vec& u : p->FindAll()) {
+        const Vec xi = tr_.Xi(u, grid[g]);
+        if (Covered(*p, xi, grid[g])) continue;
+        if (static_cast<int>(curve_.branches.size()) >= opt_.max_branches) {
+          curve_.notes.push_back("branch limit (" + std::to_string(opt_.max_branches) + ") reached at " +
+                                 Name() + " = " + FormatValue(grid[g]) + "; further branches not followed");
+          return curve_;
+        }
+        Trace(xi);
+      }
+    }
+    if (opt_.progress) opt_.progress(static_cast<long>(grid.size()), static_cast<long>(grid.size()));
+    return curve_;
+  }
+
+ private:
+  std::string Name() const { return opt_.parameter == ResponseParameter::kFrequency ? "w" : "a"; }
+
+  // A start is covered when a branch has a grid node at the same value with
+  // the same orbit.
+  bool Covered(const ForcedProblem& p, const Vec& xi, double lambda) const {
+    const Vec c = p.Canonical(tr_.U(xi));
+    for (const auto& nodes : grid_nodes_) {
+      for (const Vec& other : nodes) {
+        if (std::abs(tr_.Lambda(other) - lambda) > 1e-12 * tr_.LambdaScale()) continue;
+        Vec d = p.Canonical(tr_.U(other)) - c;
+        d[0] = std::remainder(d[0], 2.0 * M_PI);
+        if (d.cwiseAbs().maxCoeff() <= 1e-6 * std::max(1.0, p.period())) return true;
+      }
+    }
+    return false;
+  }
+
+  Node MakeNode(const Vec& xi, const Vec& along, bool grid) const {
+    Node n;
+    n.xi = xi;
+    Eigen::MatrixXd j;
+    if (tr_.Jacobian(xi, j)) n.tangent = Tracer::Tangent(j, along);
+    n.orbit = tr_.Orbit(xi);
+    n.grid = grid;
+    return n;
+  }
+
+  // Follows the branch through xi0 both ways; stores it as one branch.
+  void Trace(const Vec& xi0) {
+    const int index = static_cast<int>(curve_.branches.size());
+    Vec up = Vec::Zero(tr_.dim());
+    up[tr_.dim() - 1] = 1.0;
+    std::string end_up, end_down;
+    grid_nodes_.emplace_back();
+    std::vector<Node> forward = Follow(xi0, up, &end_up);
+    // A closed branch is whole after one way round.
+    std::vector<Node> backward =
+        end_up == kClosed ? std::vector<Node>{forward.front()} : Follow(xi0, -up, &end_down);
+    std::vector<Node> nodes(backward.rbegin(), backward.rend() - 1);  // drop the shared start
+    nodes.insert(nodes.end(), forward.begin(), forward.end());
+    ResponseBranch branch;
+    branch.end = end_up == kClosed ? end_up : "down: " + end_down + "; up: " + end_up;
+    for (const Node& n : nodes) branch.points.push_back(n.orbit);
+    curve_.branches.push_back(std::move(branch));
+    Special(nodes, index);
+  }
+
+  // Pseudo-arclength from xi0 in the direction of `dir`, until the range is
+  // left, the branch closes, the corrector fails or the step bound is hit.
+  std::vector<Node> Follow(const Vec& xi0, const Vec& dir, std::string* end) {
+    const double lo = opt_.grid.from / tr_.LambdaScale(), hi = opt_.grid.to / tr_.LambdaScale();
+    const double h_max = opt_.grid.step / tr_.LambdaScale();
+    const double h_min = 1e-9 * h_max;
+    std::vector<Node> nodes{MakeNode(xi0, dir, true)};
+    grid_nodes_.back().push_back(xi0);
+    if (nodes[0].tangent.size() == 0) {
+      *end = "no tangent at the start";
+      return nodes;
+    }
+    double h = h_max;
+    for (long step = 0;; ++step) {
+      if (step >= opt_.max_steps) {
+        *end = "step limit (" + std::to_string(opt_.max_steps) + ") reached";
+        curve_.notes.push_back("branch " + std::to_string(curve_.branches.size() + 1) + ": " + *end);
+        return nodes;
+      }
+      const Node& cur = nodes.back();
+      const Vec pred = cur.xi + h * cur.tangent;
+      const std::optional<Vec> next = tr_.Correct(pred, pred, cur.tangent);
+      // A step must move forward along the branch and not jump to another.
+      if (!next || (*next - cur.xi).dot(cur.tangent) <= 0.0 || (*next - pred).norm() > 0.5 * h) {
+        h *= 0.5;
+        if (h < h_min) {
+          *end = "lost at " + Name() + " = " + FormatValue(tr_.Lambda(cur.xi)) + " (corrector failed; e.g. two "
+                 "impacts merging or a non-smooth point)";
+          return nodes;
+        }
+        continue;
+      }
+      // Grid values crossed on the way get nodes of their own.
+      const double l0 = cur.xi[tr_.dim() - 1], l1 = (*next)[tr_.dim() - 1];
+      const Vec cur_xi = cur.xi, cur_t = cur.tangent;
+      for (double g : GridBetween(l0, l1)) {
+        const double a = (g - l0) / (l1 - l0);
+        if (const std::optional<Vec> at = tr_.SolveAt(g * tr_.LambdaScale(), cur_xi + a * (*next - cur_xi))) {
+          nodes.push_back(MakeNode(*at, cur_t, true));
+          grid_nodes_.back().push_back(*at);
+        }
+      }
+      Node node = MakeNode(*next, cur_t, false);
+      if (node.tangent.size() == 0) {
+        *end = "no tangent at " + Name() + " = " + FormatValue(tr_.Lambda(*next));
+        return nodes;
+      }
+      const bool out = l1 < lo - 1e-12 || l1 > hi + 1e-12;
+      if (out) {
+        // End exactly on the range's boundary.
+        const double edge = l1 > hi ? hi : lo;
+        const double a = (edge - l0) / (l1 - l0);
+        if (const std::optional<Vec> at =
+                tr_.SolveAt(edge * tr_.LambdaScale(), cur_xi + a * (*next - cur_xi))) {
+          if (std::abs(nodes.back().xi[tr_.dim() - 1] - edge) > 1e-12) nodes.push_back(MakeNode(*at, cur_t, true));
+        }
+        *end = "left the range at " + Name() + " = " + FormatValue(edge * tr_.LambdaScale());
+        return nodes;
+      }
+      nodes.push_back(std::move(node));
+      // A closed branch (an isola, or a loop) comes back to its start.
+      if (step > 4 && (nodes.back().xi - xi0).norm() < 0.5 * h_max) {
+        *end = kClosed;
+        return nodes;
+      }
+      if (step > 0 && h < h_max) h = std::min(h_max, 1.5 * h);
+    }
+  }
+
+  std::vector<double> GridBetween(double l0, double l1) const {
+    std::vector<double> out;
+    const double from = opt_.grid.from / tr_.LambdaScale(), step = opt_.grid.step / tr_.LambdaScale();
+    const double lo = std::min(l0, l1), hi = std::max(l0, l1);
+    const long k0 = static_cast<long>(std::ceil((lo - from) / step - 1e-9));
+    const long k1 = static_cast<long>(std::floor((hi - from) / step + 1e-9));
+    for (long k = std::max(0L, k0); k <= k1 && k < opt_.grid.Count(); ++k) {
+      const double g = from + k * step;
+      if (g > lo && g < hi) out.push_back(g);
+    }
+    if (l1 < l0) std::reverse(out.begin(), out.end());
+    return out;
+  }
+
+  void Record(SpecialKind kind, int branch, const ForcedOrbit& o) { curve_.points.push_back({kind, branch, o}); }
+
+  // Special points on consecutive nodes of a branch.
+  void Special(const std::vector<Node>& nodes, int branch) {
+    const int last = tr_.dim() - 1;
+    for (std::size_t k = 0; k + 1 < nodes.size(); ++k) {
+      const Node& a = nodes[k];
+      const Node& b = nodes[k + 1];
+      const SegmentLocator seg(tr_, a, b);
+      auto locate = [&](SpecialKind kind, const std::function<double(const Vec&, const Vec&)>& test) {
+        if (const std::optional<Vec> xi = seg.Root(test)) {
+          Record(kind, branch, tr_.Orbit(*xi));
+        } else {
+          curve_.notes.push_back(ToString(kind) + " between " + Name() + " = " + FormatValue(tr_.Lambda(a.xi)) +
+                                 " and " + FormatValue(tr_.Lambda(b.xi)) + " on branch " +
+                                 std::to_string(branch + 1) + " could not be located");
+        }
+      };
+      if ((a.tangent[last] < 0.0) != (b.tangent[last] < 0.0)) {
+        locate(SpecialKind::kFold, [&](const Vec&, const Vec& t) { return t[last]; });
+      }
+      if ((PeriodDoublingTest(a.orbit) < 0.0) != (PeriodDoublingTest(b.orbit) < 0.0)) {
+        // A multiplier through -1, not through infinity (at a zero-velocity
+        // impact the saltation's 1 / v_c sends the multipliers through a pole).
+        if (const std::optional<Vec> xi = seg.Root([&](const Vec& x, const Vec&) { return PeriodDoublingTest(tr_.Orbit(x)); })) {
+          const ForcedOrbit o = tr_.Orbit(*xi);
+          if ((o.multipliers.array() + 1.0).abs().minCoeff() <= 1e-6) Record(SpecialKind::kPeriodDoubling, branch, o);
+        }
+      }
+      if (std::isfinite(a.orbit.max_interior_gap) && std::isfinite(b.orbit.max_interior_gap) &&
+          (a.orbit.max_interior_gap < 0.0) != (b.orbit.max_interior_gap < 0.0)) {
+        locate(SpecialKind::kGrazing, [&](const Vec& xi, const Vec&) { return tr_.Orbit(xi).max_interior_gap; });
+      }
+      if ((a.orbit.min_impact_velocity < 0.0) != (b.orbit.min_impact_velocity < 0.0)) {
+        locate(SpecialKind::kZeroVelocity,
+               [&](const Vec& xi, const Vec&) { return tr_.Orbit(xi).min_impact_velocity; });
+      }
+    }
+    // Peaks: the energy's local maxima on admissible stretches.
+    for (std::size_t k = 1; k + 1 < nodes.size(); ++k) {
+      const ForcedOrbit &p = nodes[k - 1].orbit, &c = nodes[k].orbit, &q = nodes[k + 1].orbit;
+      if (!(p.admissible && c.admissible && q.admissible && c.energy > p.energy && c.energy > q.energy)) continue;
+      const SegmentLocator seg(tr_, nodes[k - 1], nodes[k + 1]);
+      const Vec chord = nodes[k + 1].xi - nodes[k - 1].xi;
+      const double mid = (nodes[k].xi - nodes[k - 1].xi).dot(chord) / chord.squaredNorm();
+      auto minus_energy = [&](double sigma) {
+        const std::optional<Vec> xi = seg.At(sigma);
+        return xi ? -tr_.Orbit(*xi).energy : std::numeric_limits<double>::quiet_NaN();
+      };
+      const double sigma = MinimizeOn(minus_energy, 0.0, mid, 1.0);
+      if (const std::optional<Vec> xi = seg.At(sigma)) Record(SpecialKind::kPeak, branch, tr_.Orbit(*xi));
+    }
+  }
+
+  // m = 0: the closed-form linear response at every grid value, with its
+  // grazing points and peaks located in lambda.
+  void Linear(const std::vector<double>& grid) {
+    ResponseBranch branch;
+    auto at = [&](double l) { return LinearResponse(model_, tr_.Frequency(l), tr_.Amplitude(l)); };
+    for (double l : grid) branch.points.push_back(at(l));
+    branch.end = "the grid";
+    const std::vector<ForcedOrbit>& pts = branch.points;
+    for (std::size_t k = 0; k + 1 < pts.size(); ++k) {
+      if ((pts[k].max_interior_gap < 0.0) != (pts[k + 1].max_interior_gap < 0.0)) {
+        const double l = PolishRoot([&](double x) { return at(x).max_interior_gap; }, grid[k], grid[k + 1]);
+        Record(SpecialKind::kGrazing, 0, at(l));
+      }
+    }
+    for (std::size_t k = 1; k + 1 < pts.size(); ++k) {
+      if (pts[k].admissible && pts[k].energy > pts[k - 1].energy && pts[k].energy > pts[k + 1].energy) {
+        const double l = MinimizeOn([&](double x) { return -at(x).energy; }, grid[k - 1], grid[k], grid[k + 1]);
+        Record(SpecialKind::kPeak, 0, at(l));
+      }
+    }
+    curve_.branches.push_back(std::move(branch));
+  }
+
+  const Model& model_;
+  const ResponseOptions& opt_;
+  Tracer tr_;
+  ResponseCurve curve_;
+  std::vector<std::vector<Vec>> grid_nodes_;  // per branch, its nodes at grid values
+};
+
+}  // namespace
+
+Model ConservativeTwin(const Model& model) {
+  Model twin = model;
+  twin.damping.resize(0, 0);
+  twin.forcing = Forcing{};
+  twin.restitution = AnalysisBasis::kRestitution;
+  return twin;
+}
+
+Sweep BackboneSweep(const Model& model, double w_from, double w_to, long points, const SweepOptions& options) {
+  if (!(w_from > 0.0) || !(w_to > w_from) || !std::isfinite(w_to) || points < 2) {
+    throw InputError("frequency", "the backbone needs 0 < from < to and at least 2 points, got " +
+                                      FormatValue(w_from) + " to " + FormatValue(w_to));
+  }
+  const AnalysisBasis b(ConservativeTwin(model));
+  PeriodGrid grid{2.0 * M_PI / w_to, 2.0 * M_PI / w_from, 0.0};
+  grid.step = (grid.to - grid.from) / static_cast<double>(points - 1);
+  return ComputeSweep(b, grid, 1, options);
+}
+
+std::optional<double> BackboneFrequency(const Model& model, const Sweep& backbone, double energy, double near) {
+  const AnalysisBasis b(ConservativeTwin(model));
+  std::optional<double> best;
+  for (std::size_t k = 0; k + 1 < backbone.periods.size(); ++k) {
+    const Orbit& p = backbone.at[k].front().orbit;
+    const Orbit& q = backbone.at[k + 1].front().orbit;
+    if (!p.admissible || !q.admissible || (p.energy < energy) == (q.energy < energy)) continue;
+    const double t = PolishRoot([&](double period) { return OneImpactOrbit(b, period).energy - energy; },
+                                backbone.periods[k], backbone.periods[k + 1]);
+    const double w = 2.0 * M_PI / t;
+    if (!best || std::abs(w - near) < std::abs(*best - near)) best = w;
+  }
+  return best;
+}
+
+ResponseCurve ComputeResponse(const Model& model, const ResponseOptions& options) {
+  Validate(model);
+  options.Validate();
+  return Responder(model, options).Run();
+}
+
+}  // namespace nsmodal
