@@ -8,7 +8,10 @@
 // and, for issue 5 (no targets given; cost and accuracy reported):
 //   the three bridges on (0, 40]: cost, worst NC2 degeneracy residual;
 //   continuation of the 2-ipp branch through 3 T1: cost per point, worst
-//   sigma_min(A_2) along it (how far the points are from exact roots).
+//   sigma_min(A_2) along it (how far the points are from exact roots);
+// and for issue 11: a frequency-response curve of the paper's system
+// (configs/forced.toml) over 300 frequencies, stability included, <= 1 s,
+// through at least one fold; its worst residual and energy-balance error.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -16,6 +19,8 @@
 
 #include "nsmodal/bridge.h"
 #include "nsmodal/one_impact.h"
+#include "nsmodal/response.h"
+#include "nsmodal/scene.h"
 #include "nsmodal/return_map.h"
 #include "nsmodal/transitions.h"
 #include "nsmodal/two_impact.h"
@@ -132,6 +137,33 @@ void BM_TwoImpactContinuation(benchmark::State& state) {
   state.counters["worst_sigma_min"] = worst;
 }
 BENCHMARK(BM_TwoImpactContinuation)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+void BM_ResponseCurve300(benchmark::State& state) {
+  const Model m = LoadScene(NSMODAL_SOURCE_DIR "/configs/forced.toml").model;
+  ResponseOptions o;
+  o.impacts = static_cast<int>(state.range(0));
+  o.grid = {0.3, 3.29, 0.01};
+  o.fixed = 0.3;
+  ResponseCurve c;
+  for (auto _ : state) c = ComputeResponse(m, o);
+  long points = 0, folds = 0;
+  double residual = 0.0, balance = 0.0;
+  for (const ResponseBranch& b : c.branches) {
+    points += static_cast<long>(b.points.size());
+    for (const ForcedOrbit& p : b.points) {
+      residual = std::max(residual, p.residual);
+      balance = std::max(balance, std::abs(p.work - p.dissipated - p.impact_loss) / std::abs(p.work));
+    }
+  }
+  for (const SpecialPoint& p : c.points) folds += p.kind == SpecialKind::kFold ? 1 : 0;
+  state.counters["frequencies"] = static_cast<double>(o.grid.Count());
+  state.counters["points"] = static_cast<double>(points);
+  state.counters["branches"] = static_cast<double>(c.branches.size());
+  state.counters["folds"] = static_cast<double>(folds);
+  state.counters["worst_residual"] = residual;
+  state.counters["worst_balance"] = balance;
+}
+BENCHMARK(BM_ResponseCurve300)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 }  // namespace nsmodal

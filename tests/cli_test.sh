@@ -149,4 +149,40 @@ fi
 expect_error "--period" "$bin" figures "$paper" --out "$tmp/f2" --period 1:x:0.1
 expect_error "system.restitution" "$bin" figures "$(scene e05 '[system]\ngap=1\nmasses=[1,1]\nsprings=[1,1]\nrestitution=0.5\n')" --out "$tmp/f3"
 
+# response: the forced, damped families, their contract and bad input.
+forced=$src/configs/forced.toml
+if "$bin" response "$forced" --frequency 0.4:1.0:0.01 --out "$tmp/resp" >"$tmp/resp.log" 2>&1; then
+  head -1 "$tmp/resp/response.csv" |
+    grep -qx 'w,amplitude,period,impacts,energy,max_xc,impact_velocity,admissible,stable,max_multiplier,t_impact,x1,x2,v1,v2,branch,periods,residual' &&
+    ok || bad "response.csv header"
+  head -1 "$tmp/resp/response_points.csv" | grep -q '^w,amplitude,kind,energy,' && ok || bad "response_points.csv header"
+  for k in fold period-doubling grazing zero-velocity peak; do
+    grep -q ",$k," "$tmp/resp/response_points.csv" && ok || bad "response_points.csv has no $k"
+  done
+  # Every admissible impacting point meets the wall: residual at round-off.
+  python3 -c "
+import csv
+rows = list(csv.DictReader(open('$tmp/resp/response.csv')))
+assert len(rows) > 60
+assert all(float(r['residual']) < 1e-12 for r in rows), max(float(r['residual']) for r in rows)
+assert any(r['admissible'] == '1' and r['stable'] == '1' for r in rows)
+" && ok || bad "response.csv rows"
+  head -1 "$tmp/resp/backbone.csv" | grep -qx 'w,T,energy,admissible,stable,max_multiplier' && ok || bad "backbone.csv header"
+  grep -q "the nonsmooth mode at that energy" "$tmp/resp.log" && ok || bad "response: no peak-to-mode distance printed"
+else
+  bad "response failed: $(cat "$tmp/resp.log")"
+fi
+expect_error "\-\-frequency" "$bin" response "$forced" --frequency 0.4:1:0.1 --amplitude 0.1:0.2:0.1 --out "$tmp/r2"
+expect_error "\-\-amplitude" "$bin" response "$forced" --amplitude 0.3 --out "$tmp/r2"
+expect_error "\-\-amplitude" "$bin" response "$forced" --frequency 0.4:1:0.1 --amplitude -1 --out "$tmp/r2"
+expect_error "\-\-frequency" "$bin" response "$forced" --frequency 1:0.4:0.1 --out "$tmp/r2"
+expect_error "impacts" "$bin" response "$forced" --impacts 9 --frequency 0.4:1:0.1 --out "$tmp/r2"
+expect_error "periods" "$bin" response "$forced" --impacts 0 --periods 2 --frequency 0.4:1:0.1 --out "$tmp/r2"
+expect_error "forcing.amplitude" "$bin" response "$paper" --frequency 0.4:1:0.1 --out "$tmp/r2"
+expect_error "e = 1" "$bin" response "$(scene undamped '[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[0.85,2]\n[forcing]\namplitude=[0.3,0]\nfrequency=0.5\n')" --frequency 0.4:1:0.1 --out "$tmp/r2"
+expect_error "system.damping_matrix" "$bin" response "$(scene negdamp '[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[0.85,2]\ndamping_matrix=[[0.1,0],[0,-0.1]]\n[forcing]\namplitude=[0.3,0]\nfrequency=0.5\n')" --frequency 0.4:1:0.1 --out "$tmp/r2"
+expect_error "forcing.amplitude" "$bin" simulate "$(scene badlen '[system]\ngap=1\nrestitution=0.5\nmasses=[1,1]\nsprings=[0.85,2]\n[forcing]\namplitude=[0.3]\nfrequency=0.5\n[simulate]\ninitial_position=[0,0]\ninitial_velocity=[0,0]\n')" --out "$tmp/r2"
+expect_error "system" "$bin" orbits "$forced" --period 1:2:0.5 --out "$tmp/r2"
+[ ! -e "$tmp/r2/response.csv" ] && ok || bad "a refused response left response.csv"
+
 finish

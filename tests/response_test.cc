@@ -1,0 +1,169 @@
+// Frequency- and amplitude-response curves (response.h): continuation
+// through folds, special points checked against independent properties.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "nsmodal/error.h"
+#include "nsmodal/response.h"
+#include "nsmodal/scene.h"
+
+namespace nsmodal {
+namespace {
+
+// configs/forced.toml: the paper's system, 2 % modal damping, e = 0.8, a
+// force on m1.
+Model Forced() {
+  Model m = PaperModel();
+  m.restitution = 0.8;
+  m.damping = ModalDamping(m.mass, m.stiffness, {0.02, 0.02});
+  m.forcing.amplitude = Eigen::Vector2d(0.3, 0.0);
+  m.forcing.frequency = 0.5;
+  return m;
+}
+
+ResponseCurve Curve(int impacts, double from, double to, double step, double amplitude = 0.3) {
+  ResponseOptions o;
+  o.impacts = impacts;
+  o.grid = {from, to, step};
+  o.fixed = amplitude;
+  return ComputeResponse(Forced(), o);
+}
+
+std::vector<const SpecialPoint*> Of(const ResponseCurve& c, SpecialKind kind) {
+  std::vector<const SpecialPoint*> out;
+  for (const SpecialPoint& p : c.points) {
+    if (p.kind == kind) out.push_back(&p);
+  }
+  return out;
+}
+
+// The impacting family is born where the linear response grazes the wall:
+// the (1,1) orbit's zero-velocity impact and the linear response's grazing
+// are the same point, found by two independent computations (continuation
+// and Brent on the closed-form max x_c(w) = d).
+TEST(Response, TheImpactingFamilyIsBornAtTheLinearGrazing) {
+  const ResponseCurve linear = Curve(0, 0.4, 1.0, 0.01);
+  const ResponseCurve impacting = Curve(1, 0.4, 1.0, 0.01);
+  const auto grazings = Of(linear, SpecialKind::kGrazing);
+  const auto zero = Of(impacting, SpecialKind::kZeroVelocity);
+  ASSERT_EQ(grazings.size(), 2u);
+  ASSERT_EQ(zero.size(), 2u);
+  for (const SpecialPoint* g : grazings) {
+    double best = 1.0;
+    for (const SpecialPoint* z : zero) best = std::min(best, std::abs(z->orbit.frequency - g->orbit.frequency));
+    // Both located by Brent to ~1e-15 relative; the zero-velocity test
+    // function's conditioning at the branch end costs a few digits: 1e-9.
+    EXPECT_LT(best, 1e-9) << "grazing at w = " << g->orbit.frequency;
+    EXPECT_NEAR(g->orbit.max_xc, 1.0, 1e-12);
+  }
+}
+
+TEST(Response, ContinuationPassesFoldsAndLocatesThem) {
+  const ResponseCurve c = Curve(1, 0.4, 1.0, 0.01);
+  const auto folds = Of(c, SpecialKind::kFold);
+  ASSERT_GE(folds.size(), 1u);
+  for (const SpecialPoint* f : folds) {
+    // A fold of a forced periodic orbit has a Floquet multiplier +1: a
+    // property the tangent-based location does not use. 1e-6: the FD
+    // Jacobian of the tangent puts the fold to ~1e-9 in the branch's
+    // arclength, where the multiplier moves at O(1).
+    double closest = 1e300;
+    for (int i = 0; i < f->orbit.multipliers.size(); ++i) {
+      closest = std::min(closest, std::abs(f->orbit.multipliers[i] - 1.0));
+    }
+    EXPECT_LT(closest, 1e-6) << "fold at w = " << f->orbit.frequency;
+  }
+  // The branch turns there: w rises (or falls) to the fold and the
+  // continuation goes on past it, with points on both sides.
+  const ResponseBranch& b = c.branches[static_cast<std::size_t>(folds[0]->branch)];
+  const double wf = folds[0]->orbit.frequency;
+  std::size_t turn = 0;
+  for (std::size_t k = 1; k + 1 < b.points.size(); ++k) {
+    const double dw0 = b.points[k].frequency - b.points[k - 1].frequency;
+    const double dw1 = b.points[k + 1].frequency - b.points[k].frequency;
+    if ((dw0 > 0.0) != (dw1 > 0.0) && std::abs(b.points[k].frequency - wf) < 0.01) turn = k;
+  }
+  EXPECT_GT(turn, 10u) << "no turning point near the fold at w = " << wf;
+  EXPECT_GT(b.points.size() - turn, 10u);
+}
+
+TEST(Response, SpecialPointsHaveTheirDefiningProperty) {
+  const ResponseCurve c = Curve(1, 0.4, 1.0, 0.01);
+  for (const SpecialPoint* p : Of(c, SpecialKind::kPeriodDoubling)) {
+    double closest = 1e300;
+    for (int i = 0; i < p->orbit.multipliers.size(); ++i) {
+      closest = std::min(closest, std::abs(p->orbit.multipliers[i] + 1.0));
+    }
+    EXPECT_LT(closest, 1e-6) << "period doubling at w = " << p->orbit.frequency;
+  }
+  for (const SpecialPoint* p : Of(c, SpecialKind::kGrazing)) {
+    // Brent on the interior maximum of x_c - d: zero to its round-off.
+    EXPECT_LT(std::abs(p->orbit.max_interior_gap), 1e-9) << "grazing at w = " << p->orbit.frequency;
+  }
+  for (const SpecialPoint* p : Of(c, SpecialKind::kZeroVelocity)) {
+    EXPECT_LT(std::abs(p->orbit.min_impact_velocity), 1e-9) << "zero velocity at w = " << p->orbit.frequency;
+  }
+  // Every point of every branch satisfies the energy balance (1e-9 of the
+  // work: quadrature and solution at round-off) and meets the wall.
+  for (const ResponseBranch& b : c.branches) {
+    for (const ForcedOrbit& o : b.points) {
+      EXPECT_NEAR(o.work, o.dissipated + o.impact_loss, 1e-9 * std::abs(o.work)) << o.frequency;
+      EXPECT_LT(o.residual, 1e-12);
+    }
+  }
+}
+
+TEST(Response, AmplitudeContinuationMeetsTheClosedFormGrazingLevel) {
+  // At fixed w the linear response scales with a: it grazes at
+  // a_g = d / |X_c| per unit force (no preload).
+  const Model m = Forced();
+  const double w = 0.6;
+  ResponseOptions o;
+  o.impacts = 1;
+  o.parameter = ResponseParameter::kAmplitude;
+  o.grid = {0.05, 0.5, 0.005};
+  o.fixed = w;
+  const ResponseCurve c = ComputeResponse(m, o);
+  const ForcedOrbit unit = LinearResponse(m, w, 1.0);
+  const double a_g = 1.0 / unit.max_xc;
+  const auto zero = Of(c, SpecialKind::kZeroVelocity);
+  ASSERT_FALSE(zero.empty());
+  double best = 1.0;
+  for (const SpecialPoint* z : zero) best = std::min(best, std::abs(z->orbit.amplitude - a_g));
+  EXPECT_LT(best, 1e-9 * a_g);
+}
+
+TEST(Response, BadOptionsNameTheField) {
+  auto expect = [](ResponseOptions o, const std::string& field) {
+    try {
+      ComputeResponse(Forced(), o);
+      FAIL() << field;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), field) << e.what();
+    }
+  };
+  ResponseOptions o;
+  o.grid = {0.4, 1.0, 0.01};
+  o.fixed = 0.3;
+  ResponseOptions bad = o;
+  bad.impacts = -1;
+  expect(bad, "impacts");
+  bad = o;
+  bad.impacts = 0;
+  bad.periods = 2;
+  expect(bad, "periods");
+  bad = o;
+  bad.grid = {1.0, 0.4, 0.01};
+  expect(bad, "frequency");
+  bad = o;
+  bad.fixed = 0.0;
+  expect(bad, "amplitude");
+  bad = o;
+  bad.parameter = ResponseParameter::kAmplitude;
+  bad.fixed = -1.0;
+  expect(bad, "frequency");
+}
+
+}  // namespace
+}  // namespace nsmodal
