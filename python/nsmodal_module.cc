@@ -22,6 +22,7 @@
 #include "nsmodal/model.h"
 #include "nsmodal/one_impact.h"
 #include "nsmodal/output.h"
+#include "nsmodal/response.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate.h"
 #include "nsmodal/stability.h"
@@ -121,24 +122,24 @@ py::dict OrbitsDict(const Sweep& sweep, int dofs) {
   return d;
 }
 
-// A grid from (from, to, step), "FROM:TO:STEP", or one period.
-PeriodGrid GridOf(const py::object& period) {
-  if (py::isinstance<py::str>(period)) return PeriodGrid::Parse(period.cast<std::string>(), "period");
+// A grid from (from, to, step), "FROM:TO:STEP", or one value; errors name `field`.
+PeriodGrid GridOf(const py::object& period, const std::string& field = "period") {
+  if (py::isinstance<py::str>(period)) return PeriodGrid::Parse(period.cast<std::string>(), field);
   if (py::isinstance<py::float_>(period) || py::isinstance<py::int_>(period)) {
     const double t = period.cast<double>();
     PeriodGrid g{t, t, 1.0};
-    g.Validate("period");
+    g.Validate(field);
     return g;
   }
   std::vector<double> v;
   try {
     v = period.cast<std::vector<double>>();
   } catch (const py::cast_error&) {
-    throw InputError("period", "expects (from, to, step), 'FROM:TO:STEP' or one period");
+    throw InputError(field, "expects (from, to, step), 'FROM:TO:STEP' or one value");
   }
-  if (v.size() != 3) throw InputError("period", "expects (from, to, step), got " + std::to_string(v.size()) + " values");
+  if (v.size() != 3) throw InputError(field, "expects (from, to, step), got " + std::to_string(v.size()) + " values");
   PeriodGrid g{v[0], v[1], v[2]};
-  g.Validate("period");
+  g.Validate(field);
   return g;
 }
 
@@ -155,7 +156,10 @@ Eigen::VectorXd VectorOf(const std::vector<double>& v) {
 
 Model MakeModel(std::optional<std::vector<double>> masses, std::optional<std::vector<double>> springs,
                 std::optional<Eigen::MatrixXd> mass_matrix, std::optional<Eigen::MatrixXd> stiffness_matrix,
-                double gap, double restitution, std::optional<int> contact_dof) {
+                double gap, double restitution, std::optional<int> contact_dof,
+                std::optional<std::vector<double>> rayleigh_damping, std::optional<std::vector<double>> damping_ratios,
+                std::optional<Eigen::MatrixXd> damping_matrix, std::optional<std::vector<double>> forcing_amplitude,
+                std::optional<double> forcing_frequency, std::optional<std::vector<double>> forcing_constant) {
   Model m;
   const bool chain = masses || springs, matrices = mass_matrix || stiffness_matrix;
   if (chain == matrices) {
@@ -176,7 +180,58 @@ Model MakeModel(std::optional<std::vector<double>> masses, std::optional<std::ve
     m.restitution = restitution;
   }
   Validate(m);
+  // Damping and forcing, as the scene keys (scene.h).
+  if ((rayleigh_damping ? 1 : 0) + (damping_ratios ? 1 : 0) + (damping_matrix ? 1 : 0) > 1) {
+    throw InputError("damping", "give at most one of rayleigh_damping, damping_ratios and damping_matrix");
+  }
+  if (rayleigh_damping) {
+    if (rayleigh_damping->size() != 2) throw InputError("rayleigh_damping", "must be (a, b): C = a M + b K");
+    m.damping = RayleighDamping(m.mass, m.stiffness, (*rayleigh_damping)[0], (*rayleigh_damping)[1]);
+  }
+  if (damping_ratios) m.damping = ModalDamping(m.mass, m.stiffness, *damping_ratios);
+  if (damping_matrix) m.damping = *damping_matrix;
+  if (forcing_amplitude.has_value() != forcing_frequency.has_value()) {
+    throw InputError(forcing_amplitude ? "forcing.frequency" : "forcing.amplitude",
+                     "is missing: f cos(w t) needs both forcing_amplitude and forcing_frequency");
+  }
+  if (forcing_amplitude) {
+    m.forcing.amplitude = VectorOf(*forcing_amplitude);
+    m.forcing.frequency = *forcing_frequency;
+    if (!(m.forcing.frequency > 0.0)) {
+      throw InputError("forcing.frequency", "must be positive, got " + FormatValue(m.forcing.frequency));
+    }
+  }
+  if (forcing_constant) m.forcing.constant = VectorOf(*forcing_constant);
+  Validate(m);
   return m;
+}
+
+// The response grid and the fixed parameter: one of frequency and amplitude
+// is a grid, the other one value or, when None, the model's own.
+ResponseOptions ResponseOptionsOf(const Model& model, int impacts, int periods, const py::object& frequency,
+                                  const py::object& amplitude) {
+  auto is_grid = [](const py::object& o) {
+    return !o.is_none() && !py::isinstance<py::float_>(o) && !py::isinstance<py::int_>(o);
+  };
+  if (is_grid(frequency) == is_grid(amplitude)) {
+    throw InputError("frequency", "give exactly one of frequency and amplitude as a grid (from, to, step) or "
+                                  "'FROM:TO:STEP', the other as one value (or None: the model's forcing)");
+  }
+  ResponseOptions o;
+  o.impacts = impacts;
+  o.periods = periods;
+  if (is_grid(frequency)) {
+    o.parameter = ResponseParameter::kFrequency;
+    o.grid = GridOf(frequency, "frequency");
+    o.fixed = amplitude.is_none() ? (model.forcing.amplitude.size() > 0 ? model.forcing.amplitude.cwiseAbs().maxCoeff() : 0.0)
+                                  : amplitude.cast<double>();
+  } else {
+    o.parameter = ResponseParameter::kAmplitude;
+    o.grid = GridOf(amplitude, "amplitude");
+    o.fixed = frequency.is_none() ? model.forcing.frequency : frequency.cast<double>();
+  }
+  o.Validate();
+  return o;
 }
 
 }  // namespace
@@ -210,18 +265,32 @@ would name it); a file that cannot be written raises OSError.)doc";
     }
   });
 
-  py::class_<Model>(mod, "Model", R"doc(A vibro-impact system: M x'' + K x = 0 in flight, x_c <= d, Newton's law.
+  py::class_<Model>(mod, "Model", R"doc(A vibro-impact system: M x'' + C x' + K x = f0 + f cos(w t) in flight,
+x_c <= d, Newton's law.
 
 Model(masses=None, springs=None, mass_matrix=None, stiffness_matrix=None, *,
-      gap, restitution, contact_dof=None)
+      gap, restitution, contact_dof=None,
+      rayleigh_damping=None, damping_ratios=None, damping_matrix=None,
+      forcing_amplitude=None, forcing_frequency=None, forcing_constant=None)
 
 Either a chain (masses m_1..m_N and springs ground-m_1, m_1-m_2, ...) or
 symmetric positive-definite mass and stiffness matrices. contact_dof is
 1-based (default: the last dof); gap d > 0; restitution e in [0, 1]
-(periodic-orbit analysis needs e = 1; simulation takes any e).)doc")
+(nonsmooth-mode analysis needs e = 1, no damping, no force; simulation takes
+any e). Damping, at most one of: rayleigh_damping (a, b): C = a M + b K;
+damping_ratios: one per linear mode; damping_matrix: any symmetric positive
+semi-definite C. Forcing: f = forcing_amplitude (N values) at
+w = forcing_frequency, f0 = forcing_constant.)doc")
       .def(py::init(&MakeModel), py::arg("masses") = py::none(), py::arg("springs") = py::none(),
            py::arg("mass_matrix") = py::none(), py::arg("stiffness_matrix") = py::none(), py::kw_only(),
-           py::arg("gap"), py::arg("restitution"), py::arg("contact_dof") = py::none())
+           py::arg("gap"), py::arg("restitution"), py::arg("contact_dof") = py::none(),
+           py::arg("rayleigh_damping") = py::none(), py::arg("damping_ratios") = py::none(),
+           py::arg("damping_matrix") = py::none(), py::arg("forcing_amplitude") = py::none(),
+           py::arg("forcing_frequency") = py::none(), py::arg("forcing_constant") = py::none())
+      .def_property_readonly("damping_matrix", [](const Model& m) { return m.DampingMatrix(); }, "C (N x N; zero: none).")
+      .def_property_readonly("forcing_amplitude", [](const Model& m) { return m.ForceAmplitude(); }, "f (zero: none).")
+      .def_property_readonly("forcing_frequency", [](const Model& m) { return m.forcing.frequency; }, "w.")
+      .def_property_readonly("forcing_constant", [](const Model& m) { return m.ConstantForce(); }, "f0 (zero: none).")
       .def_property_readonly("dofs", &Model::dofs, "Number of degrees of freedom N.")
       .def_property_readonly("mass_matrix", [](const Model& m) { return m.mass; }, "M (N x N).")
       .def_property_readonly("stiffness_matrix", [](const Model& m) { return m.stiffness; }, "K (N x N).")
@@ -457,6 +526,71 @@ A run that stopped early has "status" != "finished" and says why in "message".)d
 
 Returns {"rows": arrays keyed as validation.csv, one per orbit and
 integrator, "summary": the dict of validate's summary.json, with "passed"}.)doc");
+
+  mod.def(
+      "response",
+      [](const Model& model, int impacts, int periods, const py::object& frequency, const py::object& amplitude,
+         bool backbone) {
+        const ResponseOptions opt = ResponseOptionsOf(model, impacts, periods, frequency, amplitude);
+        ResponseCurve curve;
+        std::optional<Sweep> sweep;
+        {
+          py::gil_scoped_release release;
+          curve = ComputeResponse(model, opt);
+          if (backbone && opt.parameter == ResponseParameter::kFrequency) {
+            SweepOptions so;
+            so.stability = StabilityPolicy::kAdmissible;
+            sweep = BackboneSweep(model, opt.grid.from, opt.grid.to, 2000, so);
+          }
+        }
+        std::vector<report::ResponseRow> rows;
+        py::list ends;
+        for (std::size_t b = 0; b < curve.branches.size(); ++b) {
+          for (const ForcedOrbit& o : curve.branches[b].points) rows.push_back({static_cast<int>(b) + 1, o});
+          ends.append(curve.branches[b].end);
+        }
+        py::dict d;
+        d["rows"] = TableDict(report::ResponseColumns(model.dofs()), Pointers(rows));
+        d["points"] = TableDict(report::ResponsePointColumns(), Pointers(curve.points));
+        d["branch_ends"] = ends;
+        d["notes"] = curve.notes;
+        if (sweep) {
+          std::vector<const OrbitRecord*> records;
+          for (const auto& list : sweep->at) {
+            for (const OrbitRecord& r : list) records.push_back(&r);
+          }
+          d["backbone"] = TableDict(report::BackboneColumns(), records);
+          // The nonsmooth mode's frequency at each peak's energy (NaN: none).
+          py::list mode_w;
+          for (const SpecialPoint& p : curve.points) {
+            const std::optional<double> w = p.kind == SpecialKind::kPeak
+                                                ? BackboneFrequency(model, *sweep, p.orbit.energy, p.orbit.frequency)
+                                                : std::nullopt;
+            mode_w.append(w ? *w : kNaN);
+          }
+          d["points"]["mode_w"] = py::array_t<double>(py::cast<std::vector<double>>(mode_w));
+        }
+        return d;
+      },
+      py::arg("model"), py::arg("impacts") = 1, py::arg("periods") = 1, py::arg("frequency") = py::none(),
+      py::arg("amplitude") = py::none(), py::arg("backbone") = true,
+      R"doc(Forced, damped response curves: the (m, n) = (impacts, periods) families of
+periodic orbits followed through the forcing frequency or amplitude by
+pseudo-arclength continuation (folds passed), with their stability.
+
+One of frequency and amplitude is a grid (from, to, step) or 'FROM:TO:STEP',
+the other one value (None: the model's forcing; amplitude is max |f_i|, the
+model's forcing_amplitude giving the direction). impacts = 0: the linear,
+non-impacting response in closed form. Needs damping or e < 1.
+
+Returns {"rows": arrays keyed as response.csv (w, amplitude, period, impacts,
+energy, max_xc, impact_velocity, admissible, stable, max_multiplier, t_impact,
+x1.., v1.., branch, periods, residual), "points": arrays keyed as
+response_points.csv (w, amplitude, kind in fold | period-doubling | grazing |
+zero-velocity | peak, energy, ...; with "mode_w", the nonsmooth mode's
+frequency at a peak's energy, when a backbone is computed), "branch_ends",
+"notes", and for a frequency sweep with backbone=True "backbone": arrays
+keyed as backbone.csv (the conservative twin's 1-ipp mode, w = 2 pi / T).)doc");
 
   mod.attr("__version__") = NSMODAL_VERSION;
 }

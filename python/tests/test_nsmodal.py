@@ -174,5 +174,56 @@ def test_bad_arguments_raise_value_error_naming_the_field(paper):
 
 def test_docstrings_for_help():
     for f in (nsmodal.orbits, nsmodal.transitions, nsmodal.simulate, nsmodal.validate, nsmodal.atlas,
-              nsmodal.multipliers, nsmodal.Model):
+              nsmodal.multipliers, nsmodal.Model, nsmodal.response):
         assert f.__doc__ and len(f.__doc__) > 100, f
+
+
+FORCED = os.path.join(SRC, "configs", "forced.toml")
+
+
+def test_damped_forced_model_and_its_simulation():
+    m = nsmodal.Model(masses=[1, 1], springs=[0.85, 2], gap=1.0, restitution=0.8, rayleigh_damping=(0.05, 0.02),
+                      forcing_amplitude=[0.3, 0.1], forcing_frequency=0.5, forcing_constant=[0.05, -0.02])
+    np.testing.assert_allclose(m.damping_matrix, 0.05 * m.mass_matrix + 0.02 * m.stiffness_matrix, rtol=1e-15)
+    assert m.forcing_frequency == 0.5
+    exact = nsmodal.simulate(m, x0=[0.2, -0.1], v0=[0.0, 0.3], t_end=200.0, sample_dt=0.0)
+    cvode = nsmodal.simulate(m, x0=[0.2, -0.1], v0=[0.0, 0.3], t_end=200.0, sample_dt=0.0, integrator="cvode")
+    assert exact["status"] == "finished" and exact["impacts"] == cvode["impacts"] > 10
+    # CVODE at rtol 1e-10 over a damped, contracting motion (forced_simulate_test: 4.4e-10 measured).
+    np.testing.assert_allclose(exact["final_state"], cvode["final_state"], atol=1e-8)
+
+
+def test_response_curve_and_backbone():
+    m = nsmodal.load_scene(FORCED)
+    r = nsmodal.response(m, impacts=1, frequency=(0.4, 1.0, 0.01))
+    rows, pts = r["rows"], r["points"]
+    assert len(rows["w"]) > 60 and set(rows) >= {"w", "amplitude", "energy", "admissible", "stable", "t_impact", "x1"}
+    assert np.all(rows["residual"] < 1e-12)
+    kinds = set(pts["kind"])
+    assert {"fold", "grazing", "zero-velocity", "peak"} <= kinds, kinds
+    # Each peak is compared with the nonsmooth mode at its energy.
+    peaks = np.array([k == "peak" for k in pts["kind"]])
+    assert np.all(np.isfinite(pts["mode_w"][peaks]))
+    assert len(r["backbone"]["w"]) == 2000
+    # The linear response grazes where the (1,1) family starts with a zero-velocity impact.
+    lin = nsmodal.response(m, impacts=0, frequency=(0.4, 1.0, 0.01), backbone=False)
+    graze = np.array(lin["points"]["w"])[np.array(lin["points"]["kind"]) == "grazing"]
+    zero = np.array(pts["w"])[np.array(pts["kind"]) == "zero-velocity"]
+    assert len(graze) == 2 and np.min(np.abs(graze[:, None] - zero[None, :]), axis=1).max() < 1e-9
+
+
+def test_response_bad_requests_name_the_field(paper):
+    m = nsmodal.load_scene(FORCED)
+    with pytest.raises(ValueError, match="frequency"):
+        nsmodal.response(m, frequency=(0.4, 1.0, 0.1), amplitude=(0.1, 0.2, 0.1))
+    with pytest.raises(ValueError, match="impacts"):
+        nsmodal.response(m, impacts=9, frequency=(0.4, 1.0, 0.1))
+    with pytest.raises(ValueError, match="forcing.amplitude"):
+        nsmodal.response(paper, frequency=(0.4, 1.0, 0.1), amplitude=0.3)
+    with pytest.raises(ValueError, match="system.rayleigh_damping"):
+        nsmodal.Model(masses=[1, 1], springs=[1, 1], gap=1.0, restitution=1.0, rayleigh_damping=(-1, 0))
+    with pytest.raises(ValueError, match="forcing.frequency"):
+        nsmodal.Model(masses=[1, 1], springs=[1, 1], gap=1.0, restitution=1.0, forcing_amplitude=[1, 0])
+    with pytest.raises(ValueError, match="forcing.amplitude"):
+        nsmodal.Model(masses=[1, 1], springs=[1, 1], gap=1.0, restitution=1.0, forcing_amplitude=[1],
+                      forcing_frequency=1.0)
