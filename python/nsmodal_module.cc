@@ -561,14 +561,14 @@ integrator, "summary": the dict of validate's summary.json, with "passed"}.)doc"
           }
           d["backbone"] = TableDict(report::BackboneColumns(), records);
           // The nonsmooth mode's frequency at each peak's energy (NaN: none).
-          py::list mode_w;
+          std::vector<double> mode_w;
           for (const SpecialPoint& p : curve.points) {
             const std::optional<double> w = p.kind == SpecialKind::kPeak
                                                 ? BackboneFrequency(model, *sweep, p.orbit.energy, p.orbit.frequency)
                                                 : std::nullopt;
-            mode_w.append(w ? *w : kNaN);
+            mode_w.push_back(w ? *w : kNaN);
           }
-          d["points"]["mode_w"] = py::array_t<double>(py::cast<std::vector<double>>(mode_w));
+          d["points"]["mode_w"] = py::array_t<double>(static_cast<py::ssize_t>(mode_w.size()), mode_w.data());
         }
         return d;
       },
