@@ -69,6 +69,9 @@ CommandLine::CommandLine() {
   c_resp->add_option("--periods", response.periods, "Forcing periods per response period n")->default_val(1);
   c_resp->add_option("--frequency", response.frequency, "Grid FROM:TO:STEP of w, or w (default: the scene's)");
   c_resp->add_option("--amplitude", response.amplitude, "Grid FROM:TO:STEP of max|f_i|, or levels a,b,c (default: the scene's)");
+  c_resp->add_option("--validate", response.validate, "Simulate every point this many periods (0: no validation)")->default_val(0)->check(CLI::Range(0, 100000000));
+  c_resp->add_option("--integrators", response.integrators, "Integrators of --validate: exact, cvode, moreau-jean")->expected(1, 3);
+  c_resp->add_option("--threads", response.threads, "Worker threads of --validate (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
 
   c_bench = app.add_subcommand("bench", "Speed against accuracy of the integrators, and grazing failures");
   c_bench->add_option("scene", bench.scene, "Scene file (the paper's system: configs/paper.toml)")->required();

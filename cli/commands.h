@@ -63,6 +63,9 @@ struct ResponseArgs {
   std::string scene, out;
   int impacts = 1, periods = 1;
   std::optional<std::string> frequency, amplitude;
+  int validate = 0;  // periods simulated per orbit (0: no validation)
+  std::vector<std::string> integrators{"exact"};
+  int threads = 0;
 };
 
 int RunResponse(const ResponseArgs& a);

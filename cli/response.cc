@@ -12,6 +12,7 @@
 #include "nsmodal/response.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/tables.h"
+#include "nsmodal/validate.h"
 
 namespace nsmodal::cli {
 namespace {
@@ -73,7 +74,8 @@ int RunResponse(const ResponseArgs& a) {
   base.fixed = levels.front();
   base.Validate();
   const report::OutputDir dir = report::OutputDir::Prepare(
-      a.out, {"response.csv", "response_points.csv", "backbone.csv", "response_energy*", "response_max_xc*"});
+      a.out, {"response.csv", "response_points.csv", "backbone.csv", "response_validation.csv", "response_energy*",
+              "response_max_xc*"});
   std::vector<report::ResponseRow> rows;
   std::vector<SpecialPoint> points;
   int branch_offset = 0;
@@ -129,6 +131,41 @@ int RunResponse(const ResponseArgs& a) {
     }
   }
   report::DrawResponseCharts(dir, rows, model.dofs(), backbone, frequency_grid, std::cout);
+  if (a.validate == 0) return 0;
+  // Every point simulated a.validate periods with each integrator.
+  ValidateOptions vopt;
+  vopt.periods = a.validate;
+  vopt.integrators.clear();
+  for (const std::string& name : a.integrators) vopt.integrators.push_back(ParseIntegrator(name, "--integrators"));
+  vopt.threads = a.threads;
+  FieldNames names;
+  names.Set("periods", "--validate");
+  vopt.Validate(names);
+  std::vector<ForcedOrbit> orbits;
+  for (const report::ResponseRow& r : rows) orbits.push_back(r.orbit);
+  const std::vector<ForcedOrbitValidation> results =
+      ValidateForcedOrbits(model, orbits, vopt, ProgressBar("validating " + std::to_string(orbits.size()) + " orbits"));
+  std::vector<report::ForcedValidationRow> vrows;
+  long failures = 0, consistent = 0;
+  const std::size_t per = vopt.integrators.size();
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    vrows.push_back({rows[i / per].branch, results[i]});
+    consistent += results[i].consistent ? 1 : 0;
+    if (!results[i].consistent) {
+      std::cout << "  inconsistent: w = " << FormatValue(results[i].orbit.frequency) << " ("
+                << ToString(results[i].integrator) << "): " << results[i].reason << "\n";
+      if (results[i].integrator == Integrator::kExact && results[i].orbit.admissible) ++failures;
+    }
+  }
+  report::ResultFile val(dir, "response_validation.csv");
+  report::WriteCsv(val.stream(), report::ForcedValidationColumns(), vrows);
+  val.Commit();
+  std::cout << "validated " << orbits.size() << " orbits over " << a.validate << " periods: " << consistent << "/"
+            << results.size() << " runs consistent; wrote " << a.out << "/response_validation.csv\n";
+  if (failures > 0) {
+    std::cerr << "error: " << failures << " admissible orbit(s) failed to validate with the exact integrator\n";
+    return 4;
+  }
   return 0;
 }
 

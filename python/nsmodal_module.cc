@@ -530,8 +530,17 @@ integrator, "summary": the dict of validate's summary.json, with "passed"}.)doc"
   mod.def(
       "response",
       [](const Model& model, int impacts, int periods, const py::object& frequency, const py::object& amplitude,
-         bool backbone) {
+         bool backbone, int validate, const std::vector<std::string>& integrators, int threads) {
         const ResponseOptions opt = ResponseOptionsOf(model, impacts, periods, frequency, amplitude);
+        ValidateOptions vopt;
+        vopt.periods = std::max(validate, 1);
+        vopt.integrators.clear();
+        for (const std::string& name : integrators) vopt.integrators.push_back(ParseIntegrator(name, "integrators"));
+        vopt.threads = threads;
+        FieldNames names;
+        names.Set("periods", "validate");
+        if (validate < 0) throw InputError("validate", "must be >= 0, got " + std::to_string(validate));
+        vopt.Validate(names);
         ResponseCurve curve;
         std::optional<Sweep> sweep;
         {
@@ -550,6 +559,20 @@ integrator, "summary": the dict of validate's summary.json, with "passed"}.)doc"
           ends.append(curve.branches[b].end);
         }
         py::dict d;
+        if (validate > 0) {
+          std::vector<ForcedOrbit> orbits;
+          for (const report::ResponseRow& r : rows) orbits.push_back(r.orbit);
+          std::vector<ForcedOrbitValidation> results;
+          {
+            py::gil_scoped_release release;
+            results = ValidateForcedOrbits(model, orbits, vopt);
+          }
+          std::vector<report::ForcedValidationRow> vrows;
+          for (std::size_t i = 0; i < results.size(); ++i) {
+            vrows.push_back({rows[i / vopt.integrators.size()].branch, results[i]});
+          }
+          d["validation"] = TableDict(report::ForcedValidationColumns(), Pointers(vrows));
+        }
         d["rows"] = TableDict(report::ResponseColumns(model.dofs()), Pointers(rows));
         d["points"] = TableDict(report::ResponsePointColumns(), Pointers(curve.points));
         d["branch_ends"] = ends;
@@ -573,7 +596,8 @@ integrator, "summary": the dict of validate's summary.json, with "passed"}.)doc"
         return d;
       },
       py::arg("model"), py::arg("impacts") = 1, py::arg("periods") = 1, py::arg("frequency") = py::none(),
-      py::arg("amplitude") = py::none(), py::arg("backbone") = true,
+      py::arg("amplitude") = py::none(), py::arg("backbone") = true, py::arg("validate") = 0,
+      py::arg("integrators") = std::vector<std::string>{"exact"}, py::arg("threads") = 0,
       R"doc(Forced, damped response curves: the (m, n) = (impacts, periods) families of
 periodic orbits followed through the forcing frequency or amplitude by
 pseudo-arclength continuation (folds passed), with their stability.
@@ -590,7 +614,10 @@ response_points.csv (w, amplitude, kind in fold | period-doubling | grazing |
 zero-velocity | peak, energy, ...; with "mode_w", the nonsmooth mode's
 frequency at a peak's energy, when a backbone is computed), "branch_ends",
 "notes", and for a frequency sweep with backbone=True "backbone": arrays
-keyed as backbone.csv (the conservative twin's 1-ipp mode, w = 2 pi / T).)doc");
+keyed as backbone.csv (the conservative twin's 1-ipp mode, w = 2 pi / T).
+validate > 0: every point simulated that many periods with each of
+`integrators`; "validation": arrays keyed as response_validation.csv (the
+verdicts of validate: consistent, reason, deviation_end, measured_growth...).)doc");
 
   mod.attr("__version__") = NSMODAL_VERSION;
 }

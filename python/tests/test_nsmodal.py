@@ -212,6 +212,14 @@ def test_response_curve_and_backbone():
     assert len(graze) == 2 and np.min(np.abs(graze[:, None] - zero[None, :]), axis=1).max() < 1e-9
 
 
+def test_response_points_validated_by_simulation():
+    m = nsmodal.load_scene(FORCED)
+    r = nsmodal.response(m, frequency=(0.5, 0.6, 0.01), backbone=False, validate=100)
+    v = r["validation"]
+    assert len(v["w"]) == len(r["rows"]["w"]) > 5
+    assert all(v["consistent"]), [x for x, c in zip(v["reason"], v["consistent"]) if not c]
+
+
 def test_response_bad_requests_name_the_field(paper):
     m = nsmodal.load_scene(FORCED)
     with pytest.raises(ValueError, match="frequency"):

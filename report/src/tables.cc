@@ -89,6 +89,29 @@ Columns<SpecialPoint> ResponsePointColumns() {
           {"max_multiplier", K::kReal, [](const P& p) -> Cell { return p.orbit.max_multiplier; }}};
 }
 
+Columns<ForcedValidationRow> ForcedValidationColumns() {
+  using R = ForcedValidationRow;
+  return {
+      {"w", K::kReal, [](const R& r) -> Cell { return r.v.orbit.frequency; }},
+      {"amplitude", K::kReal, [](const R& r) -> Cell { return r.v.orbit.amplitude; }},
+      {"branch", K::kInteger, [](const R& r) -> Cell { return static_cast<long>(r.branch); }},
+      {"integrator", K::kText, [](const R& r) -> Cell { return ToString(r.v.integrator); }},
+      {"admissible", K::kBool, [](const R& r) -> Cell { return r.v.orbit.admissible; }},
+      {"stable", K::kBool, [](const R& r) -> Cell { return r.v.orbit.stable; }},
+      {"max_multiplier", K::kReal, [](const R& r) -> Cell { return r.v.orbit.max_multiplier; }},
+      {"periods_run", K::kInteger, [](const R& r) -> Cell { return static_cast<long>(r.v.deviation.size()); }},
+      {"deviation_1", K::kReal, [](const R& r) { return OrMissing(!r.v.deviation.empty(), r.v.deviation.empty() ? 0.0 : r.v.deviation.front()); }},
+      {"deviation_end", K::kReal, [](const R& r) { return OrMissing(!r.v.deviation.empty(), r.v.deviation.empty() ? 0.0 : r.v.deviation.back()); }},
+      {"measured_growth", K::kReal, [](const R& r) -> Cell { return r.v.measured_growth; }},
+      {"predicted_growth", K::kReal, [](const R& r) -> Cell { return std::log(r.v.orbit.max_multiplier); }},
+      {"first_period_impacts", K::kInteger, [](const R& r) -> Cell { return r.v.first_period_impacts; }},
+      {"impact_time_error", K::kReal, [](const R& r) -> Cell { return r.v.impact_time_error; }},
+      {"max_penetration", K::kReal, [](const R& r) -> Cell { return r.v.max_penetration; }},
+      {"consistent", K::kBool, [](const R& r) -> Cell { return r.v.consistent; }},
+      {"reason", K::kText, [](const R& r) -> Cell { return r.v.reason; }},
+  };
+}
+
 Columns<OrbitRecord> BackboneColumns() {
   using R = OrbitRecord;
   return {{"w", K::kReal, [](const R& r) -> Cell { return 2.0 * M_PI / r.orbit.period; }},

@@ -161,6 +161,70 @@ std::vector<double> PerturbedRun(const Model& model, const AnalysisBasis& b, con
   return out;
 }
 
+// What a run showed, for the verdict (validate.h: the same rules for free
+// and forced orbits).
+struct RunFacts {
+  bool admissible, stable;
+  int impacts;
+  double predicted_rate;  // log |lambda_max| per period
+  long first_period_impacts;
+  double impact_time_error, max_penetration;
+  const std::vector<double>& deviation;
+  bool broken;
+  std::optional<double> growth;
+  double floor;
+  const SimulationSummary& summary;
+};
+
+void Judge(const RunFacts& f, Integrator integrator, const ValidateOptions& options, double ptol, bool* consistent,
+           std::string* reason) {
+  const double ttol = TimeTolerance(integrator, options);
+  const bool first_period_ok =
+      f.first_period_impacts == f.impacts && f.impact_time_error <= ttol && f.max_penetration <= ptol;
+  const std::string who = ToString(integrator);
+  bool& ok = *consistent;
+  std::string& why = *reason;
+  if (f.summary.status == SimulationStatus::kSolverError || f.summary.status == SimulationStatus::kStepLimit) {
+    ok = false;
+    why = who + " stopped: " + f.summary.message;
+  } else if (!f.admissible) {
+    ok = !first_period_ok;
+    why = ok ? "breaks as predicted (not admissible): " + std::to_string(f.first_period_impacts) +
+                   " impacts in the first period"
+             : "not admissible, yet the first period looks admissible to " + who;
+  } else if (!first_period_ok) {
+    ok = false;
+    why = "first period: " + std::to_string(f.first_period_impacts) + " impacts (expected " +
+          std::to_string(f.impacts) + "), time error " + Short(f.impact_time_error) + ", penetration " +
+          Short(f.max_penetration);
+  } else if (f.stable) {
+    const double tol = PeriodicityTolerance(integrator, options, options.periods);
+    const double final_dev = f.deviation.empty() ? 0.0 : f.deviation.back();
+    ok = !f.broken && static_cast<int>(f.deviation.size()) == options.periods && final_dev <= tol;
+    why = ok ? "stable and periodic: deviation " + Short(final_dev) + " after " + std::to_string(options.periods) +
+                   " periods"
+             : "stable orbit drifted: deviation " + Short(final_dev) + " > " + Short(tol);
+  } else {
+    const double max_dev = f.deviation.empty() ? 0.0 : *std::max_element(f.deviation.begin(), f.deviation.end());
+    const double measured = f.growth ? *f.growth : 0.0;
+    if (max_dev <= 1e-12) {
+      ok = true;
+      why = "unstable, but round-off never grew (a floating-point fixed point of the map)";
+    } else if (!f.growth) {
+      ok = true;
+      why = "unstable; growth not measurable above " + who + "'s error floor (" + Short(f.floor) +
+            " after one period): first period as predicted";
+    } else if (measured > 0.0 && std::abs(measured - f.predicted_rate) <= 0.3 * f.predicted_rate) {
+      ok = true;
+      why = "unstable: deviation grows " + Short(measured) + " per period, multipliers predict " +
+            Short(f.predicted_rate);
+    } else {
+      ok = false;
+      why = "unstable: measured growth " + Short(measured) + " per period, predicted " + Short(f.predicted_rate);
+    }
+  }
+}
+
 }  // namespace
 
 void ValidateOptions::Validate(const FieldNames& names) const {
@@ -230,7 +294,6 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
 
   const double floor = v.deviation.empty() ? 0.0 : std::max(1e-13, v.deviation.front());
   const std::optional<double> growth = FitGrowth(v.deviation, floor);
-  const bool growth_measurable = growth.has_value();
   if (growth) v.measured_growth = *growth;
 
   if (integrator == Integrator::kExact && orbit.admissible) {
@@ -254,53 +317,12 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
   }
 
   // Verdict.
-  const double ttol = TimeTolerance(integrator, options);
+  RunFacts facts{orbit.admissible, v.stability.stable, orbit.impacts, v.stability.growth_per_period,
+                 v.first_period_impacts, v.impact_time_error, v.max_penetration, v.deviation, broken,
+                 growth, floor, sum};
   const double v_scale = std::sqrt(2.0 * orbit.energy * b.r_norm2);
-  const double ptol = PenetrationTolerance(integrator, options, model.gap, v_scale);
-  const bool first_period_ok =
-      v.first_period_impacts == orbit.impacts && v.impact_time_error <= ttol && v.max_penetration <= ptol;
-  const std::string who = ToString(integrator);
-  if (sum.status == SimulationStatus::kSolverError || sum.status == SimulationStatus::kStepLimit) {
-    v.consistent = false;
-    v.reason = who + " stopped: " + sum.message;
-  } else if (!orbit.admissible) {
-    v.consistent = !first_period_ok;
-    v.reason = v.consistent ? "breaks as predicted (not admissible): " + std::to_string(v.first_period_impacts) +
-                                  " impacts in the first period"
-                            : "not admissible, yet the first period looks admissible to " + who;
-  } else if (!first_period_ok) {
-    v.consistent = false;
-    v.reason = "first period: " + std::to_string(v.first_period_impacts) + " impacts (expected " +
-               std::to_string(orbit.impacts) + "), time error " + Short(v.impact_time_error) +
-               ", penetration " + Short(v.max_penetration);
-  } else if (v.stability.stable) {
-    const double tol = PeriodicityTolerance(integrator, options, options.periods);
-    const double final_dev = v.deviation.empty() ? 0.0 : v.deviation.back();
-    v.consistent = !broken && static_cast<int>(v.deviation.size()) == options.periods && final_dev <= tol;
-    v.reason = v.consistent ? "stable and periodic: deviation " + Short(final_dev) + " after " +
-                                  std::to_string(options.periods) + " periods"
-                            : "stable orbit drifted: deviation " + Short(final_dev) + " > " +
-                                  Short(tol);
-  } else {
-    const double predicted_rate = v.stability.growth_per_period;
-    const double max_dev = v.deviation.empty() ? 0.0 : *std::max_element(v.deviation.begin(), v.deviation.end());
-    if (max_dev <= 1e-12) {
-      v.consistent = true;
-      v.reason = "unstable, but round-off never grew (a floating-point fixed point of the map)";
-    } else if (!growth_measurable) {
-      v.consistent = true;
-      v.reason = "unstable; growth not measurable above " + who + "'s error floor (" + Short(floor) +
-                 " after one period): first period as predicted";
-    } else if (v.measured_growth > 0.0 && std::abs(v.measured_growth - predicted_rate) <= 0.3 * predicted_rate) {
-      v.consistent = true;
-      v.reason = "unstable: deviation grows " + Short(v.measured_growth) + " per period, multipliers predict " +
-                 Short(predicted_rate);
-    } else {
-      v.consistent = false;
-      v.reason = "unstable: measured growth " + Short(v.measured_growth) + " per period, predicted " +
-                 Short(predicted_rate);
-    }
-  }
+  Judge(facts, integrator, options, PenetrationTolerance(integrator, options, model.gap, v_scale), &v.consistent,
+        &v.reason);
   return v;
 }
 
@@ -313,6 +335,93 @@ std::vector<OrbitValidation> ValidateOrbits(const Model& model, const std::vecto
   ParallelFor(
       static_cast<long>(out.size()), options.threads,
       [&](long i) { out[i] = ValidateOrbit(model, orbits[i / per_orbit], options.integrators[i % per_orbit], options); },
+      progress);
+  return out;
+}
+
+ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit& orbit, Integrator integrator,
+                                          const ValidateOptions& options) {
+  const ForcedProblem problem(model, orbit.impacts, orbit.periods, orbit.frequency, orbit.amplitude);
+  const Model& m = problem.model();
+  const int n = m.dofs();
+  const double period = orbit.period;
+  ForcedOrbitValidation v;
+  v.orbit = orbit;
+  v.integrator = integrator;
+  // The predicted impact times in [0, P).
+  std::vector<double> predicted;
+  double nearest = period;
+  for (double t : orbit.times) {
+    const double p = t - period * std::floor(t / period);
+    predicted.push_back(p);
+    nearest = std::min({nearest, p, period - p});
+  }
+  std::sort(predicted.begin(), predicted.end());
+  if (nearest < 1e-6 * period) {
+    v.reason = "t = 0 lies on an impact (within " + Short(nearest) + "): the comparison points k P are impacts";
+    return v;
+  }
+  const Eigen::VectorXd z0 = problem.StateAt(orbit, 0.0);
+  if (z0[m.contact] > m.gap * (1.0 + 1e-12)) {
+    // Only a non-admissible orbit can be beyond the wall: no motion follows it.
+    v.consistent = !orbit.admissible;
+    v.reason = "x_c(0) = " + Short(z0[m.contact]) + " lies beyond the obstacle: " +
+               (orbit.admissible ? "yet the orbit was found admissible" : "it breaks, as predicted (not admissible)");
+    return v;
+  }
+  SimulateOptions opt = options.simulate;
+  opt.integrator = integrator;
+  opt.t_end = options.periods * period;
+  opt.sample_dt = period;
+  const double predicted_rate = std::log(orbit.max_multiplier);
+  const double give_up = orbit.stable && orbit.admissible
+                             ? std::max(0.1, 2.0 * PeriodicityTolerance(integrator, options, options.periods))
+                             : 0.1;
+  bool broken = false;
+  SimulationObserver obs;
+  obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
+    v.max_penetration = std::max(v.max_penetration, z[m.contact] - m.gap);
+    if (t == 0.0) return;
+    const double dev = (z - z0).norm() / z0.norm();
+    v.deviation.push_back(dev);
+    broken = broken || dev > give_up;
+  };
+  obs.on_impact = [&](const ContactEvent& ev) {
+    ++v.impacts;
+    v.max_penetration = std::max(v.max_penetration, ev.before[m.contact] - m.gap);
+    if (ev.t < period) {
+      const std::size_t k = static_cast<std::size_t>(v.first_period_impacts++);
+      const double err = k < predicted.size() ? std::abs(ev.t - predicted[k]) : std::numeric_limits<double>::infinity();
+      v.impact_time_error = std::max(v.impact_time_error, err);
+    }
+  };
+  obs.stop_requested = [&] { return broken; };
+  const SimulationSummary sum = Simulate(m, z0.head(n), z0.tail(n), opt, obs);
+  v.wall_time_s = sum.wall_time_s;
+  const double floor = v.deviation.empty() ? 0.0 : std::max(1e-13, v.deviation.front());
+  const std::optional<double> growth = FitGrowth(v.deviation, floor);
+  if (growth) v.measured_growth = *growth;
+  // The velocity scale of the penetration tolerance: the largest impact velocity.
+  double v_scale = 0.0;
+  for (const Eigen::VectorXd& zb : orbit.before) v_scale = std::max(v_scale, std::abs(zb[n + m.contact]));
+  const RunFacts facts{orbit.admissible, orbit.stable, orbit.impacts, predicted_rate, v.first_period_impacts,
+                       v.impact_time_error, v.max_penetration, v.deviation, broken, growth, floor, sum};
+  Judge(facts, integrator, options, PenetrationTolerance(integrator, options, m.gap, v_scale), &v.consistent,
+        &v.reason);
+  return v;
+}
+
+std::vector<ForcedOrbitValidation> ValidateForcedOrbits(const Model& model, const std::vector<ForcedOrbit>& orbits,
+                                                        const ValidateOptions& options,
+                                                        const std::function<void(long, long)>& progress) {
+  options.Validate();
+  const long per_orbit = static_cast<long>(options.integrators.size());
+  std::vector<ForcedOrbitValidation> out(orbits.size() * per_orbit);
+  ParallelFor(
+      static_cast<long>(out.size()), options.threads,
+      [&](long i) {
+        out[i] = ValidateForcedOrbit(model, orbits[i / per_orbit], options.integrators[i % per_orbit], options);
+      },
       progress);
   return out;
 }

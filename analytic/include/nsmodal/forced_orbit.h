@@ -73,6 +73,8 @@ class ForcedProblem {
   ForcedProblem(const Model& model, int impacts, int periods, double frequency, double amplitude);
 
   int impacts() const { return m_; }
+  // The model at this frequency and amplitude (the one the orbits solve).
+  const Model& model() const { return model_; }
   double period() const { return period_; }
   // x_c(t_i-) - d for i = 1..m; false outside the domain (a flight <= 0, or
   // I - A singular).

@@ -45,6 +45,16 @@ Columns<ResponseRow> ResponseColumns(int dofs);
 // admissible,stable,max_multiplier.
 Columns<SpecialPoint> ResponsePointColumns();
 
+// response_validation.csv, one row per orbit and integrator: w,amplitude,
+// branch,integrator,admissible,stable,max_multiplier,periods_run,deviation_1,
+// deviation_end,measured_growth,predicted_growth,first_period_impacts,
+// impact_time_error,max_penetration,consistent,reason.
+struct ForcedValidationRow {
+  int branch = 0;  // 1-based
+  ForcedOrbitValidation v;
+};
+Columns<ForcedValidationRow> ForcedValidationColumns();
+
 // backbone.csv: the conservative twin's 1-ipp mode beside a response,
 // w,T,energy,admissible,stable,max_multiplier (w = 2 pi / T).
 Columns<OrbitRecord> BackboneColumns();
