@@ -59,6 +59,24 @@ TEST(Response, TheImpactingFamilyIsBornAtTheLinearGrazing) {
   }
 }
 
+// Families with different numbers of impacts meet at grazing orbits (the
+// forced counterpart of the paper's bridge, section 4): where a (1,1) orbit
+// grazes the wall inside its flight, a (2,1) orbit has a zero-velocity
+// impact. Located on two different families by two continuations.
+TEST(Response, TheTwoImpactFamilyStartsWhereTheOneImpactFamilyGrazes) {
+  const ResponseCurve one = Curve(1, 0.5, 0.75, 0.01);
+  const ResponseCurve two = Curve(2, 0.5, 0.75, 0.01);
+  const auto grazings = Of(one, SpecialKind::kGrazing);
+  const auto zero = Of(two, SpecialKind::kZeroVelocity);
+  ASSERT_GE(grazings.size(), 2u);
+  for (const SpecialPoint* g : grazings) {
+    double best = 1.0;
+    for (const SpecialPoint* z : zero) best = std::min(best, std::abs(z->orbit.frequency - g->orbit.frequency));
+    // Both test functions cross zero transversally; Brent to ~1e-15: 1e-9.
+    EXPECT_LT(best, 1e-9) << "grazing of the (1,1) family at w = " << g->orbit.frequency;
+  }
+}
+
 TEST(Response, ContinuationPassesFoldsAndLocatesThem) {
   const ResponseCurve c = Curve(1, 0.4, 1.0, 0.01);
   const auto folds = Of(c, SpecialKind::kFold);
