@@ -10,6 +10,7 @@
 #include "nsmodal/model.h"
 #include "nsmodal/scene.h"
 #include "forced_fixtures.h"
+#include "scene_errors.h"
 
 namespace nsmodal {
 namespace {
@@ -156,16 +157,7 @@ TEST(ForcedFlow, UndampedResonanceAndCriticalDampingAreRefused) {
   }
 }
 
-// The error must name the field, and the offending value where there is one.
-void ExpectSceneError(const std::string& toml, const std::string& field, const std::string& value = "") {
-  try {
-    ParseScene(toml);
-    FAIL() << "no error for:\n" << toml;
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), field) << e.what();
-    EXPECT_NE(std::string(e.what()).find(value), std::string::npos) << e.what();
-  }
-}
+using testing::ExpectSceneError;
 
 const char* kChain = "[system]\ngap=1\nrestitution=0.9\nmasses=[1,1]\nsprings=[0.85,2]\n";
 

@@ -5,20 +5,12 @@
 #include "nsmodal/model.h"
 #include "nsmodal/roots.h"
 #include "nsmodal/scene.h"
+#include "scene_errors.h"
 
 namespace nsmodal {
 namespace {
 
-// The error must name the field, and the offending value where there is one.
-void ExpectSceneError(const std::string& toml, const std::string& field, const std::string& value = "") {
-  try {
-    ParseScene(toml);
-    FAIL() << "no error for:\n" << toml;
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), field) << e.what();
-    EXPECT_NE(std::string(e.what()).find(value), std::string::npos) << e.what();
-  }
-}
+using testing::ExpectSceneError;
 
 TEST(Model, ChainMatchesPaperEquation2a) {
   const Model m = PaperModel();

@@ -30,6 +30,13 @@ ResponseCurve Curve(int impacts, double from, double to, double step, double amp
   return ComputeResponse(Forced(), o);
 }
 
+// The distance in w from w to the nearest of the points.
+double Nearest(const std::vector<const SpecialPoint*>& points, double w) {
+  double best = 1e300;
+  for (const SpecialPoint* p : points) best = std::min(best, std::abs(p->orbit.frequency - w));
+  return best;
+}
+
 std::vector<const SpecialPoint*> Of(const ResponseCurve& c, SpecialKind kind) {
   std::vector<const SpecialPoint*> out;
   for (const SpecialPoint& p : c.points) {
@@ -50,11 +57,9 @@ TEST(Response, TheImpactingFamilyIsBornAtTheLinearGrazing) {
   ASSERT_EQ(grazings.size(), 2u);
   ASSERT_EQ(zero.size(), 2u);
   for (const SpecialPoint* g : grazings) {
-    double best = 1.0;
-    for (const SpecialPoint* z : zero) best = std::min(best, std::abs(z->orbit.frequency - g->orbit.frequency));
     // Both located by Brent to ~1e-15 relative; the zero-velocity test
     // function's conditioning at the branch end costs a few digits: 1e-9.
-    EXPECT_LT(best, 1e-9) << "grazing at w = " << g->orbit.frequency;
+    EXPECT_LT(Nearest(zero, g->orbit.frequency), 1e-9) << "grazing at w = " << g->orbit.frequency;
     EXPECT_NEAR(g->orbit.max_xc, 1.0, 1e-12);
   }
 }
@@ -70,10 +75,8 @@ TEST(Response, TheTwoImpactFamilyStartsWhereTheOneImpactFamilyGrazes) {
   const auto zero = Of(two, SpecialKind::kZeroVelocity);
   ASSERT_GE(grazings.size(), 2u);
   for (const SpecialPoint* g : grazings) {
-    double best = 1.0;
-    for (const SpecialPoint* z : zero) best = std::min(best, std::abs(z->orbit.frequency - g->orbit.frequency));
     // Both test functions cross zero transversally; Brent to ~1e-15: 1e-9.
-    EXPECT_LT(best, 1e-9) << "grazing of the (1,1) family at w = " << g->orbit.frequency;
+    EXPECT_LT(Nearest(zero, g->orbit.frequency), 1e-9) << "grazing of the (1,1) family at w = " << g->orbit.frequency;
   }
 }
 

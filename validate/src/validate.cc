@@ -326,17 +326,30 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
   return v;
 }
 
+namespace {
+
+// Every orbit with every integrator on options.threads threads: result
+// i = orbit i / k with integrator i % k (k integrators).
+template <class Result, class OrbitT, class One>
+std::vector<Result> EveryOrbitAndIntegrator(const std::vector<OrbitT>& orbits, const ValidateOptions& options,
+                                            const std::function<void(long, long)>& progress, One one) {
+  options.Validate();
+  const long per_orbit = static_cast<long>(options.integrators.size());
+  std::vector<Result> out(orbits.size() * per_orbit);
+  ParallelFor(
+      static_cast<long>(out.size()), options.threads,
+      [&](long i) { out[i] = one(orbits[i / per_orbit], options.integrators[i % per_orbit]); }, progress);
+  return out;
+}
+
+}  // namespace
+
 std::vector<OrbitValidation> ValidateOrbits(const Model& model, const std::vector<Orbit>& orbits,
                                             const ValidateOptions& options,
                                             const std::function<void(long, long)>& progress) {
-  options.Validate();
-  const long per_orbit = static_cast<long>(options.integrators.size());
-  std::vector<OrbitValidation> out(orbits.size() * per_orbit);
-  ParallelFor(
-      static_cast<long>(out.size()), options.threads,
-      [&](long i) { out[i] = ValidateOrbit(model, orbits[i / per_orbit], options.integrators[i % per_orbit], options); },
-      progress);
-  return out;
+  return EveryOrbitAndIntegrator<OrbitValidation>(
+      orbits, options, progress,
+      [&](const Orbit& o, Integrator integrator) { return ValidateOrbit(model, o, integrator, options); });
 }
 
 ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit& orbit, Integrator integrator,
@@ -414,16 +427,9 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
 std::vector<ForcedOrbitValidation> ValidateForcedOrbits(const Model& model, const std::vector<ForcedOrbit>& orbits,
                                                         const ValidateOptions& options,
                                                         const std::function<void(long, long)>& progress) {
-  options.Validate();
-  const long per_orbit = static_cast<long>(options.integrators.size());
-  std::vector<ForcedOrbitValidation> out(orbits.size() * per_orbit);
-  ParallelFor(
-      static_cast<long>(out.size()), options.threads,
-      [&](long i) {
-        out[i] = ValidateForcedOrbit(model, orbits[i / per_orbit], options.integrators[i % per_orbit], options);
-      },
-      progress);
-  return out;
+  return EveryOrbitAndIntegrator<ForcedOrbitValidation>(
+      orbits, options, progress,
+      [&](const ForcedOrbit& o, Integrator integrator) { return ValidateForcedOrbit(model, o, integrator, options); });
 }
 
 ValidationReport SummarizeValidation(const std::vector<OrbitValidation>& results, const ValidateOptions& options,
