@@ -1,5 +1,7 @@
 // libFuzzer target: the scene parser, and what a parsed scene reaches at once
-// (the modal basis, the analysis basis, the orbits at one period). Any input
+// (the modal basis, the analysis basis, the orbits at one period; for a damped
+// or forced scene the closed-form flight, a short exact simulation and the
+// forced periodic orbits at the scene's frequency). Any input
 // must end in a scene or an InputError naming a field: never a crash, a hang
 // (libFuzzer's -timeout), memory exhaustion (-rss_limit_mb) or a potential
 // orbit with a non-finite energy, state or multiplier (trapped here).
@@ -10,12 +12,32 @@
 
 #include "nsmodal/atlas.h"
 #include "nsmodal/error.h"
+#include "nsmodal/forced_orbit.h"
 #include "nsmodal/scene.h"
+#include "nsmodal/simulate.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
     const nsmodal::Scene scene = nsmodal::ParseScene(text, "<fuzz>");
+    if (!scene.model.Conservative()) {
+      const nsmodal::Model& m = scene.model;
+      nsmodal::SimulateOptions sim;
+      sim.t_end = 3.0 * nsmodal::MakeModalBasis(m).Periods().maxCoeff();
+      sim.sample_dt = 0.0;
+      sim.max_steps = 1000000;
+      const Eigen::VectorXd rest = Eigen::VectorXd::Zero(m.dofs());
+      const nsmodal::SimulationSummary s = nsmodal::Simulate(m, rest, rest, sim);
+      if (s.status == nsmodal::SimulationStatus::kFinished && !s.final_state.allFinite()) __builtin_trap();
+      if (m.forcing.HasHarmonic() && (m.HasDamping() || m.restitution < 1.0)) {
+        const nsmodal::ForcedProblem p(m, 1, 1, m.forcing.frequency, m.forcing.amplitude.cwiseAbs().maxCoeff());
+        for (const Eigen::VectorXd& u : p.FindAll()) {
+          const nsmodal::ForcedOrbit o = p.Orbit(u);
+          if (!std::isfinite(o.energy) || !o.after.front().allFinite()) __builtin_trap();
+        }
+      }
+      return 0;
+    }
     const nsmodal::AnalysisBasis b(scene.model);
     nsmodal::SweepOptions opt;
     opt.threads = 1;

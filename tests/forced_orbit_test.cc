@@ -168,6 +168,9 @@ TEST(ForcedOrbit, BadRequestsNameTheFieldAndValue) {
   expect([&] { ForcedProblem(m, 1, 1, 0.0, 0.3); }, "forcing.frequency", "0");
   expect([&] { ForcedProblem(m, 1, 1, -1.0, 0.3); }, "forcing.frequency", "-1");
   expect([&] { ForcedProblem(m, 1, 1, 0.5, -0.25); }, "forcing.amplitude", "-0.25");
+  // A response period beyond 1e5 shortest linear periods: NC3 and the
+  // quadrature would scan more than 1e5 oscillations per flight.
+  expect([&] { ForcedProblem(m, 1, 1, 1e-6, 0.3); }, "forcing.frequency", "response period of 6283185");
   Model free = PaperModel();
   expect([&] { ForcedProblem(free, 1, 1, 0.5, 0.3); }, "forcing.amplitude", "harmonic");
   free.forcing.amplitude = Eigen::Vector2d(1.0, 0.0);

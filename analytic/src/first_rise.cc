@@ -42,8 +42,27 @@ FirstRiseResult Search(const Signal& g, double horizon, double tol) {
   // a start already past +tol (a graze's slow excursion) cannot fire at s = 0.
   const double rise = std::max(tol, d[0] + tol);
   int no_progress = 0;
+  // The last point the search left unarmed while moving away (g' < 0), and
+  // the slope there.
+  bool away = false, backtracked = false;
+  double away_s = 0.0, away_slope = 0.0;
   while (true) {
     ++out.steps;
+    if (!armed && d[0] > rise && away && !backtracked) {
+      // Back on the rise without ever arming: with a tight bound (a
+      // constant acceleration, as under a preload) one step can cross the
+      // whole dip, and the unarmed rule would report the contact at +tol
+      // without the Newton finish, a band-width past the wall (an error that
+      // accumulates over a Zeno sequence). Step back to the vertex of the
+      // quadratic bound at the last point left moving away instead: g there is at most
+      // g - g'^2 / (2 L2), below -2 tol wherever the dip is provable, so the
+      // search arms there. (Searches that armed on their own are unchanged.)
+      backtracked = true;
+      s = away_s - away_slope / l2;
+      g.Derivatives(s, d);
+      if (d[0] < -2.0 * tol) armed = true;
+      continue;
+    }
     if (armed ? d[0] >= -tol : d[0] > rise) {
       out.found = true;
       out.s = s;
@@ -72,14 +91,6 @@ FirstRiseResult Search(const Signal& g, double horizon, double tol) {
         const double c[5] = {g0, d[1], 0.5 * d[2], d[3] / 6.0, l4 / 24.0};
         sigma = std::max(sigma, FirstPositiveRootQuartic(c));
       }
-      // Unarmed and moving away (after an impact), stop at the vertex of the
-      // quadratic bound: g there is below g + ... - g'^2 / (2 L2), so the
-      // search arms wherever the flight provably dips below -2 tol. A longer
-      // step can land on the return when the bound is tight (a constant
-      // acceleration, as under a preload), where the unarmed rule would stop
-      // at +tol without the Newton finish: the contact found a band-width
-      // past the wall, an error that accumulates over a Zeno sequence.
-      if (!armed && d[1] < 0.0) sigma = std::min(sigma, -d[1] / l2);
     }
     if (!(sigma > 1e-15 * std::max(1.0, s))) {
       if (++no_progress > 1000) {
@@ -90,6 +101,11 @@ FirstRiseResult Search(const Signal& g, double horizon, double tol) {
       sigma = 1e-15 * std::max(1.0, s);
     } else {
       no_progress = 0;
+    }
+    if (!armed && d[1] < 0.0 && l2 > 0.0) {
+      away = true;
+      away_s = s;
+      away_slope = d[1];
     }
     s += sigma;
     if (s >= horizon) {

@@ -11,6 +11,7 @@
 #include "nsmodal/check.h"
 #include "nsmodal/error.h"
 #include "nsmodal/first_rise.h"
+#include "nsmodal/modal_basis.h"
 #include "nsmodal/roots.h"
 
 namespace nsmodal {
@@ -75,6 +76,16 @@ ForcedProblem::ForcedProblem(const Model& model, int impacts, int periods, doubl
   if (periods < 1 || periods > kMaxResponsePeriods) {
     throw InputError("periods", "must be between 1 and " + std::to_string(kMaxResponsePeriods) + ", got " +
                                     std::to_string(periods));
+  }
+  // As for free orbits (AnalysisBasis::kMaxPeriodRatio): a period longer than
+  // 1e5 periods of the fastest mode would make NC3 and the quadrature scan
+  // more than 1e5 oscillations per flight.
+  const double shortest = MakeModalBasis(model_).Periods().minCoeff();
+  if (!(period_ <= AnalysisBasis::kMaxPeriodRatio * shortest)) {
+    throw InputError("forcing.frequency", "w = " + FormatValue(frequency) + " with n = " + std::to_string(periods) +
+                                              " gives a response period of " + FormatValue(period_) +
+                                              ", more than " + FormatValue(AnalysisBasis::kMaxPeriodRatio) +
+                                              " times the shortest linear period " + FormatValue(shortest));
   }
   if (model_.restitution == 1.0 && !model_.HasDamping()) {
     throw InputError("system", "has no damping and e = 1: its forced periodic responses are not isolated (the "

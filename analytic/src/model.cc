@@ -156,6 +156,7 @@ void Validate(const Model& model) {
                                   FormatValue(w_high) + " rad/s: rescale the damping");
     }
   }
+  const double k_min = stiffness_min;  // (a structured binding cannot be captured in C++17)
   auto check_force = [&](const Eigen::VectorXd& f, const std::string& field) {
     if (f.size() == 0) return;
     if (f.size() != n) {
@@ -168,7 +169,7 @@ void Validate(const Model& model) {
       }
     }
     // The static response's energy |f|^2 / (2 k_min) within the scales honoured.
-    if (!(f.squaredNorm() / (2.0 * stiffness_min) <= kMaxEnergyScale)) {
+    if (!(f.squaredNorm() / (2.0 * k_min) <= kMaxEnergyScale)) {
       throw InputError(field, "gives static energies above " + FormatValue(kMaxEnergyScale) + ": rescale the units");
     }
   };

@@ -346,7 +346,10 @@ class Responder {
   std::vector<double> GridBetween(double l0, double l1) const {
     std::vector<double> out;
     const double from = opt_.grid.from / tr_.LambdaScale(), step = opt_.grid.step / tr_.LambdaScale();
-    const double lo = std::min(l0, l1), hi = std::max(l0, l1);
+    // Within the grid's range (a value outside has no grid node; clamping
+    // also keeps the index conversions below in range).
+    const double lo = std::max(std::min(l0, l1), from), hi = std::min(std::max(l0, l1), opt_.grid.to / tr_.LambdaScale());
+    if (!(lo <= hi)) return out;
     const long k0 = static_cast<long>(std::ceil((lo - from) / step - 1e-9));
     const long k1 = static_cast<long>(std::floor((hi - from) / step + 1e-9));
     for (long k = std::max(0L, k0); k <= k1 && k < opt_.grid.Count(); ++k) {
@@ -480,6 +483,17 @@ std::optional<double> BackboneFrequency(const Model& model, const Sweep& backbon
 ResponseCurve ComputeResponse(const Model& model, const ResponseOptions& options) {
   Validate(model);
   options.Validate();
+  // The longest response period of the request within what ForcedProblem
+  // honours (1e5 shortest linear periods), checked once here rather than
+  // failing midway.
+  const double w_min = options.parameter == ResponseParameter::kFrequency ? options.grid.from : options.fixed;
+  const double shortest = MakeModalBasis(model).Periods().minCoeff();
+  if (options.periods * 2.0 * M_PI / w_min > AnalysisBasis::kMaxPeriodRatio * shortest) {
+    throw InputError("frequency",
+                     "w = " + FormatValue(w_min) + " gives response periods beyond " +
+                         FormatValue(AnalysisBasis::kMaxPeriodRatio) + " times the shortest linear period " +
+                         FormatValue(shortest));
+  }
   return Responder(model, options).Run();
 }
 

@@ -14,10 +14,11 @@
 // Trigger rule (as Drake's witness functions): the search is armed once
 // g < -2 tol; armed, it stops at g >= -tol; unarmed (starting inside the
 // contact band |g| <= tol, right after an impact, a graze or a release) it
-// stops only at g > max(tol, g(0) + tol), and steps with that level but no
-// further than the vertex of the quadratic bound while g' < 0, so it arms
-// wherever the bound proves a dip below -2 tol; a contact is never reported
-// twice and never at s = 0. A transversal crossing
+// stops only at g > max(tol, g(0) + tol), and steps with that level; a search
+// that gets past that level without arming after leaving a point moving away
+// (g' < 0) is taken back to the vertex of the quadratic bound at that point,
+// where it arms wherever the bound proves a dip below -2 tol. A contact is never
+// reported twice and never at s = 0. A transversal crossing
 // (g' > sqrt(2 L2 tol)) found inside the band is finished by one Newton step.
 #include "nsmodal/flow.h"
 #include "nsmodal/forced_flow.h"
