@@ -43,3 +43,8 @@ echo "== 3 impacts per period: exploratory search (paper section 2.3)"
 build/cli/nsmodal explore "$scene" --impacts 3 --period 1:40:0.5 --grid 24 >out/paper/explore-3.txt
 head -6 out/paper/explore-3.txt
 echo "(all findings: out/paper/explore-3.txt)"
+echo
+echo "== forced, damped responses beside the nonsmooth mode (configs/forced.toml: 2 % damping, e = 0.8),"
+echo "   two forcing levels, validated by 200 periods of simulation"
+build/cli/nsmodal response configs/forced.toml --frequency 0.3:3.0:0.01 --amplitude 0.1,0.3 --validate 200 \
+  --out out/forced | tail -6
