@@ -51,6 +51,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (cl.validate.period) Try([&] { nsmodal::PeriodGrid::Parse(*cl.validate.period); });
   if (cl.figures.period) Try([&] { nsmodal::PeriodGrid::Parse(*cl.figures.period); });
   if (cl.simulate.integrator) Try([&] { nsmodal::ParseIntegrator(*cl.simulate.integrator, "--integrator"); });
+  for (const auto* grid : {&cl.response.frequency, &cl.response.amplitude}) {
+    if (*grid && (*grid)->find(':') != std::string::npos) Try([&] { nsmodal::PeriodGrid::Parse(**grid); });
+  }
+  for (const std::string& name : cl.response.integrators) Try([&] { nsmodal::ParseIntegrator(name, "--integrators"); });
   if (cl.validate.integrators) {
     for (const std::string& name : *cl.validate.integrators) {
       Try([&] { nsmodal::ParseIntegrator(name, "--integrators"); });
