@@ -110,7 +110,10 @@ int RunResponse(const ResponseArgs& a) {
     SweepOptions sopt;
     sopt.stability = StabilityPolicy::kAdmissible;
     sopt.progress = ProgressBar("backbone");
-    const Sweep sweep = BackboneSweep(model, base.grid.from, base.grid.to, 2000, sopt);
+    // An (m, n) response has period n 2 pi / w: it meets the mode of period
+    // T = n 2 pi / w, i.e. of frequency w / n.
+    const double n = base.periods;
+    const Sweep sweep = BackboneSweep(model, base.grid.from / n, base.grid.to / n, 2000, sopt);
     report::ResultFile bb(dir, "backbone.csv");
     std::vector<OrbitRecord> records;
     for (const auto& list : sweep.at) records.insert(records.end(), list.begin(), list.end());
@@ -119,18 +122,20 @@ int RunResponse(const ResponseArgs& a) {
     backbone = true;
     for (const SpecialPoint& p : points) {
       if (p.kind != SpecialKind::kPeak) continue;
-      const std::optional<double> w = BackboneFrequency(model, sweep, p.orbit.energy, p.orbit.frequency);
+      const double own = p.orbit.frequency / n;  // the response's own frequency 2 pi / P
+      const std::optional<double> w = BackboneFrequency(model, sweep, p.orbit.energy, own);
       std::cout << "peak on branch " << p.branch + 1 << ": w = " << FormatValue(p.orbit.frequency)
-                << ", energy = " << FormatValue(p.orbit.energy);
+                << (n > 1 ? " (w / n = " + FormatValue(own) + ")" : std::string()) << ", energy = "
+                << FormatValue(p.orbit.energy);
       if (w) {
-        std::cout << "; the nonsmooth mode at that energy: w = " << FormatValue(*w) << " (w_peak - w_mode = "
-                  << FormatValue(p.orbit.frequency - *w) << ")\n";
+        std::cout << "; the nonsmooth mode at that energy: w = " << FormatValue(*w) << " (difference "
+                  << FormatValue(own - *w) << ")\n";
       } else {
         std::cout << "; no admissible nonsmooth mode at that energy in the range\n";
       }
     }
   }
-  report::DrawResponseCharts(dir, rows, model.dofs(), backbone, frequency_grid, std::cout);
+  report::DrawResponseCharts(dir, rows, model.dofs(), backbone, frequency_grid, base.periods, std::cout);
   if (a.validate == 0) return 0;
   // Every point simulated a.validate periods with each integrator.
   ValidateOptions vopt;

@@ -549,7 +549,8 @@ integrator, "summary": the dict of validate's summary.json, with "passed"}.)doc"
           if (backbone && opt.parameter == ResponseParameter::kFrequency) {
             SweepOptions so;
             so.stability = StabilityPolicy::kAdmissible;
-            sweep = BackboneSweep(model, opt.grid.from, opt.grid.to, 2000, so);
+            // An (m, n) response meets the mode of frequency w / n.
+            sweep = BackboneSweep(model, opt.grid.from / opt.periods, opt.grid.to / opt.periods, 2000, so);
           }
         }
         std::vector<report::ResponseRow> rows;
@@ -587,7 +588,8 @@ integrator, "summary": the dict of validate's summary.json, with "passed"}.)doc"
           std::vector<double> mode_w;
           for (const SpecialPoint& p : curve.points) {
             const std::optional<double> w = p.kind == SpecialKind::kPeak
-                                                ? BackboneFrequency(model, *sweep, p.orbit.energy, p.orbit.frequency)
+                                                ? BackboneFrequency(model, *sweep, p.orbit.energy,
+                                                                    p.orbit.frequency / opt.periods)
                                                 : std::nullopt;
             mode_w.push_back(w ? *w : kNaN);
           }
@@ -612,9 +614,11 @@ energy, max_xc, impact_velocity, admissible, stable, max_multiplier, t_impact,
 x1.., v1.., branch, periods, residual), "points": arrays keyed as
 response_points.csv (w, amplitude, kind in fold | period-doubling | grazing |
 zero-velocity | peak, energy, ...; with "mode_w", the nonsmooth mode's
-frequency at a peak's energy, when a backbone is computed), "branch_ends",
+frequency at a peak's energy, to compare with w / periods, when a backbone
+is computed), "branch_ends",
 "notes", and for a frequency sweep with backbone=True "backbone": arrays
-keyed as backbone.csv (the conservative twin's 1-ipp mode, w = 2 pi / T).
+keyed as backbone.csv (the conservative twin's 1-ipp mode, w = 2 pi / T, over
+the grid's frequencies divided by periods).
 validate > 0: every point simulated that many periods with each of
 `integrators`; "validation": arrays keyed as response_validation.csv (the
 verdicts of validate: consistent, reason, deviation_end, measured_growth...).)doc");

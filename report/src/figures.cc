@@ -645,7 +645,7 @@ int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisio
 }
 
 int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& rows, int dofs, bool backbone,
-                       bool frequency, std::ostream& log) {
+                       bool frequency, int periods, std::ostream& log) {
   double e_min = std::numeric_limits<double>::infinity(), e_max = 0.0, x_max = 0.0;
   for (const ResponseRow& r : rows) {
     if (r.orbit.energy > 0.0) e_min = std::min(e_min, r.orbit.energy);
@@ -676,9 +676,9 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
          << "  for [b=1:nb] '' using ($" << branch_col << "==b && $8==1 && $9==0 ? $" << x << " : 1/0):" << col
          << " with lines lw 1.5 dt 2 lc rgb word(okabe, (b-1)%7+1) title (b==1 ? 'admissible, unstable' : '')";
     if (backbone && col == 5) {
-      body << ", \\\n  'backbone.csv' using ($4==1 && $5==1 ? $1 : 1/0):3 with lines lw 2 lc rgb 'black' "
+      body << ", \\\n  'backbone.csv' using ($4==1 && $5==1 ? " << periods << "*$1 : 1/0):3 with lines lw 2 lc rgb 'black' "
               "title 'nonsmooth mode (stable)', \\\n"
-           << "  'backbone.csv' using ($4==1 && $5==0 ? $1 : 1/0):3 with lines lw 1.5 dt 3 lc rgb 'black' "
+           << "  'backbone.csv' using ($4==1 && $5==0 ? " << periods << "*$1 : 1/0):3 with lines lw 1.5 dt 3 lc rgb 'black' "
               "title 'nonsmooth mode (unstable)'";
     }
     // response_points.csv: w 1, amplitude 2, kind 3, energy 4, max_xc 6.

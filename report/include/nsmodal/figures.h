@@ -40,7 +40,9 @@ int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisio
 // named in `log`.
 // The energy axis is logarithmic, up to 3 times the largest response energy
 // (the backbone's singular transitions go to infinity).
+// An (m, n) response meets the mode of frequency w / n: the backbone is drawn
+// at n times its own frequency (`periods` = n).
 int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& rows, int dofs, bool backbone,
-                       bool frequency, std::ostream& log);
+                       bool frequency, int periods, std::ostream& log);
 
 }  // namespace nsmodal::report
