@@ -1,5 +1,6 @@
 // nsmodal response: frequency- (or amplitude-) response curves of the
 // forced, damped system, beside the nonsmooth modes of its conservative twin.
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <sstream>
@@ -72,7 +73,17 @@ int RunResponse(const ResponseArgs& a) {
     levels = a.frequency ? ParseValues(*a.frequency, "--frequency") : std::vector<double>{model.forcing.frequency};
   }
   base.fixed = levels.front();
-  base.Validate();
+  FieldNames names;
+  names.Set("impacts", "--impacts").Set("periods", "--periods").Set("frequency", "--frequency").Set("amplitude", "--amplitude");
+  base.Validate(names);
+  // --validate: every point simulated a.validate periods with each
+  // integrator; its options checked now, before any work or file.
+  ValidateOptions vopt;
+  vopt.periods = std::max(a.validate, 1);
+  vopt.integrators.clear();
+  for (const std::string& name : a.integrators) vopt.integrators.push_back(ParseIntegrator(name, "--integrators"));
+  vopt.threads = a.threads;
+  vopt.Validate(FieldNames().Set("periods", "--validate").Set("integrators", "--integrators"));
   const report::OutputDir dir = report::OutputDir::Prepare(
       a.out, {"response.csv", "response_points.csv", "backbone.csv", "response_validation.csv", "response_energy*",
               "response_max_xc*"});
@@ -137,15 +148,6 @@ int RunResponse(const ResponseArgs& a) {
   }
   report::DrawResponseCharts(dir, rows, model.dofs(), backbone, frequency_grid, base.periods, std::cout);
   if (a.validate == 0) return 0;
-  // Every point simulated a.validate periods with each integrator.
-  ValidateOptions vopt;
-  vopt.periods = a.validate;
-  vopt.integrators.clear();
-  for (const std::string& name : a.integrators) vopt.integrators.push_back(ParseIntegrator(name, "--integrators"));
-  vopt.threads = a.threads;
-  FieldNames names;
-  names.Set("periods", "--validate");
-  vopt.Validate(names);
   std::vector<ForcedOrbit> orbits;
   for (const report::ResponseRow& r : rows) orbits.push_back(r.orbit);
   const std::vector<ForcedOrbitValidation> results =

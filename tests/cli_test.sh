@@ -176,13 +176,14 @@ expect_error "\-\-frequency" "$bin" response "$forced" --frequency 0.4:1:0.1 --a
 expect_error "\-\-amplitude" "$bin" response "$forced" --amplitude 0.3 --out "$tmp/r2"
 expect_error "\-\-amplitude" "$bin" response "$forced" --frequency 0.4:1:0.1 --amplitude -1 --out "$tmp/r2"
 expect_error "\-\-frequency" "$bin" response "$forced" --frequency 1:0.4:0.1 --out "$tmp/r2"
-expect_error "impacts" "$bin" response "$forced" --impacts 9 --frequency 0.4:1:0.1 --out "$tmp/r2"
-expect_error "periods" "$bin" response "$forced" --impacts 0 --periods 2 --frequency 0.4:1:0.1 --out "$tmp/r2"
+expect_error "\-\-impacts" "$bin" response "$forced" --impacts 9 --frequency 0.4:1:0.1 --out "$tmp/r2"
+expect_error "\-\-periods" "$bin" response "$forced" --impacts 0 --periods 2 --frequency 0.4:1:0.1 --out "$tmp/r2"
 expect_error "forcing.amplitude" "$bin" response "$paper" --frequency 0.4:1:0.1 --out "$tmp/r2"
 expect_error "e = 1" "$bin" response "$(scene undamped '[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[0.85,2]\n[forcing]\namplitude=[0.3,0]\nfrequency=0.5\n')" --frequency 0.4:1:0.1 --out "$tmp/r2"
 expect_error "system.damping_matrix" "$bin" response "$(scene negdamp '[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[0.85,2]\ndamping_matrix=[[0.1,0],[0,-0.1]]\n[forcing]\namplitude=[0.3,0]\nfrequency=0.5\n')" --frequency 0.4:1:0.1 --out "$tmp/r2"
 expect_error "forcing.amplitude" "$bin" simulate "$(scene badlen '[system]\ngap=1\nrestitution=0.5\nmasses=[1,1]\nsprings=[0.85,2]\n[forcing]\namplitude=[0.3]\nfrequency=0.5\n[simulate]\ninitial_position=[0,0]\ninitial_velocity=[0,0]\n')" --out "$tmp/r2"
 expect_error "system" "$bin" orbits "$forced" --period 1:2:0.5 --out "$tmp/r2"
+expect_error "\-\-integrators" "$bin" response "$forced" --frequency 0.4:1:0.1 --validate 10 --integrators euler --out "$tmp/r2"
 [ ! -e "$tmp/r2/response.csv" ] && ok || bad "a refused response left response.csv"
 
 finish

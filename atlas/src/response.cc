@@ -23,24 +23,23 @@ std::string ToString(SpecialKind kind) {
   return "?";
 }
 
-void ResponseOptions::Validate() const {
+void ResponseOptions::Validate(const FieldNames& names) const {
   const bool frequency = parameter == ResponseParameter::kFrequency;
-  grid.Validate(frequency ? "frequency" : "amplitude");
+  grid.Validate(names(frequency ? "frequency" : "amplitude"));
   if (impacts < 0 || impacts > kMaxResponseImpacts) {
-    throw InputError("impacts", "must be between 0 (the linear response) and " +
-                                    std::to_string(kMaxResponseImpacts) + ", got " + std::to_string(impacts));
+    throw InputError(names("impacts"), "must be between 0 (the linear response) and " +
+                                           std::to_string(kMaxResponseImpacts) + ", got " + std::to_string(impacts));
   }
   if (periods < 1 || periods > kMaxResponsePeriods || (impacts == 0 && periods != 1)) {
-    throw InputError("periods", impacts == 0 ? "must be 1 for the linear response (m = 0), got " +
-                                                   std::to_string(periods)
-                                             : "must be between 1 and " + std::to_string(kMaxResponsePeriods) +
-                                                   ", got " + std::to_string(periods));
+    throw InputError(names("periods"), impacts == 0 ? "must be 1 for the linear response (m = 0), got " +
+                                                          std::to_string(periods)
+                                                    : "must be between 1 and " + std::to_string(kMaxResponsePeriods) +
+                                                          ", got " + std::to_string(periods));
   }
   if (!(fixed > 0.0) || !std::isfinite(fixed)) {
-    throw InputError(frequency ? "amplitude" : "frequency",
-                     "must be positive and finite, got " + FormatValue(fixed));
+    throw InputError(names(frequency ? "amplitude" : "frequency"), "must be positive and finite, got " + FormatValue(fixed));
   }
-  if (max_steps < 1 || max_branches < 1) throw InputError("max_steps", "bounds must be positive");
+  if (max_steps < 1 || max_branches < 1) throw InputError(names("max_steps"), "bounds must be positive");
 }
 
 namespace {

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "nsmodal/atlas.h"
+#include "nsmodal/field_names.h"
 #include "nsmodal/forced_orbit.h"
 #include "nsmodal/model.h"
 
@@ -52,8 +53,9 @@ struct ResponseOptions {
   std::function<void(long done, long count)> progress;  // grid values scanned
 
   // Throws InputError naming "impacts", "periods", the grid's field
-  // ("frequency" or "amplitude") or the fixed parameter's.
-  void Validate() const;
+  // ("frequency" or "amplitude") or the fixed parameter's, as `names` says
+  // (the CLI: "--impacts", ...).
+  void Validate(const FieldNames& names = FieldNames()) const;
 };
 
 enum class SpecialKind { kFold, kPeriodDoubling, kGrazing, kZeroVelocity, kPeak };
