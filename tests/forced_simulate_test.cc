@@ -151,6 +151,33 @@ TEST(ForcedSimulation, HarmonicForcingReleasesTheMassAtTheClosedFormPhase) {
   EXPECT_NEAR(mj.sticking_time, t_r, 1e-4);
 }
 
+// Found by the fuzzer (fuzz/corpus/scene/chatter.toml): a quasi-static force
+// pressing m2 into the wall, e = 0.9. The rebounds shrink 0.9x per impact
+// until they are lower than the impact search can arm below (2 tol); they
+// used to be flown as unarmed micro-flights, each ending tol further out:
+// millions of impacts drifting 3.5e-8 past the wall. They must be summed as
+// one Zeno sequence, then the mass held.
+TEST(ForcedSimulation, AQuasiStaticPushEndsInZenoNotInChatter) {
+  Model m = MakeChain({1.2, 1.0}, {0.85, 2.0}, 1, 1.0, 0.9);
+  m.damping = ModalDamping(m.mass, m.stiffness, {0.02, 0.02});
+  m.forcing.amplitude = Eigen::Vector2d(5.3, 0.0);
+  m.forcing.frequency = 1e-6;
+  double worst = 0.0;
+  SimulateOptions opt;
+  opt.t_end = 31.0;
+  opt.sample_dt = 0.0;
+  opt.max_steps = 100000;
+  SimulationObserver obs;
+  obs.on_impact = [&](const ContactEvent& ev) { worst = std::max(worst, ev.before[1] - 1.0); };
+  const SimulationSummary s = Simulate(m, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), opt, obs);
+  ASSERT_EQ(s.status, SimulationStatus::kFinished) << s.message;
+  EXPECT_EQ(s.zeno_events, 1);
+  EXPECT_LT(s.impacts, 1000);  // 137 measured; the chatter made millions
+  // Contacts on the wall to the band's round-off (tol ~ 1e-14 of the forced
+  // response's size ~5).
+  EXPECT_LT(worst, 1e-12);
+}
+
 TEST(ForcedSimulation, ZeroDampingAndForcingGiveTodaysResultsExactly) {
   const Model plain = PaperModel();
   Model zeros = plain;

@@ -120,7 +120,11 @@ SimulationSummary Run(Flight& f, const ContactModel& cm, const Eigen::VectorXd& 
   // At a contact (x_c within the band of half-width tol): contact.h's logic.
   // ac is the free acceleration of x_c there (the signal's second derivative).
   auto handle_contact = [&](double tol, double vtol, double ac) {
-    const ContactDecision dec = DecideContact(f.ContactVelocity(y), ac, e, {vtol, tol, zeno_flight});
+    // A rebound lower than 2 tol can never arm the next search (it arms below
+    // -2 tol, first_rise.h): such a sequence is summed as Zeno, not flown as
+    // unarmed micro-flights that each end tol further out (4 tol: margin for
+    // the acceleration's change over the rebound).
+    const ContactDecision dec = DecideContact(f.ContactVelocity(y), ac, e, {vtol, 4.0 * tol, zeno_flight});
     if (dec.outcome == ContactOutcome::kGraze) {
       ++sum.grazes;
       return;
