@@ -18,14 +18,12 @@ CommandLine::CommandLine() {
   c_orbits->add_option("--period", orbits.period, "Period grid FROM:TO:STEP")->required();
   c_orbits->add_option("--out", orbits.out, "Output directory")->required();
   c_orbits->add_option("--threads", orbits.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
-  c_orbits->add_option("--t2-step", orbits.t2_step, "Grid spacing of the t2 root scan (m = 2)")->default_val(0.01);
 
   c_orbit = app.add_subcommand("orbit", "Every potential orbit at one period");
   c_orbit->add_option("scene", orbit.scene, "Scene file (TOML)")->required();
   c_orbit->add_option("--impacts", orbit.impacts, "Impacts per period (1 or 2)")->default_val(1);
   c_orbit->add_option("--period", orbit.period, "Period T")->required();
   c_orbit->add_flag("--json", orbit.json, "Print JSON {\"orbits\": [...]}");
-  c_orbit->add_option("--t2-step", orbit.t2_step, "Grid spacing of the t2 root scan (m = 2)")->default_val(0.01);
 
   c_explore = app.add_subcommand("explore", "Exploratory search for 3 or more impacts per period (section 2.3)");
   c_explore->add_option("scene", explore.scene, "Scene file (TOML)")->required();

@@ -37,10 +37,6 @@ void CheckImpacts(int impacts) {
   }
 }
 
-void CheckT2Step(double step) {
-  if (!(step > 0.0) || !std::isfinite(step)) throw InputError("--t2-step", "must be positive, got " + FormatValue(step));
-}
-
 
 }  // namespace
 
@@ -73,13 +69,11 @@ std::function<void(long, long)> ProgressBar(const std::string& label) {
 
 int RunOrbits(const OrbitsArgs& a) {
   CheckImpacts(a.impacts);
-  CheckT2Step(a.t2_step);
   const PeriodGrid grid = PeriodGrid::Parse(a.period);
   const AnalysisBasis b(LoadScene(a.scene).model);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"orbits.csv", "transitions.csv"});
   SweepOptions opt;
   opt.stability = StabilityPolicy::kPotential;
-  opt.two_impact.t2_step = a.t2_step;
   opt.threads = a.threads;
   opt.progress = ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
   const Sweep sweep = ComputeSweep(b, grid, a.impacts, opt);
@@ -278,7 +272,6 @@ int RunSimulate(const SimulateArgs& a) {
 
 int RunOrbit(const OrbitArgs& a) {
   CheckImpacts(a.impacts);
-  CheckT2Step(a.t2_step);
   if (!(a.period > 0.0) || !std::isfinite(a.period)) {
     throw InputError("--period", "must be positive, got " + FormatValue(a.period));
   }
@@ -286,7 +279,6 @@ int RunOrbit(const OrbitArgs& a) {
   b.CheckPeriod(a.period, "--period");
   SweepOptions opt;
   opt.stability = StabilityPolicy::kPotential;
-  opt.two_impact.t2_step = a.t2_step;
   const std::vector<OrbitRecord> orbits = OrbitsAt(b, a.period, a.impacts, opt);
   if (a.json) {
     nlohmann::json arr = nlohmann::json::array();

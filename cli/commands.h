@@ -10,14 +10,12 @@ struct OrbitsArgs {
   std::string scene, out, period;
   int impacts = 1;
   int threads = 0;
-  double t2_step = 0.01;
 };
 struct OrbitArgs {
   std::string scene;
   int impacts = 1;
   double period = 0.0;
   bool json = false;
-  double t2_step = 0.01;
 };
 struct ExploreArgs {
   std::string scene, period;

@@ -316,13 +316,11 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
 
   mod.def(
       "orbits",
-      [](const Model& model, int impacts, const py::object& period, const std::string& stability, double t2_step,
-         int threads) {
+      [](const Model& model, int impacts, const py::object& period, const std::string& stability, int threads) {
         const AnalysisBasis b(model);
         const PeriodGrid grid = GridOf(period);
         SweepOptions opt;
         opt.stability = PolicyOf(stability);
-        opt.two_impact.t2_step = t2_step;
         opt.threads = threads;
         Sweep sweep;
         {
@@ -332,7 +330,7 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
         return OrbitsDict(sweep, b.n);
       },
       py::arg("model"), py::arg("impacts") = 1, py::arg("period"), py::arg("stability") = "potential",
-      py::arg("t2_step") = 0.01, py::arg("threads") = 0,
+      py::arg("threads") = 0,
       R"doc(Potential orbits with 1 or 2 impacts per period over a grid of periods.
 
 period: (from, to, step), "FROM:TO:STEP" or one period T.
@@ -350,16 +348,15 @@ Needs restitution = 1 (ValueError naming system.restitution otherwise).)doc");
 
   mod.def(
       "orbit",
-      [](const Model& model, double period, int impacts, double t2_step) {
+      [](const Model& model, double period, int impacts) {
         const AnalysisBasis b(model);
         SweepOptions opt;
-        opt.two_impact.t2_step = t2_step;
         PeriodGrid{period, period, 1.0}.Validate("period");
         py::list out;
         for (const OrbitRecord& r : OrbitsAt(b, period, impacts, opt)) out.append(ToPython(report::OrbitJson(r)));
         return out;
       },
-      py::arg("model"), py::arg("period"), py::arg("impacts") = 1, py::arg("t2_step") = 0.01,
+      py::arg("model"), py::arg("period"), py::arg("impacts") = 1,
       R"doc(Every potential orbit of period T as a list of dicts (as `nsmodal orbit --json`):
 "T", "impact_times", "t2", "energy", "potential", "admissible", "degenerate",
 residuals, "nc3_margin", "x", "v", "reason", "stable", "max_multiplier",

@@ -2,10 +2,12 @@
 
 #include <gsl/gsl_errno.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "fixtures.h"
 #include "nsmodal/error.h"
+#include "nsmodal/model.h"
 #include "nsmodal/explore.h"
 #include "nsmodal/transitions.h"
 #include "nsmodal/return_map.h"
@@ -85,18 +87,91 @@ TEST(TwoImpact, RootsAreRootsKernelHasDimensionTwoAndOrbitsArePeriodic) {
   EXPECT_GT(checked, 100);
 }
 
-TEST(TwoImpact, RootsDoNotMoveWhenTheGridIsRefined) {
-  // The grid only brackets; the root is Brent's: a 10x finer grid gives the
-  // same roots to the root target.
-  const AnalysisBasis b = testing::PaperBasis();
-  TwoImpactOptions fine;
-  fine.t2_step = 0.001;
-  for (double period : {3.0, 6.0, 9.0, 17.3, 33.1}) {
-    const std::vector<double> coarse_roots = TwoImpactRoots(b, period);
-    const std::vector<double> fine_roots = TwoImpactRoots(b, period, fine);
-    ASSERT_EQ(coarse_roots.size(), fine_roots.size()) << "T = " << period;
-    for (std::size_t k = 0; k < coarse_roots.size(); ++k) EXPECT_NEAR(coarse_roots[k], fine_roots[k], kRootTarget);
+// det A_2 = det(S(T) - I) 4 P(t2)^2 (two_impact.h), on the paper's system and
+// on a 10-mass chain: both sides computed independently (a dense determinant
+// of the return map against the sum of sinusoids). The relative tolerance:
+// det of a 2N x 2N matrix of O(1) entries loses ~N digits of eps at most.
+TEST(TwoImpact, DeterminantOfA2IsTheSquareOfTheClosedFormIndicator) {
+  for (int n : {2, 10}) {
+    const AnalysisBasis b = n == 2 ? testing::PaperBasis()
+                                   : AnalysisBasis(MakeChain(std::vector<double>(n, 1.0), std::vector<double>(n, 1.0),
+                                                             n - 1, 1.0, 1.0));
+    for (double period : {3.1, 7.3, 17.9}) {
+      const SinusoidSum p = TwoImpactSignal(b, period);
+      double det_s = 1.0;
+      for (int i = 0; i < n; ++i) det_s *= 2.0 - 2.0 * std::cos(b.omega[i] * period);
+      for (double t2 = 0.05 * period; t2 < period; t2 += 0.09 * period) {
+        const double det_a = MatrixA(b, {t2}, period).determinant();
+        const double closed = det_s * 4.0 * p.Position(t2) * p.Position(t2);
+        EXPECT_NEAR(det_a, closed, 1e-11 * std::max(1.0, det_s)) << "N = " << n << " T = " << period << " t2 = " << t2;
+      }
+    }
   }
+}
+
+// The roots against an independent scan: the sign changes of the Pfaffian
+// indicator F (return_map.h) on a grid of 1e-3, kept where sigma_min(A_2) is
+// at round-off (F also changes sign at -1 crossings). Every root of the scan
+// is a root of the closed form and back, to kRootTarget (Brent on F brackets
+// to ~1e-15; the closed form's roots are Brent's too).
+TEST(TwoImpact, RootsAreThoseOfAnIndependentPfaffianScan) {
+  const AnalysisBasis b = testing::PaperBasis();
+  for (double period : {3.0, 6.0, 9.0, 17.3, 33.1}) {
+    std::vector<double> scan{0.5 * period};
+    const int cells = static_cast<int>(std::ceil(period / 1e-3));
+    double prev = TwoImpactIndicator(b, 0.0, period);
+    for (int j = 1; j <= cells; ++j) {
+      const double lo = period * (j - 1) / cells, hi = period * j / cells;
+      const double f = TwoImpactIndicator(b, hi, period);
+      if ((prev < 0.0) != (f < 0.0) && j > 1 && j < cells) {
+        double a = lo, c = hi, fa = prev;
+        for (int it = 0; it < 200 && c - a > 1e-15 * period; ++it) {
+          const double m = 0.5 * (a + c), fm = TwoImpactIndicator(b, m, period);
+          if ((fm < 0.0) == (fa < 0.0)) {
+            a = m;
+            fa = fm;
+          } else {
+            c = m;
+          }
+        }
+        const double root = 0.5 * (a + c);
+        const double sigma = Eigen::JacobiSVD<Eigen::MatrixXd>(MatrixA(b, {root}, period)).singularValues().minCoeff();
+        if (sigma < 1e-9 && std::abs(root - 0.5 * period) > 1e-9 * period) scan.push_back(root);
+      }
+      prev = f;
+    }
+    std::sort(scan.begin(), scan.end());
+    const std::vector<double> roots = TwoImpactRoots(b, period);
+    ASSERT_EQ(roots.size(), scan.size()) << "T = " << period;
+    for (std::size_t k = 0; k < roots.size(); ++k) EXPECT_NEAR(roots[k], scan[k], kRootTarget) << "T = " << period;
+  }
+}
+
+// A 10-mass chain: every root gives an orbit whose A_2 has a kernel of
+// dimension 2 (eq. 28) and that is periodic to the engine's target.
+TEST(TwoImpact, ChainOfTenMassesRootsHaveTwoDimensionalKernels) {
+  const AnalysisBasis b(MakeChain(std::vector<double>(10, 1.0), std::vector<double>(10, 1.0), 9, 1.0, 1.0));
+  int potential = 0;
+  for (double period : {4.1, 11.7, 25.3}) {
+    for (const Orbit& o : TwoImpactOrbits(b, period)) {
+      EXPECT_EQ(KernelDimension(MatrixA(b, o.times, period), 1e-9), 2) << "T = " << period << " t2 = " << o.times[0];
+      if (o.potential) {
+        ++potential;
+        EXPECT_LT(o.periodicity_residual, kPeriodicityTarget) << "T = " << period << " t2 = " << o.times[0];
+      }
+    }
+  }
+  EXPECT_GT(potential, 10);
+}
+
+TEST(TwoImpact, PeriodMultipleOfALinearPeriodHasNoRoots) {
+  const AnalysisBasis b = testing::PaperBasis();
+  const double t1 = b.Periods()[1];
+  // w_1 T / 2 = 2 pi to round-off: S(T) - I is singular, no orbit (as for 1 impact).
+  EXPECT_EQ(TwoImpactSignal(b, 2.0 * t1).omega.size(), 0);
+  EXPECT_TRUE(TwoImpactRoots(b, 2.0 * t1).empty());
+  // 1e-6 away the indicator exists again and T/2 is a root.
+  EXPECT_FALSE(TwoImpactRoots(b, 2.0 * t1 + 1e-6).empty());
 }
 
 TEST(TwoImpact, SymmetryT2ToTMinusT2) {

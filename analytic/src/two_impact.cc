@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
 
 #include "nsmodal/error.h"
+#include "nsmodal/model.h"
 #include "nsmodal/flow.h"
 #include "nsmodal/return_map.h"
 #include "nsmodal/roots.h"
@@ -13,77 +17,80 @@ namespace nsmodal {
 namespace {
 
 // sigma_min(A_2) = min_k |2 sin(theta_k / 2)|: V-shaped (not quadratic) at a
-// root, so golden section reaches it to ~eps / slope, not sqrt(eps). (GSL's
-// Brent minimiser steps no finer than sqrt(eps) |x| and stops at ~1e-8.)
+// root. The continuation below checks its points with it.
 double SmallestSingularValue(const AnalysisBasis& b, double t2, double period) {
   return Eigen::JacobiSVD<Eigen::MatrixXd>(MatrixA(b, {t2}, period)).singularValues().minCoeff();
 }
 
-// Minimises sigma_min(A_2) on [lo, hi] from mid; returns the minimiser.
-double MinimizeSigma(const AnalysisBasis& b, double period, double lo, double mid, double hi) {
-  return MinimizeOn([&](double t) { return SmallestSingularValue(b, t, period); }, lo, mid, hi);
-}
+// |sin(w_i T / 2)| below this (relative) makes T a multiple of T_i to round-off.
+constexpr double kSingularPeriod = 1e-14;
 
 }  // namespace
 
+SinusoidSum TwoImpactSignal(const AnalysisBasis& b, double period) {
+  // rho_i sin(w (t - T/2)) / (2 sin(w T/2)) = (rho_i / 2) (cot(w T/2) sin(w t) - cos(w t)).
+  Eigen::VectorXd a(b.n), c(b.n);
+  for (int i = 0; i < b.n; ++i) {
+    const double h = 0.5 * b.omega[i] * period;
+    const double half_rho = 0.5 * b.r[i] * b.r[i] / b.r_norm2;
+    if (!(std::abs(std::sin(h)) > kSingularPeriod)) return {};
+    a[i] = -half_rho;
+    c[i] = half_rho * std::cos(h) / std::sin(h);
+  }
+  return SinusoidSum(0.0, std::move(a), std::move(c), b.omega);
+}
+
 std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const TwoImpactOptions& options) {
+  const SinusoidSum p = TwoImpactSignal(b, period);
+  if (p.omega.size() == 0) return {};
   const double half = 0.5 * period;
-  // An even number of cells so that T/2 is a grid node.
-  int cells = static_cast<int>(std::ceil(period / std::min(options.t2_step, period / 64.0)));
-  cells += cells % 2;
-  auto indicator = [&](double t2) { return TwoImpactIndicator(b, t2, period); };
-  const Eigen::MatrixXd id = Eigen::MatrixXd::Identity(2 * b.n, 2 * b.n);
-  // Grid nodes 0..cells: the signed indicator F and det(Q - I) >= 0. The end
-  // nodes t2 = 0 and t2 = T (coincident impacts, Q = N S(T) N) bracket the
-  // roots of short flights next to an impact (T just above a k T_i).
-  std::vector<double> t(cells + 1), f(cells + 1), det(cells + 1);
-  for (int j = 0; j <= cells; ++j) {
-    t[j] = period * j / cells;
-    const Eigen::MatrixXd q = ReturnMap(b, {t[j]}, period);
-    f[j] = Pfaffian(q - q.transpose());
-    det[j] = (q - id).determinant();
+  const double min_width = 1e-12 * period;
+  // As CheckSegment (admissibility.cc): P has about w_max T / pi roots, each
+  // isolated in ~40 halvings.
+  const long max_cells = static_cast<long>(std::min(1e9, 1000.0 * (2.0 + p.omega.maxCoeff() * period / M_PI)));
+  bool complete = true;
+  const std::vector<double> found = IsolateRoots(
+      [&p](double t) {
+        double d[4];
+        p.Derivatives(t, d);
+        return std::make_pair(d[0], d[1]);
+      },
+      p.bound[1], p.bound[2], 0.0, period, min_width, max_cells, &complete);
+  if (!complete) {
+    throw std::runtime_error("2-ipp roots at T = " + FormatValue(period) + ": the isolation of the roots of P(t2) hit its " +
+                             "work limit of " + std::to_string(max_cells) + " cells");
   }
-  std::vector<double> roots{half};
-  auto accept = [&](double root) {
-    if (root < 1e-9 * period || root > (1.0 - 1e-9) * period) return;  // coincident impacts
-    for (double r : roots) {
-      if (std::abs(r - root) <= 1e-9 * period) return;
-    }
-    if (SmallestSingularValue(b, root, period) < options.kernel_tol) roots.push_back(root);
-  };
-  // 1. Sign changes of F: a pair of eigenvalues crossing +1 (kept) or -1 (rejected).
-  for (int j = 1; j <= cells; ++j) {
-    if ((f[j - 1] < 0.0) != (f[j] < 0.0) || f[j] == 0.0) accept(f[j] == 0.0 ? t[j] : PolishRoot(indicator, t[j - 1], t[j]));
-  }
-  // 2. A +1 and a -1 crossing in one cell leave F's sign unchanged. sigma_min(A_2)
-  // is 2 w_max-Lipschitz in t2 (|dQ/dt2| <= 2 w_max, Weyl), and the eigenvalue
-  // pair makes det(Q - I) <= 4^(N-1) sigma_min^2: where det exceeds
-  // 4^(N-1) (2 w_max h)^2 no root lies within h. Elsewhere, away from the roots
-  // already found, minimise sigma_min(A_2) around the node.
-  const double h = period / cells;
-  const double reach = 2.0 * b.omega.maxCoeff() * h;
-  const double det_bound = std::pow(4.0, b.n - 1) * reach * reach;
-  for (int j = 1; j < cells; ++j) {
-    if (det[j] > det_bound) continue;
-    bool explained = false;
-    for (double r : roots) explained = explained || std::abs(r - t[j]) <= 2.0 * h;
-    if (explained) continue;
-    const double lo = t[j - 1], hi = t[j + 1];
-    if (!(SmallestSingularValue(b, t[j], period) < std::min(SmallestSingularValue(b, lo, period),
-                                                             SmallestSingularValue(b, hi, period)))) {
-      continue;  // the minimum is at a neighbouring node, tried on its own
-    }
-    accept(MinimizeSigma(b, period, lo, t[j], hi));
+  std::vector<double> roots{half};  // exactly (eq. 26)
+  for (double t2 : found) {
+    // Coincident impacts (t2 at 0 or T) are 1-ipp orbits; T/2 is already in.
+    if (t2 < 1e-9 * period || t2 > (1.0 - 1e-9) * period || std::abs(t2 - half) <= 1e-9 * period) continue;
+    // A bracket left at its minimum width is a tangency only if P vanishes there.
+    if (std::abs(p.Position(t2)) <= options.kernel_tol * p.bound[0]) roots.push_back(t2);
   }
   std::sort(roots.begin(), roots.end());
   return roots;
 }
 
 Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const TwoImpactOptions& options) {
-  const int dim = 2 * b.n;
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, {t2}, period), Eigen::ComputeFullV);
-  const Eigen::VectorXd k1 = svd.matrixV().col(dim - 1);
-  const Eigen::VectorXd k2 = svd.matrixV().col(dim - 2);
+  const int n = b.n;
+  // ker A_2 = span{X S(T - t2) p, X p} (two_impact.h); per mode, with
+  // X = [-1/2, -k; k, -1/2], k = cot(w T/2) / 2 and p_i = r_i / |r| in s:
+  //   X p = p_i (-k, -1/2),  X S(tau) p = p_i (-sin(w tau)/2 - k cos(w tau), k sin(w tau) - cos(w tau)/2).
+  Eigen::MatrixXd kernel(2 * n, 2);
+  for (int i = 0; i < n; ++i) {
+    const double pi = b.r[i] / std::sqrt(b.r_norm2);
+    const double k = 0.5 * std::cos(0.5 * b.omega[i] * period) / std::sin(0.5 * b.omega[i] * period);
+    const double c = std::cos(b.omega[i] * (period - t2)), s = std::sin(b.omega[i] * (period - t2));
+    kernel(i, 0) = pi * (-0.5 * s - k * c);
+    kernel(n + i, 0) = pi * (k * s - 0.5 * c);
+    kernel(i, 1) = -pi * k;
+    kernel(n + i, 1) = -0.5 * pi;
+  }
+  // An orthonormal basis of the kernel, so that the rank test below compares
+  // like with like whatever the scale of X.
+  const Eigen::MatrixXd q = Eigen::HouseholderQR<Eigen::MatrixXd>(kernel).householderQ() *
+                            Eigen::MatrixXd::Identity(2 * n, 2);
+  const Eigen::VectorXd k1 = q.col(0), k2 = q.col(1);
   // NC2: x_c(0) = d and x_c(t2-) = d for y0 = alpha k1 + beta k2.
   Eigen::VectorXd s1 = k1, s2 = k2;
   Flow(b, t2, s1);

@@ -1,43 +1,53 @@
 #pragma once
-// Periodic orbits with two impacts per period (paper section 2.2).
+// Periodic orbits with two impacts per period (paper section 2.2), in closed
+// form for any number of dofs.
 //
-// NC1 roots t2 of det A_2(., T) are double roots (det A_2 >= 0). They are found
-// on a grid in t2 in two ways:
-//  1. sign changes of the smooth signed indicator F = Pf(Q_2 - Q_2^T)
-//     (return_map.h), polished by Brent to ~1e-15 relative, kept only where
-//     Q_2 really has eigenvalue 1 (not -1);
-//  2. where a +1 and a -1 crossing share a cell F keeps its sign; grid nodes
-//     where det(Q_2 - I) is small enough that a root may be near (a provable
-//     bound, two_impact.cc) are refined by minimising sigma_min(A_2) =
-//     min |2 sin(theta_k/2)|, V-shaped at a root, so the minimiser (GSL Brent)
-//     reaches it to ~eps/slope, not sqrt(eps).
-// t2 = T/2 is always a root (eq. 26: the 1-ipp orbit of period T/2 run twice)
-// and is added exactly.
-// On a root ker A_2 has dimension 2 (eq. 28); y0 in it with x_c(0) = d and
-// x_c(t2) = d is unique unless those two conditions coincide (the "bridge",
-// paper section 4), where the orbit is flagged degenerate.
+// With p = (0, r / |r|) (N = I - 2 p p') and X = (S(T) - I)^{-1}, Q_2 y = y
+// reads (S(T) - I) y = 2 alpha S(T - t2) p - 2 beta p with alpha = p' S(t2) y,
+// beta = p' y, so y = 2 X (alpha S(T - t2) p - beta p); substituting back
+// leaves a 2 x 2 system in (alpha, beta) whose matrix is [0, 2P; 2P, 0] with
+//   P(t2) = 1/2 sum_i rho_i sin(w_i (t2 - T/2)) / sin(w_i T / 2),
+//   rho_i = r_i^2 / |r|^2,
+// (every block of X, S is a 2 x 2 rotation-like matrix of one mode), hence
+//   det A_2(t2, T) = det(S(T) - I) * 4 P(t2)^2      (checked in the tests),
+// the double roots of the paper (det A_2 >= 0). NC1 is P(t2) = 0, a sum of N
+// sinusoids in t2: O(N) to evaluate, and its roots are isolated with its
+// derivative bounds (roots.h IsolateRoots), so none is stepped over. P is,
+// up to a factor, v_c(t2) of the 1-ipp orbit of period T (one_impact.h eq.
+// 21): the impacts of a 2-ipp orbit sit where the 1-ipp orbit of the same
+// period has a stationary x_c, t2 = T/2 always (eq. 26: the 1-ipp orbit of
+// period T/2 run twice, added exactly). On a root every (alpha, beta) solves
+// the system: ker A_2 = span{X S(T - t2) p, X p}, of dimension 2 (eq. 28).
+// y0 in it with x_c(0) = d and x_c(t2) = d is unique unless those two
+// conditions coincide (the "bridge", paper section 4), where the orbit is
+// flagged degenerate. T a multiple of a linear period (S(T) - I singular) has
+// no orbit here, as for 1 impact.
 #include <vector>
 
 #include "nsmodal/admissibility.h"
+#include "nsmodal/flow.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/orbit.h"
 
 namespace nsmodal {
 
 struct TwoImpactOptions {
-  // Grid spacing in t2 for the sign scan: max spacing, also at most T/64.
-  // Two roots closer than this may be missed; the default resolves the
-  // paper's system (checked against a 10x finer grid in the tests).
-  double t2_step = 0.01;
-  // A candidate is an NC1 root when the smallest singular value of A_2 is
-  // below this (A_2 is O(1): Q_2 is orthogonal). At a true root it is ~1e-15;
-  // at a -1 crossing ~2; at a near miss (a pair approaching 1 without reaching
-  // it, close to a fold of the root curve) it was seen as low as 9e-9.
+  // A root that the isolation could only bracket to its minimum width (a
+  // tangency of P, where two roots merge at a fold of the root curve) is kept
+  // when |P| there is below kernel_tol times the sum of P's amplitudes (P's
+  // round-off is ~1e-16 of that).
   double kernel_tol = 1e-11;
   AdmissibilityOptions admissibility;
 };
 
-// All roots t2 in (0, T) of det A_2(., T), sorted, T/2 included.
+// P(t2) for the period T as a sum of sinusoids in t2 (NC1 is P = 0), or an
+// empty sum (no terms) when T is a multiple of a linear period.
+SinusoidSum TwoImpactSignal(const AnalysisBasis& b, double period);
+
+// All roots t2 in (0, T) of det A_2(., T), sorted, T/2 included; none when
+// T is a multiple of a linear period. The isolation's work limit (1000 cells
+// per half-oscillation of the fastest mode, ~25 times what it needs) is an
+// internal bound: hitting it throws std::runtime_error.
 std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const TwoImpactOptions& options = {});
 
 // The potential orbit at a root (t2, T).
