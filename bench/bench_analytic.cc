@@ -13,10 +13,13 @@
 // (configs/forced.toml) over 300 frequencies, stability included, <= 1 s,
 // through at least one fold; its worst residual and energy-balance error.
 #include <benchmark/benchmark.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
+#include "nsmodal/atlas.h"
 #include "nsmodal/bridge.h"
 #include "nsmodal/one_impact.h"
 #include "nsmodal/response.h"
@@ -84,6 +87,63 @@ void BM_TwoImpactRootAccuracy(benchmark::State& state) {
   state.counters["worst_sigma_min"] = worst;
 }
 BENCHMARK(BM_TwoImpactRootAccuracy)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// Issue 12, large systems (chains of unit masses and springs, contact on the
+// last mass, both cores):
+//   1-ipp sweep T = 0.5:60:0.01 (5,951 periods) with every potential orbit's
+//   stability: N = 100 <= 3 s and <= 200 MB; N = 1,000 <= 60 s;
+//   2-ipp sweep T = 2:30:0.1 with stability: N = 10 <= 2 s.
+// Arguments: N, then 1 for every multiplier or 0 for the verdict only (the
+// largest modulus and the multipliers off the unit circle). Run one at a time
+// (--benchmark_filter) for a meaningful peak memory (rss_mb is the process's).
+Model UnitChain(int n) {
+  return MakeChain(std::vector<double>(static_cast<std::size_t>(n), 1.0), std::vector<double>(static_cast<std::size_t>(n), 1.0),
+                   n - 1, 1.0, 1.0);
+}
+
+void ChainSweep(benchmark::State& state, int impacts, const PeriodGrid& grid) {
+  const AnalysisBasis b(UnitChain(static_cast<int>(state.range(0))));
+  SweepOptions opt;
+  opt.stability = StabilityPolicy::kPotential;
+  opt.stability_options.all_multipliers = state.range(1) != 0;
+  long orbits = 0, admissible = 0, stable = 0, fallback = 0;
+  double worst = 0.0;
+  for (auto _ : state) {
+    orbits = admissible = stable = fallback = 0;
+    worst = 0.0;
+    StreamSweep(b, grid, impacts, opt, [&](double, std::vector<OrbitRecord>& list) {
+      for (const OrbitRecord& r : list) {
+        ++orbits;
+        admissible += r.orbit.admissible;
+        stable += r.stable();
+        fallback += r.stability && r.stability->dense_fallback;
+        if (r.orbit.potential) worst = std::max(worst, r.orbit.periodicity_residual);
+      }
+    });
+  }
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  state.counters["orbits"] = static_cast<double>(orbits);
+  state.counters["admissible"] = static_cast<double>(admissible);
+  state.counters["stable"] = static_cast<double>(stable);
+  state.counters["dense_fallbacks"] = static_cast<double>(fallback);
+  state.counters["worst_periodicity_residual"] = worst;
+  state.counters["rss_mb"] = static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+
+void BM_ChainOneImpactSweep(benchmark::State& state) { ChainSweep(state, 1, PeriodGrid{0.5, 60.0, 0.01}); }
+BENCHMARK(BM_ChainOneImpactSweep)
+    ->Args({10, 1})
+    ->Args({100, 1})
+    ->Args({100, 0})
+    ->Args({1000, 0})
+    ->Args({1000, 1})
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+void BM_ChainTwoImpactSweep(benchmark::State& state) { ChainSweep(state, 2, PeriodGrid{2.0, 30.0, 0.1}); }
+BENCHMARK(BM_ChainTwoImpactSweep)->Args({10, 1})->Args({100, 1})->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 
 void BM_TransitionsTo40(benchmark::State& state) {
   const AnalysisBasis b(PaperModel());

@@ -76,18 +76,29 @@ int RunOrbits(const OrbitsArgs& a) {
   opt.stability = StabilityPolicy::kPotential;
   opt.threads = a.threads;
   opt.progress = ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
-  const Sweep sweep = ComputeSweep(b, grid, a.impacts, opt);
   report::ResultFile out(dir, "orbits.csv");
   const auto columns = report::OrbitColumns(b.n);
   report::WriteCsvHeader(out.stream(), columns);
-  for (const auto& list : sweep.at) {
-    for (const OrbitRecord& r : list) report::WriteCsvRow(out.stream(), columns, r);
-  }
+  // Streamed: one block of periods in memory at a time; the transitions need
+  // only the 1-ipp admissibility of each period.
+  long orbits = 0, admissible = 0;
+  std::vector<double> periods;
+  std::vector<bool> one_admissible;
+  StreamSweep(b, grid, a.impacts, opt, [&](double period, std::vector<OrbitRecord>& list) {
+    for (const OrbitRecord& r : list) {
+      report::WriteCsvRow(out.stream(), columns, r);
+      ++orbits;
+      admissible += r.orbit.admissible;
+    }
+    if (a.impacts == 1) {
+      periods.push_back(period);
+      one_admissible.push_back(list.front().orbit.admissible);
+    }
+  });
   out.Commit();
-  std::cout << "wrote " << sweep.Count() << " orbits (" << sweep.Admissible() << " admissible) to " << a.out
-            << "/orbits.csv\n";
+  std::cout << "wrote " << orbits << " orbits (" << admissible << " admissible) to " << a.out << "/orbits.csv\n";
   if (a.impacts == 1) {
-    const std::vector<Transition> transitions = SweepTransitions(b, sweep);
+    const std::vector<Transition> transitions = OneImpactTransitions(b, periods, one_admissible);
     report::ResultFile tr(dir, "transitions.csv");
     report::WriteCsv(tr.stream(), report::TransitionColumns(), transitions);
     tr.Commit();

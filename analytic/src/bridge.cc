@@ -139,7 +139,7 @@ std::vector<double> OneImpactPeriodDoublings(const AnalysisBasis& b, double from
   const auto g = [&](double period) {
     const Orbit o = OneImpactOrbit(b, period);
     if (!o.admissible) return std::numeric_limits<double>::quiet_NaN();
-    return (OrbitStability(b, o).monodromy + Eigen::MatrixXd::Identity(dim, dim)).determinant();
+    return (Monodromy(b, o) + Eigen::MatrixXd::Identity(dim, dim)).determinant();
   };
   std::vector<double> out;
   double t0 = from, g0 = g(from);

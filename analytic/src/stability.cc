@@ -2,19 +2,407 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
+#include <optional>
+#include <vector>
 
 #include "nsmodal/flow.h"
+#include "nsmodal/roots.h"
 
 namespace nsmodal {
 namespace {
 
+using Complex = std::complex<double>;
+
 // f(y) = G y: u_i' = w_i s_i, s_i' = -w_i u_i.
-Eigen::VectorXd Field(const AnalysisBasis& b, const Eigen::VectorXd& y) {
+Eigen::VectorXd Field(const ModalBasis& b, const Eigen::VectorXd& y) {
   Eigen::VectorXd f(2 * b.n);
   f.head(b.n) = b.omega.cwiseProduct(y.tail(b.n));
   f.tail(b.n) = -b.omega.cwiseProduct(y.head(b.n));
   return f;
+}
+
+// |v_c-| below this fraction of |r| |y| (the largest contact velocity a state
+// of that energy can have) is a graze: no linearisation.
+constexpr double kGrazeFraction = 1e-9;
+
+bool Grazes(const AnalysisBasis& b, const Eigen::VectorXd& y_minus, double speed_scale) {
+  return !(std::abs(ContactVelocity(b, y_minus)) > kGrazeFraction * speed_scale);
+}
+
+// The monodromy by products of flows and saltation matrices; false if an
+// impact grazes.
+bool DenseMonodromy(const AnalysisBasis& b, const Orbit& orbit, Eigen::MatrixXd& m) {
+  const int dim = 2 * b.n;
+  m = Eigen::MatrixXd::Identity(dim, dim);
+  Eigen::VectorXd y = orbit.y0;
+  double prev = 0.0;
+  std::vector<double> ends = orbit.times;
+  ends.push_back(orbit.period);
+  const double speed_scale = b.r.norm() * orbit.y0.norm();
+  bool defined = true;
+  for (double t : ends) {
+    Flow(b, t - prev, y);
+    if (Grazes(b, y, speed_scale)) defined = false;
+    for (int col = 0; col < dim; ++col) Flow(b, t - prev, m.col(col));
+    m = SaltationMatrix(b, y) * m;
+    ElasticImpact(b, y);
+    prev = t;
+  }
+  return defined;
+}
+
+Stability Undefined(int dim) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Stability out;
+  out.defined = false;
+  out.multipliers = Eigen::VectorXcd::Constant(dim, Complex(nan, nan));
+  out.max_modulus = out.growth_per_period = nan;
+  return out;
+}
+
+// Sorts the multipliers (the trivial pair appended here) and fills the verdict.
+Stability Finish(std::vector<Complex> mu, bool complete, double max_modulus, double tol) {
+  mu.push_back(1.0);
+  mu.push_back(1.0);
+  std::stable_sort(mu.begin(), mu.end(), [](Complex x, Complex y) { return std::abs(x) > std::abs(y); });
+  Stability out;
+  out.multipliers = Eigen::Map<Eigen::VectorXcd>(mu.data(), static_cast<Eigen::Index>(mu.size()));
+  out.complete = complete;
+  out.max_modulus = std::max(max_modulus, std::abs(mu.front()));
+  out.growth_per_period = std::log(out.max_modulus);
+  out.stable = out.max_modulus <= 1.0 + tol;
+  return out;
+}
+
+// The nontrivial multipliers from the dense monodromy: eig(U' M U) with U an
+// orthonormal basis of {y0, f(y0)}-perp (stability.h).
+Stability DenseStability(const AnalysisBasis& b, const Orbit& orbit, double tol) {
+  const int dim = 2 * b.n;
+  Eigen::MatrixXd m;
+  if (!DenseMonodromy(b, orbit, m)) return Undefined(dim);
+  Eigen::MatrixXd pair(dim, 2);
+  pair << orbit.y0, Field(b, orbit.y0);
+  const Eigen::MatrixXd q = Eigen::HouseholderQR<Eigen::MatrixXd>(pair).householderQ();
+  const Eigen::MatrixXd u = q.rightCols(dim - 2);
+  const Eigen::MatrixXd reduced = u.transpose() * m * u;
+  const Eigen::VectorXcd ev = reduced.eigenvalues();
+  return Finish(std::vector<Complex>(ev.data(), ev.data() + ev.size()), true, 0.0, tol);
+}
+
+// 1 / w without libgcc's guarded complex division (__divdc3, most of the
+// time of the complex search): |w| here is never near under- or overflow.
+inline double Reciprocal(double w) { return 1.0 / w; }
+inline Complex Reciprocal(Complex w) {
+  const double d = 1.0 / (w.real() * w.real() + w.imag() * w.imag());
+  return {w.real() * d, -w.imag() * d};
+}
+
+// Gt and Gt' at a complex point.
+template <typename T>
+void SecularAt(const OneImpactSecular& s, T x, T* value, T* slope) {
+  T sa = 0.0, sb = 0.0, sc = 0.0, da = 0.0, db = 0.0, dc = 0.0;
+  for (int i = 0; i < s.z.size(); ++i) {
+    const T e = Reciprocal(x - s.z[i]);
+    const T e2 = e * e;
+    sa += s.a[i] * e;
+    sb += s.b[i] * e;
+    sc += s.c[i] * e;
+    da -= s.a[i] * e2;
+    db -= s.b[i] * e2;
+    dc -= s.c[i] * e2;
+  }
+  *value = (x + 2.0) * sa * sa - 2.0 * sb * sc;
+  if (slope != nullptr) *slope = sa * sa + 2.0 * (x + 2.0) * sa * da - 2.0 * (db * sc + sb * dc);
+}
+
+// The multipliers lambda, 1/lambda of a root z = lambda + 1/lambda.
+void AddPair(Complex z, std::vector<Complex>& mu) {
+  const Complex lambda = 0.5 * z + std::sqrt(0.25 * z * z - 1.0);
+  mu.push_back(lambda);
+  mu.push_back(1.0 / lambda);
+}
+
+int Sign(double v) { return v > 0.0 ? 1 : (v < 0.0 ? -1 : 0); }
+
+// The structured path (stability.h). False when the roots could not all be
+// accounted for (the caller falls back to the dense monodromy).
+bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& options, Stability& out) {
+  const int k = static_cast<int>(s.z.size());
+  if (k == 0) return false;
+  // Sorted poles, distinct and inside (-2, 2).
+  std::vector<int> order(k);
+  for (int i = 0; i < k; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](int x, int y) { return s.z[x] < s.z[y]; });
+  std::vector<double> pole(k);
+  for (int i = 0; i < k; ++i) pole[i] = s.z[order[i]];
+  constexpr double kPoleSeparation = 1e-13;
+  if (!(pole.front() > -2.0 + kPoleSeparation) || !(pole.back() < 2.0 - kPoleSeparation)) return false;
+  for (int i = 1; i < k; ++i) {
+    if (!(pole[i] - pole[i - 1] > kPoleSeparation)) return false;
+  }
+  // Residues: O(K^2) sums over the other poles.
+  std::vector<double> residue(k);
+  double residue_sum = 0.0, residue_abs = 0.0;
+  for (int i = 0; i < k; ++i) {
+    const int p = order[i];
+    double sa = 0.0, sb = 0.0, sc = 0.0;
+    for (int j = 0; j < k; ++j) {
+      if (j == p) continue;
+      const double e = 1.0 / (s.z[p] - s.z[j]);
+      sa += s.a[j] * e;
+      sb += s.b[j] * e;
+      sc += s.c[j] * e;
+    }
+    residue[i] = 2.0 * (s.z[p] + 2.0) * s.a[p] * sa + s.a[p] * s.a[p] - 2.0 * (s.b[p] * sc + s.c[p] * sb);
+    residue_sum += residue[i];
+    residue_abs += std::abs(residue[i]);
+  }
+  // Gt ~ (sum of residues) / z at infinity, and sum a_i = 1: the two agree
+  // unless round-off ate the residues.
+  if (!(std::abs(residue_sum - 1.0) < 1e-6 * std::max(1.0, residue_abs))) return false;
+  // Every root lies in |z| <= 2 + 2 sum |g_i| (stability.h: Gt = sum g_i / (z - z_i)).
+  const double reach = 2.0 + 2.0 * residue_abs + 1.0;
+  // Segments [lo, hi] between consecutive breakpoints -reach, -2, poles, 2, reach,
+  // with the sign of Gt just inside each end.
+  struct Segment {
+    double lo, hi;
+    int pole_lo, pole_hi;  // index into pole[] or -1
+    int sign_lo, sign_hi;
+  };
+  const double at_minus2 = s.Value(-2.0), at_plus2 = s.Value(2.0);
+  const double at_minus_reach = s.Value(-reach), at_reach = s.Value(reach);
+  if (Sign(at_minus2) == 0 || Sign(at_plus2) == 0 || Sign(at_minus_reach) >= 0 || Sign(at_reach) <= 0) return false;
+  std::vector<Segment> segments;
+  segments.push_back({-reach, -2.0, -1, -1, Sign(at_minus_reach), Sign(at_minus2)});
+  segments.push_back({-2.0, pole[0], -1, 0, Sign(at_minus2), -Sign(residue[0])});
+  for (int i = 0; i + 1 < k; ++i) segments.push_back({pole[i], pole[i + 1], i, i + 1, Sign(residue[i]), -Sign(residue[i + 1])});
+  segments.push_back({pole[k - 1], 2.0, k - 1, -1, Sign(residue[k - 1]), Sign(at_plus2)});
+  segments.push_back({2.0, reach, -1, -1, Sign(at_plus2), Sign(at_reach)});
+  // H = Gt times the distance to the segment's poles: finite on the closed segment.
+  auto h_of = [&](const Segment& g) {
+    return [&s, &residue, g](double x) {
+      if (g.pole_lo >= 0 && x <= g.lo) return residue[g.pole_lo] * (g.hi - g.lo);
+      if (g.pole_hi >= 0 && x >= g.hi) return -residue[g.pole_hi] * (g.hi - g.lo);
+      double v = s.Value(x);
+      if (g.pole_lo >= 0) v *= x - g.lo;
+      if (g.pole_hi >= 0) v *= g.hi - x;
+      return v;
+    };
+  };
+  // The root of H in [a, c] (H(a), H(c) of opposite signs): Newton on H with
+  // H' from Gt', kept inside the bracket (bisection when a step leaves it or
+  // does not halve it), to 4 eps. A pole-free secular function converges in a
+  // few steps where Brent needs a dozen (most of a large sweep's time).
+  auto polish = [&](const Segment& g, double a, double c) {
+    const auto h = h_of(g);
+    // Orient so that H(lo) < 0 < H(hi) (Numerical Recipes' rtsafe).
+    double lo = a, hi = c;
+    if (h(a) > 0.0) std::swap(lo, hi);
+    double x = 0.5 * (a + c), dx_old = std::abs(c - a), dx = dx_old;
+    const double eps = std::numeric_limits<double>::epsilon();
+    for (int it = 0; it < 200; ++it) {
+      double hx, dh;
+      SecularAt<double>(s, x, &hx, &dh);
+      if (g.pole_lo >= 0) {
+        dh = dh * (x - g.lo) + hx;
+        hx *= x - g.lo;
+      }
+      if (g.pole_hi >= 0) {
+        dh = dh * (g.hi - x) - hx;
+        hx *= g.hi - x;
+      }
+      if (hx == 0.0) return x;
+      if (hx < 0.0) {
+        lo = x;
+      } else {
+        hi = x;
+      }
+      if (((x - hi) * dh - hx) * ((x - lo) * dh - hx) > 0.0 || std::abs(2.0 * hx) > std::abs(dx_old * dh)) {
+        dx_old = dx;
+        dx = 0.5 * (hi - lo);
+        x = lo + dx;
+      } else {
+        dx_old = dx;
+        dx = hx / dh;
+        x -= dx;
+      }
+      if (std::abs(dx) <= 2.0 * eps * std::abs(x) || std::abs(hi - lo) <= 4.0 * eps * (std::abs(lo) + std::abs(hi))) {
+        return x;
+      }
+    }
+    return x;
+  };
+  // Stage 1: the real roots the signs prove: one in each segment whose ends
+  // differ in sign; in the others, two where the extremum towards zero crosses it.
+  struct RealRoots {
+    const Segment* segment;
+    int count;       // 1, or 2 (on either side of split)
+    double split;    // the extremum, for count = 2
+    double value[2]; // polished roots (NaN until polished)
+  };
+  std::vector<RealRoots> real;
+  std::vector<Complex> starts;  // near the extrema of segments without roots: where complex pairs left the axis
+  int found = 0;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const Segment& g : segments) {
+    if (g.sign_lo != g.sign_hi) {
+      real.push_back({&g, 1, nan, {nan, nan}});
+      ++found;
+    }
+  }
+  for (const Segment& g : segments) {
+    if (g.sign_lo != g.sign_hi || found >= k - 1) continue;
+    const auto h = h_of(g);
+    const int sign = g.sign_lo;
+    // The extremum towards zero: the lowest of a few samples, then golden section.
+    constexpr int kSamples = 8;
+    double best_x = g.lo, best = INFINITY;
+    for (int j = 1; j < kSamples; ++j) {
+      const double x = g.lo + (g.hi - g.lo) * j / kSamples;
+      const double v = sign * h(x);
+      if (v < best) {
+        best = v;
+        best_x = x;
+      }
+    }
+    const double step = (g.hi - g.lo) / kSamples;
+    // Only the sign at the extremum matters: 1e-9 of the segment is plenty.
+    const double x_min = MinimizeOn([&](double x) { return sign * h(x); }, std::max(g.lo, best_x - step), best_x,
+                                    std::min(g.hi, best_x + step), 1e-9);
+    if (sign * h(x_min) < 0.0) {
+      real.push_back({&g, 2, x_min, {nan, nan}});
+      found += 2;
+    } else {
+      // Where the pair left the axis: H ~ H0 + H'' (x - x0)^2 / 2 has the
+      // roots x0 +- i sqrt(2 H0 / H''), the start for Newton (H'' by central
+      // differences; a quarter of the segment if that fails).
+      const double dx = 1e-3 * (g.hi - g.lo), h0 = h(x_min);
+      const double curvature = (h(x_min + dx) - 2.0 * h0 + h(x_min - dx)) / (dx * dx);
+      const double im = h0 * curvature > 0.0 ? std::sqrt(2.0 * h0 / curvature) : 0.25 * (g.hi - g.lo);
+      starts.push_back(Complex(x_min, std::isfinite(im) && im > 0.0 ? im : 0.25 * (g.hi - g.lo)));
+    }
+  }
+  std::vector<Complex> mu;
+  double max_modulus = 1.0;
+  bool complete = true;
+  std::vector<Complex> known;  // roots located, for the deflation
+  auto add_real_root = [&](double x) {
+    if (std::abs(x) <= 2.0) {
+      const double theta = std::acos(std::clamp(0.5 * x, -1.0, 1.0));
+      mu.push_back(std::polar(1.0, theta));
+      mu.push_back(std::polar(1.0, -theta));
+    } else {
+      AddPair(x, mu);
+      max_modulus = std::max(max_modulus, std::abs(mu[mu.size() - 2]));
+    }
+  };
+  auto add_complex_root = [&](Complex z) {
+    if (z.imag() < 0.0) z = std::conj(z);
+    for (Complex c : known) {
+      if (std::abs(c - z) <= 1e-8 * std::max(1.0, std::abs(z))) return false;  // found before
+    }
+    known.push_back(z);
+    known.push_back(std::conj(z));
+    found += 2;
+    AddPair(z, mu);
+    AddPair(std::conj(z), mu);
+    for (std::size_t j = mu.size() - 4; j < mu.size(); ++j) max_modulus = std::max(max_modulus, std::abs(mu[j]));
+    return true;
+  };
+  // Newton on the deflated polynomial Q = P / prod (z - known) (Newton-Maehly):
+  //   Q'/Q = Gt'/Gt + sum_i 1 / (z - z_i) - sum_known 1 / (z - r),
+  // at most kMaxNewton steps; a root of Gt itself (the plain Newton step
+  // there at round-off), or nothing.
+  constexpr int kMaxNewton = 200;
+  auto newton = [&](Complex z) -> std::optional<Complex> {
+    for (int it = 0; it < kMaxNewton; ++it) {
+      Complex v, dv;
+      SecularAt<Complex>(s, z, &v, &dv);
+      Complex log_slope = dv * Reciprocal(v);
+      for (int i = 0; i < k; ++i) log_slope += Reciprocal(z - s.z[i]);
+      for (Complex r : known) log_slope -= Reciprocal(z - r);
+      const Complex dz = Reciprocal(log_slope);
+      if (!std::isfinite(dz.real()) || !std::isfinite(dz.imag())) return std::nullopt;
+      z -= dz;
+      if (std::abs(dz) <= 1e-14 * std::max(1.0, std::abs(z))) {
+        SecularAt<Complex>(s, z, &v, &dv);
+        if (!(std::abs(v) <= 1e-8 * std::max(1.0, std::abs(z)) * std::abs(dv))) return std::nullopt;
+        return z;
+      }
+    }
+    return std::nullopt;
+  };
+  auto is_real = [](Complex z) { return std::abs(z.imag()) <= 1e-10 * std::max(1.0, std::abs(z)); };
+  // Stage 2 (verdict only): complex pairs near the rootless segments' extrema
+  // (where two real roots met and left the axis), deflating only the pairs
+  // already found, so the real roots need not be polished.
+  for (Complex start : starts) {
+    if (found >= k - 1 || options.all_multipliers) break;
+    const std::optional<Complex> z = newton(start);
+    if (z && !is_real(*z)) add_complex_root(*z);
+  }
+  // Stage 3: polish the real roots: those off the circle always, all of them
+  // for the full spectrum or to deflate them while roots are still missing.
+  const bool missing = found < k - 1;
+  for (RealRoots& rr : real) {
+    const Segment& g = *rr.segment;
+    const bool off_circle = g.hi <= -2.0 || g.lo >= 2.0;
+    if (!(off_circle || options.all_multipliers || missing)) {
+      complete = false;
+      continue;
+    }
+    if (rr.count == 1) {
+      rr.value[0] = polish(g, g.lo, g.hi);
+    } else {
+      rr.value[0] = polish(g, g.lo, rr.split);
+      rr.value[1] = polish(g, rr.split, g.hi);
+    }
+    for (int j = 0; j < rr.count; ++j) {
+      known.push_back(rr.value[j]);
+      add_real_root(rr.value[j]);
+    }
+  }
+  // Stage 4: with every real root deflated, Newton from the extrema again and
+  // then from points on circles around the poles, at most kMaxStarts starts.
+  constexpr int kMaxStarts = 64;
+  for (int attempt = 0; found < k - 1 && attempt < kMaxStarts; ++attempt) {
+    const Complex start = attempt < static_cast<int>(starts.size())
+                              ? starts[attempt]
+                              : std::polar(1.0 + 0.5 * (attempt % 3), 2.0 * M_PI * (attempt + 0.5) / 7.0);
+    const std::optional<Complex> z = newton(start);
+    if (!z) continue;
+    if (is_real(*z)) {
+      known.push_back(z->real());
+      ++found;
+      add_real_root(z->real());
+    } else {
+      add_complex_root(*z);
+    }
+  }
+  if (found != k - 1) return false;
+  for (int j = 0; j < s.uncoupled.size(); ++j) {
+    const double theta = std::acos(std::clamp(0.5 * s.uncoupled[j], -1.0, 1.0));
+    mu.push_back(std::polar(1.0, theta));
+    mu.push_back(std::polar(1.0, -theta));
+  }
+  out = Finish(std::move(mu), complete, max_modulus, options.tol);
+  return true;
+}
+
+// Gt is derived for the symmetric 1-ipp orbit of one_impact.h,
+// y0 = sigma (r_i cot(w_i T / 2), r_i): other members of a larger ker A_1 (at
+// an internal resonance) take the dense path.
+bool SymmetricOneImpact(const AnalysisBasis& b, const Orbit& orbit) {
+  const Eigen::VectorXd s = orbit.y0.tail(b.n);
+  const double sigma = b.r.dot(s) / b.r_norm2;
+  double defect = (s - sigma * b.r).norm();
+  for (int i = 0; i < b.n; ++i) {
+    const double h = 0.5 * b.omega[i] * orbit.period;
+    defect = std::max(defect, std::abs(orbit.y0[i] - sigma * b.r[i] * std::cos(h) / std::sin(h)));
+  }
+  return defect <= 1e-9 * orbit.y0.norm();
 }
 
 }  // namespace
@@ -29,40 +417,61 @@ Eigen::MatrixXd SaltationMatrix(const AnalysisBasis& b, const Eigen::VectorXd& y
   return reset + (Field(b, y_plus) - reset * f_minus) * normal.transpose() / rate;
 }
 
-Stability OrbitStability(const AnalysisBasis& b, const Orbit& orbit, double tol) {
-  Stability out;
-  const int dim = 2 * b.n;
-  Eigen::MatrixXd m = Eigen::MatrixXd::Identity(dim, dim);
-  Eigen::VectorXd y = orbit.y0;
-  double prev = 0.0;
-  std::vector<double> ends = orbit.times;
-  ends.push_back(orbit.period);
-  // The largest |v_c| a state of this energy can have: |r| |y|.
-  const double contact_speed_scale = b.r.norm() * orbit.y0.norm();
-  for (double t : ends) {
-    Flow(b, t - prev, y);
-    if (!(std::abs(ContactVelocity(b, y)) > 1e-9 * contact_speed_scale)) out.defined = false;
-    m = FlowMatrix(b, t - prev) * m;
-    m = SaltationMatrix(b, y) * m;
-    ElasticImpact(b, y);
-    prev = t;
+Eigen::MatrixXd Monodromy(const AnalysisBasis& b, const Orbit& orbit) {
+  Eigen::MatrixXd m;
+  if (!DenseMonodromy(b, orbit, m)) m.setConstant(std::numeric_limits<double>::quiet_NaN());
+  return m;
+}
+
+double OneImpactSecular::Value(double x) const {
+  double v = 0.0;
+  SecularAt<double>(*this, x, &v, nullptr);
+  return v;
+}
+
+OneImpactSecular OneImpactSecularFunction(const AnalysisBasis& b, double period) {
+  OneImpactSecular s;
+  std::vector<double> z, a, bb, c, free;
+  for (int i = 0; i < b.n; ++i) {
+    const double rho = b.r[i] * b.r[i] / b.r_norm2;
+    const double h = 0.5 * b.omega[i] * period;
+    if (rho == 0.0) {
+      free.push_back(2.0 * std::cos(2.0 * h));
+      continue;
+    }
+    z.push_back(2.0 * std::cos(2.0 * h));
+    a.push_back(rho);
+    bb.push_back(rho * std::sin(2.0 * h) / b.omega[i]);
+    c.push_back(rho * b.omega[i] * std::cos(h) / std::sin(h));
   }
-  if (!out.defined) {
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    out.monodromy = Eigen::MatrixXd::Constant(dim, dim, nan);
-    out.multipliers = Eigen::VectorXcd::Constant(dim, std::complex<double>(nan, nan));
-    out.max_modulus = out.growth_per_period = nan;
+  auto vec = [](const std::vector<double>& v) {
+    return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
+  };
+  s.z = vec(z);
+  s.a = vec(a);
+  s.b = vec(bb);
+  s.c = vec(c);
+  s.uncoupled = vec(free);
+  return s;
+}
+
+Stability OrbitStability(const AnalysisBasis& b, const Orbit& orbit, const StabilityOptions& options) {
+  const int dim = 2 * b.n;
+  if (orbit.impacts == 1) {
+    // The pre-impact state is N y0 (the impact is an involution).
+    Eigen::VectorXd y_minus = orbit.y0;
+    ElasticImpact(b, y_minus);
+    if (Grazes(b, y_minus, b.r.norm() * orbit.y0.norm())) return Undefined(dim);
+    Stability out;
+    if (SymmetricOneImpact(b, orbit) &&
+        StructuredStability(OneImpactSecularFunction(b, orbit.period), options, out)) {
+      return out;
+    }
+    out = DenseStability(b, orbit, options.tol);
+    out.dense_fallback = true;
     return out;
   }
-  out.monodromy = m;
-  Eigen::EigenSolver<Eigen::MatrixXd> es(m);
-  std::vector<std::complex<double>> ev(es.eigenvalues().data(), es.eigenvalues().data() + dim);
-  std::sort(ev.begin(), ev.end(), [](auto x, auto y) { return std::abs(x) > std::abs(y); });
-  out.multipliers = Eigen::Map<Eigen::VectorXcd>(ev.data(), dim);
-  out.max_modulus = std::abs(ev.front());
-  out.growth_per_period = std::log(out.max_modulus);
-  out.stable = out.max_modulus <= 1.0 + tol;
-  return out;
+  return DenseStability(b, orbit, options.tol);
 }
 
 }  // namespace nsmodal

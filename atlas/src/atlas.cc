@@ -1,5 +1,6 @@
 #include "nsmodal/atlas.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -109,7 +110,7 @@ std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int imp
   for (Orbit& o : orbits) {
     OrbitRecord r{std::move(o), std::nullopt};
     if (WantsStability(options.stability, r.orbit)) {
-      Stability st = OrbitStability(b, r.orbit);
+      Stability st = OrbitStability(b, r.orbit, options.stability_options);
       if (st.defined) r.stability = std::move(st);  // a grazing impact: no verdict (stability.h)
     }
     records.push_back(std::move(r));
@@ -117,18 +118,34 @@ std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int imp
   return records;
 }
 
-Sweep ComputeSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, const SweepOptions& options) {
+void StreamSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, const SweepOptions& options,
+                 const std::function<void(double period, std::vector<OrbitRecord>& orbits)>& sink) {
   CheckImpacts(impacts);
   grid.Validate();
   b.CheckPeriod(grid.from);
   b.CheckPeriod(grid.to);
+  const std::vector<double> periods = grid.Values();
+  const long count = static_cast<long>(periods.size());
+  std::vector<std::vector<OrbitRecord>> block;
+  for (long first = 0; first < count; first += kStreamBlock) {
+    const long size = std::min(kStreamBlock, count - first);
+    block.assign(static_cast<std::size_t>(size), {});
+    std::function<void(long, long)> progress;
+    if (options.progress) progress = [&](long done, long) { options.progress(first + done, count); };
+    ParallelFor(
+        size, options.threads, [&](long i) { block[i] = OrbitsAt(b, periods[first + i], impacts, options); },
+        progress);
+    for (long i = 0; i < size; ++i) sink(periods[first + i], block[i]);
+  }
+}
+
+Sweep ComputeSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, const SweepOptions& options) {
   Sweep s;
   s.impacts = impacts;
-  s.periods = grid.Values();
-  s.at.resize(s.periods.size());
-  ParallelFor(
-      static_cast<long>(s.periods.size()), options.threads,
-      [&](long i) { s.at[i] = OrbitsAt(b, s.periods[i], impacts, options); }, options.progress);
+  StreamSweep(b, grid, impacts, options, [&s](double period, std::vector<OrbitRecord>& orbits) {
+    s.periods.push_back(period);
+    s.at.push_back(std::move(orbits));
+  });
   return s;
 }
 

@@ -42,7 +42,8 @@ Columns<OrbitRecord> OrbitColumns(int dofs) {
   for (int k = 0; k < 2 * dofs; ++k) {
     for (int part = 0; part < 2; ++part) {
       c.push_back({"mu" + std::to_string(k + 1) + (part ? "_im" : "_re"), K::kReal, [k, part](const OrbitRecord& r) {
-                     if (!r.stability) return Cell();
+                     // Absent where not computed, or not located (a verdict-only spectrum).
+                     if (!r.stability || k >= r.stability->multipliers.size()) return Cell();
                      const std::complex<double> mu = r.stability->multipliers[k];
                      return Cell(part ? mu.imag() : mu.real());
                    }});

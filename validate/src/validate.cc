@@ -128,10 +128,10 @@ std::optional<double> FitGrowth(const std::vector<double>& dev, double floor) {
 // The monodromy is taken at t = 0; S(t_mid) carries u to the start.
 // Returns the deviation from the orbit's z_mid after each period, divided by
 // the initial one.
-std::vector<double> PerturbedRun(const Model& model, const AnalysisBasis& b, const Stability& stability,
+std::vector<double> PerturbedRun(const Model& model, const AnalysisBasis& b, const Orbit& orbit,
                                  const Eigen::VectorXd& y_mid, double t_mid, double period, int periods,
                                  double delta, SimulateOptions opt) {
-  Eigen::EigenSolver<Eigen::MatrixXd> es(stability.monodromy);
+  Eigen::EigenSolver<Eigen::MatrixXd> es(Monodromy(b, orbit));
   Eigen::VectorXd u = Eigen::VectorXd::Zero(y_mid.size());
   for (int k = 0; k < es.eigenvalues().size(); ++k) {
     // The trivial pair is within ~1e-6 of 1 (stability.h: a Jordan block split
@@ -298,7 +298,7 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
 
   if (integrator == Integrator::kExact && orbit.admissible) {
     const std::vector<double> amp =
-        PerturbedRun(model, b, v.stability, y_mid, t_mid, period, options.periods, options.perturbation, opt);
+        PerturbedRun(model, b, orbit, y_mid, t_mid, period, options.periods, options.perturbation, opt);
     v.perturbed_periods = static_cast<int>(amp.size());
     v.perturbed_amplification = amp.empty() ? 0.0 : *std::max_element(amp.begin(), amp.end());
     // amp is relative to the initial perturbation; times `perturbation` it is

@@ -52,6 +52,9 @@ struct OrbitRecord {
 
 struct SweepOptions {
   StabilityPolicy stability = StabilityPolicy::kPotential;
+  // Every multiplier, or (all_multipliers = false) the verdict, the largest
+  // modulus and the multipliers off the unit circle (stability.h).
+  StabilityOptions stability_options;
   TwoImpactOptions two_impact;  // root scan of the 2-ipp sweep
   int threads = 0;              // worker threads (0: all cores)
   std::function<void(long done, long count)> progress;
@@ -72,6 +75,14 @@ struct Sweep {
 // impacts: 1 or 2 (throws InputError naming "impacts" otherwise).
 Sweep ComputeSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, const SweepOptions& options = {});
 
+// The same sweep streamed: sink(period, orbits of that period) is called in
+// period order from the calling thread, with at most kStreamBlock periods in
+// memory at a time, so memory does not grow with the grid (the CLI writes
+// orbits.csv this way).
+inline constexpr long kStreamBlock = 256;
+void StreamSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, const SweepOptions& options,
+                 const std::function<void(double period, std::vector<OrbitRecord>& orbits)>& sink);
+
 // The orbits of one period, with the policy's stability.
 std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts,
                                   const SweepOptions& options = {});
@@ -85,7 +96,7 @@ std::vector<Orbit> PotentialOrbits(const AnalysisBasis& b, const PeriodGrid& gri
 std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& one);
 
 struct AtlasOptions {
-  SweepOptions sweep{.stability = StabilityPolicy::kAdmissible, .two_impact = {}, .threads = 0, .progress = {}};
+  SweepOptions sweep{.stability = StabilityPolicy::kAdmissible, .stability_options = {}, .two_impact = {}, .threads = 0, .progress = {}};
 };
 
 struct Atlas {
