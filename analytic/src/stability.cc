@@ -243,7 +243,11 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
     double value[2]; // polished roots (NaN until polished)
   };
   std::vector<RealRoots> real;
-  std::vector<Complex> starts;  // near the extrema of segments without roots: where complex pairs left the axis
+  struct Start {
+    Complex z;
+    const Segment* segment;
+  };
+  std::vector<Start> starts;  // near the extrema of segments without roots: where complex pairs left the axis
   int found = 0;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const Segment& g : segments) {
@@ -252,37 +256,56 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
       ++found;
     }
   }
+  // A segment without a sign change holds two roots where its extremum
+  // towards zero crosses it (golden section from the best of the samples).
+  auto real_pair = [&](const Segment& g, double best_x) {
+    const auto h = h_of(g);
+    const double step = (g.hi - g.lo) / 8;
+    // Only the sign at the extremum matters: 1e-9 of the segment is plenty.
+    const double x_min = MinimizeOn([&](double x) { return g.sign_lo * h(x); }, std::max(g.lo, best_x - step),
+                                    best_x, std::min(g.hi, best_x + step), 1e-9);
+    if (!(g.sign_lo * h(x_min) < 0.0)) return false;
+    real.push_back({&g, 2, x_min, {nan, nan}});
+    found += 2;
+    return true;
+  };
   for (const Segment& g : segments) {
     if (g.sign_lo != g.sign_hi || found >= k - 1) continue;
     const auto h = h_of(g);
     const int sign = g.sign_lo;
-    // The extremum towards zero: the lowest of a few samples, then golden section.
+    // Seven samples: one of the other sign splits two roots at once.
     constexpr int kSamples = 8;
-    double best_x = g.lo, best = INFINITY;
-    for (int j = 1; j < kSamples; ++j) {
-      const double x = g.lo + (g.hi - g.lo) * j / kSamples;
-      const double v = sign * h(x);
-      if (v < best) {
-        best = v;
-        best_x = x;
+    double x[kSamples + 1], v[kSamples + 1];
+    int best = 1;
+    bool split = false;
+    for (int j = 0; j <= kSamples && !split; ++j) {
+      x[j] = g.lo + (g.hi - g.lo) * j / kSamples;
+      v[j] = sign * h(x[j]);
+      if (j > 0 && j < kSamples && v[j] < 0.0) {
+        real.push_back({&g, 2, x[j], {nan, nan}});
+        found += 2;
+        split = true;
       }
+      if (j > 0 && j < kSamples && v[j] < v[best]) best = j;
     }
-    const double step = (g.hi - g.lo) / kSamples;
-    // Only the sign at the extremum matters: 1e-9 of the segment is plenty.
-    const double x_min = MinimizeOn([&](double x) { return sign * h(x); }, std::max(g.lo, best_x - step), best_x,
-                                    std::min(g.hi, best_x + step), 1e-9);
-    if (sign * h(x_min) < 0.0) {
-      real.push_back({&g, 2, x_min, {nan, nan}});
-      found += 2;
-    } else {
-      // Where the pair left the axis: H ~ H0 + H'' (x - x0)^2 / 2 has the
-      // roots x0 +- i sqrt(2 H0 / H''), the start for Newton (H'' by central
-      // differences; a quarter of the segment if that fails).
-      const double dx = 1e-3 * (g.hi - g.lo), h0 = h(x_min);
-      const double curvature = (h(x_min + dx) - 2.0 * h0 + h(x_min - dx)) / (dx * dx);
-      const double im = h0 * curvature > 0.0 ? std::sqrt(2.0 * h0 / curvature) : 0.25 * (g.hi - g.lo);
-      starts.push_back(Complex(x_min, std::isfinite(im) && im > 0.0 ? im : 0.25 * (g.hi - g.lo)));
+    if (split) continue;
+    // The parabola through the best sample and its neighbours: a vertex below
+    // zero calls for the golden section; above, its complex roots
+    // x0 +- i sqrt(2 H0 / H'') are where a pair left the axis, the start for Newton.
+    const double hstep = (g.hi - g.lo) / kSamples;
+    const double curvature = (v[best - 1] - 2.0 * v[best] + v[best + 1]) / (hstep * hstep);
+    const double slope = (v[best + 1] - v[best - 1]) / (2.0 * hstep);
+    double x0 = x[best], h0 = v[best];
+    if (curvature > 0.0) {
+      x0 = std::clamp(x[best] - slope / curvature, x[best] - hstep, x[best] + hstep);
+      h0 = v[best] - 0.5 * slope * slope / curvature;
     }
+    if (!(curvature > 0.0) || !(h0 > 0.0)) {
+      if (real_pair(g, x[best])) continue;
+      h0 = v[best];
+    }
+    const double im = curvature > 0.0 && h0 > 0.0 ? std::sqrt(2.0 * h0 / curvature) : 0.25 * (g.hi - g.lo);
+    starts.push_back({Complex(x0, std::isfinite(im) && im > 0.0 ? im : 0.25 * (g.hi - g.lo)), &g});
   }
   std::vector<Complex> mu;
   double max_modulus = 1.0;
@@ -315,7 +338,7 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
   //   Q'/Q = Gt'/Gt + sum_i 1 / (z - z_i) - sum_known 1 / (z - r),
   // at most kMaxNewton steps; a root of Gt itself (the plain Newton step
   // there at round-off), or nothing.
-  constexpr int kMaxNewton = 200;
+  constexpr int kMaxNewton = 60;
   auto newton = [&](Complex z) -> std::optional<Complex> {
     for (int it = 0; it < kMaxNewton; ++it) {
       Complex v, dv;
@@ -335,13 +358,18 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
     return std::nullopt;
   };
   auto is_real = [](Complex z) { return std::abs(z.imag()) <= 1e-10 * std::max(1.0, std::abs(z)); };
-  // Stage 2 (verdict only): complex pairs near the rootless segments' extrema
-  // (where two real roots met and left the axis), deflating only the pairs
-  // already found, so the real roots need not be polished.
-  for (Complex start : starts) {
-    if (found >= k - 1 || options.all_multipliers) break;
-    const std::optional<Complex> z = newton(start);
-    if (z && !is_real(*z)) add_complex_root(*z);
+  // Stage 2: complex pairs near the rootless segments' extrema (where two
+  // real roots met and left the axis, at the quadratic estimate), deflating
+  // only the pairs already found, so the real roots need not be polished.
+  for (const Start& start : starts) {
+    if (found >= k - 1) break;
+    const std::optional<Complex> z = newton(start.z);
+    if (!z) continue;
+    if (!is_real(*z)) {
+      add_complex_root(*z);
+    } else if (z->real() > start.segment->lo && z->real() < start.segment->hi) {
+      real_pair(*start.segment, z->real());  // the samples missed a real pair
+    }
   }
   // Stage 3: polish the real roots: those off the circle always, all of them
   // for the full spectrum or to deflate them while roots are still missing.
@@ -365,11 +393,12 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
     }
   }
   // Stage 4: with every real root deflated, Newton from the extrema again and
-  // then from points on circles around the poles, at most kMaxStarts starts.
-  constexpr int kMaxStarts = 64;
-  for (int attempt = 0; found < k - 1 && attempt < kMaxStarts; ++attempt) {
+  // then from points on circles around the poles: at most as many starts as
+  // there are rootless segments plus 3 per missing root.
+  const int max_starts = static_cast<int>(starts.size()) + 3 * std::max(0, k - 1 - found);
+  for (int attempt = 0; found < k - 1 && attempt < max_starts; ++attempt) {
     const Complex start = attempt < static_cast<int>(starts.size())
-                              ? starts[attempt]
+                              ? starts[attempt].z
                               : std::polar(1.0 + 0.5 * (attempt % 3), 2.0 * M_PI * (attempt + 0.5) / 7.0);
     const std::optional<Complex> z = newton(start);
     if (!z) continue;
