@@ -1,6 +1,7 @@
 #include "nsmodal/model.h"
 
 #include <cmath>
+#include <utility>
 #include <sstream>
 #include <Eigen/Eigenvalues>
 
@@ -81,6 +82,53 @@ Model MakeChain(const std::vector<double>& masses, const std::vector<double>& sp
   m.restitution = restitution;
   Validate(m);
   return m;
+}
+
+double BarSpec::WaveSpeed() const { return std::sqrt(youngs_modulus / density); }
+
+Model MakeBar(const BarSpec& bar, int contact, double gap, double restitution) {
+  const std::pair<const char*, double> positive[] = {{"length", bar.length},
+                                                     {"youngs_modulus", bar.youngs_modulus},
+                                                     {"density", bar.density},
+                                                     {"area", bar.area}};
+  for (const auto& [name, value] : positive) {
+    if (!(value > 0.0) || !std::isfinite(value)) {
+      throw InputError(std::string("system.bar.") + name, "must be positive and finite, got " + FormatValue(value));
+    }
+  }
+  if (bar.elements < 1 || bar.Dofs() > kMaxDofs) {
+    throw InputError("system.bar.elements", "must be between 1 and " +
+                                                std::to_string(bar.boundary == BarSpec::Boundary::kFixedFree ? kMaxDofs
+                                                                                                             : kMaxDofs - 1) +
+                                                " (one dof per free node), got " + std::to_string(bar.elements));
+  }
+  const int n = bar.Dofs();
+  const double h = bar.length / bar.elements;
+  const double k = bar.youngs_modulus * bar.area / h;
+  const double m = bar.density * bar.area * h;
+  // Element e joins nodes e and e + 1; node j is dof j - shift (node 0 clamped for fixed-free).
+  const int shift = bar.boundary == BarSpec::Boundary::kFixedFree ? 1 : 0;
+  const bool consistent = bar.mass == BarSpec::MassForm::kConsistent;
+  const double m_diag = consistent ? m / 3.0 : m / 2.0, m_off = consistent ? m / 6.0 : 0.0;
+  Model model;
+  model.mass = Eigen::MatrixXd::Zero(n, n);
+  model.stiffness = Eigen::MatrixXd::Zero(n, n);
+  for (int e = 0; e < bar.elements; ++e) {
+    const int dof[2] = {e - shift, e + 1 - shift};
+    for (int a = 0; a < 2; ++a) {
+      if (dof[a] < 0) continue;
+      for (int c = 0; c < 2; ++c) {
+        if (dof[c] < 0) continue;
+        model.stiffness(dof[a], dof[c]) += a == c ? k : -k;
+        model.mass(dof[a], dof[c]) += a == c ? m_diag : m_off;
+      }
+    }
+  }
+  model.contact = contact;
+  model.gap = gap;
+  model.restitution = restitution;
+  Validate(model);
+  return model;
 }
 
 Model PaperModel() { return MakeChain({1.0, 1.0}, {0.85, 2.0}, 1, 1.0, 1.0); }

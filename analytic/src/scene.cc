@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <fstream>
+#include <optional>
+#include <string>
 #include <sstream>
 #include <toml++/toml.h>
 
@@ -98,6 +100,58 @@ void ReadForcing(const toml::node& node, Model& model) {
   }
 }
 
+// [system] bar = { length, youngs_modulus, density, area, elements,
+// boundary = "fixed-free" | "free-free", mass = "consistent" | "lumped" }.
+BarSpec ReadBar(const toml::node& node) {
+  const toml::table* t = node.as_table();
+  if (t == nullptr) throw InputError("system.bar", "must be a table { length, youngs_modulus, density, area, elements }");
+  BarSpec bar;
+  for (auto&& [key, value] : *t) {
+    const std::string k(key.str()), field = "system.bar." + k;
+    if (k == "length") {
+      bar.length = ReadNumber(value, field);
+    } else if (k == "youngs_modulus") {
+      bar.youngs_modulus = ReadNumber(value, field);
+    } else if (k == "density") {
+      bar.density = ReadNumber(value, field);
+    } else if (k == "area") {
+      bar.area = ReadNumber(value, field);
+    } else if (k == "elements") {
+      const double e = ReadNumber(value, field);
+      // Range first: casting a non-finite or huge value to an integer is undefined.
+      if (!(e >= 1 && e <= kMaxDofs) || e != std::floor(e)) {
+        throw InputError(field, "must be an integer between 1 and " + std::to_string(kMaxDofs) + ", got " +
+                                    FormatValue(e));
+      }
+      bar.elements = static_cast<int>(e);
+    } else if (k == "boundary" || k == "mass") {
+      const std::optional<std::string> text = value.value<std::string>();
+      const std::string a = k == "boundary" ? "fixed-free" : "consistent", b = k == "boundary" ? "free-free" : "lumped";
+      if (!text || (*text != a && *text != b)) {
+        throw InputError(field, "must be \"" + a + "\" or \"" + b + "\", got " +
+                                    (text ? "\"" + *text + "\"" : std::string("a non-string value")));
+      }
+      if (k == "boundary") {
+        bar.boundary = *text == a ? BarSpec::Boundary::kFixedFree : BarSpec::Boundary::kFreeFree;
+      } else {
+        bar.mass = *text == a ? BarSpec::MassForm::kConsistent : BarSpec::MassForm::kLumped;
+      }
+    } else {
+      throw InputError(field, "is not a known key (length, youngs_modulus, density, area, elements, boundary, mass)");
+    }
+  }
+  for (const char* required : {"length", "youngs_modulus", "density", "area", "elements"}) {
+    if (!t->contains(required)) throw InputError(std::string("system.bar.") + required, "is missing");
+  }
+  if (bar.boundary == BarSpec::Boundary::kFreeFree) {
+    // K is singular (the rigid-body translation): refused with its reason
+    // until the integrators fly zero-frequency modes (issue 12).
+    throw InputError("system.bar.boundary", "\"free-free\" has a rigid-body mode (K semi-definite), which nsmodal "
+                                            "cannot simulate or analyse yet; use \"fixed-free\"");
+  }
+  return bar;
+}
+
 }  // namespace
 
 Scene ParseScene(const std::string& toml_text, const std::string& source) {
@@ -115,18 +169,23 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
   for (auto&& [key, value] : *sys) {
     static const char* kKnown[] = {"masses",      "springs",          "mass_matrix",    "stiffness_matrix",
                                    "contact_dof", "gap",              "restitution",    "rayleigh_damping",
-                                   "damping_ratios", "damping_matrix"};
+                                   "damping_ratios", "damping_matrix", "bar"};
     bool known = false;
     for (const char* k : kKnown) known = known || key.str() == k;
     if (!known) throw InputError("system." + std::string(key.str()), "is not a known key");
   }
   const bool chain = sys->contains("masses") || sys->contains("springs");
   const bool matrices = sys->contains("mass_matrix") || sys->contains("stiffness_matrix");
-  if (chain == matrices) {
-    throw InputError("system", "give either masses and springs (a chain) or mass_matrix and stiffness_matrix");
+  const bool bar = sys->contains("bar");
+  if (int(chain) + int(matrices) + int(bar) != 1) {
+    throw InputError("system", "give exactly one of: masses and springs (a chain), mass_matrix and "
+                               "stiffness_matrix, or bar (a finite-element bar)");
   }
   Model model;
-  if (chain) {
+  if (bar) {
+    const BarSpec spec = ReadBar(*sys->get("bar"));
+    model = MakeBar(spec, spec.Dofs() - 1, 1.0, 1.0);  // contact on the last node unless contact_dof says otherwise
+  } else if (chain) {
     if (!sys->contains("masses")) throw InputError("system.masses", "is missing");
     if (!sys->contains("springs")) throw InputError("system.springs", "is missing");
     std::vector<double> masses = ReadVector(*sys->get("masses"), "system.masses");

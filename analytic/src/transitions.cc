@@ -51,8 +51,11 @@ std::vector<double> SingularPeriods(const AnalysisBasis& b, double from, double 
     const double lo = poles[k], hi = poles[k + 1];
     if (hi - lo <= 1e-12 * hi) continue;  // coincident poles (commensurate periods)
     // Step off the poles by a relative 1e-13: D there is ~1e13 in magnitude,
-    // of the right sign, and Brent finds the single root inside.
-    double a = lo + 1e-13 * std::max(hi, 1.0), c = hi - 1e-13 * hi;
+    // of the right sign, and Brent finds the single root inside. (Relative to
+    // hi, not absolute: a bar's periods are ~1e-4 s, and an absolute 1e-13
+    // crossed a pair of poles 1e-13 apart, a reversed bracket that reached
+    // GSL's abort.)
+    double a = lo + 1e-13 * hi, c = hi - 1e-13 * hi;
     if (!(d(a) > 0.0 && d(c) < 0.0)) continue;
     const double root = PolishRoot(d, a, c);
     if (root >= from && root <= to) out.push_back(root);
@@ -104,6 +107,9 @@ std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, const std::
   auto grazing = [&](double lo, double hi) {
     // h changes sign on [lo, hi]: polish the grazing period.
     auto h = [&b](double t) { return GrazingFunction(b, t); };
+    // Two special periods closer than 2e-6 T (many modes: k T_i cluster)
+    // leave no room between their probes.
+    if (!(lo < hi)) return;
     if (!((h(lo) > 0.0) != (h(hi) > 0.0))) return;
     const double tg = PolishRoot(h, lo, hi);
     out.push_back({tg, TransitionKind::kGrazing, OneImpactOrbit(b, tg).energy});

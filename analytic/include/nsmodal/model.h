@@ -64,6 +64,29 @@ Eigen::MatrixXd ModalDamping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd&
 Model MakeChain(const std::vector<double>& masses, const std::vector<double>& springs,
                 int contact, double gap, double restitution);
 
+// A uniform elastic bar in axial vibration by linear finite elements (scene
+// key [system] bar, issue 12): `elements` elements of length h = L / n, one
+// node at each element end, stiffness E A / h [1 -1; -1 1] and mass
+// rho A h / 6 [2 1; 1 2] (consistent) or rho A h / 2 [1 0; 0 1] (lumped) per
+// element. fixed-free: node 0 clamped, dofs = nodes 1..n (positive definite);
+// free-free: dofs = nodes 0..n, K has the rigid-body mode (1, ..., 1).
+// The contact is on `contact` (0-based dof). Throws InputError naming
+// system.bar.<field> and the value on bad input.
+struct BarSpec {
+  enum class Boundary { kFixedFree, kFreeFree };
+  enum class MassForm { kConsistent, kLumped };
+  double length = 1.0;          // L (m)
+  double youngs_modulus = 1.0;  // E (Pa)
+  double density = 1.0;         // rho (kg/m^3)
+  double area = 1.0;            // A (m^2)
+  int elements = 1;             // n
+  Boundary boundary = Boundary::kFixedFree;
+  MassForm mass = MassForm::kConsistent;
+  int Dofs() const { return boundary == Boundary::kFixedFree ? elements : elements + 1; }
+  double WaveSpeed() const;     // c = sqrt(E / rho)
+};
+Model MakeBar(const BarSpec& bar, int contact, double gap, double restitution);
+
 // The paper's default system: m1 = m2 = 1, k1 = 0.85, k2 = 2, d = 1, e = 1, c = x2.
 Model PaperModel();
 
