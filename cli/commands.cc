@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -21,6 +22,7 @@
 #include "nsmodal/json.h"
 #include "nsmodal/output.h"
 #include "nsmodal/tables.h"
+#include "nsmodal/transitions.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate.h"
 #include "nsmodal/validate.h"
@@ -98,7 +100,11 @@ int RunOrbits(const OrbitsArgs& a) {
   out.Commit();
   std::cout << "wrote " << orbits << " orbits (" << admissible << " admissible) to " << a.out << "/orbits.csv\n";
   if (a.impacts == 1) {
-    const std::vector<Transition> transitions = OneImpactTransitions(b, periods, one_admissible);
+    // Zone boundaries, then the stability changes inside the zones (issue 13).
+    std::vector<Transition> transitions = OneImpactTransitions(b, periods, one_admissible);
+    for (const Transition& t : OneImpactMultiplierCrossings(b, periods, one_admissible)) transitions.push_back(t);
+    std::stable_sort(transitions.begin(), transitions.end(),
+                     [](const Transition& x, const Transition& y) { return x.period < y.period; });
     report::ResultFile tr(dir, "transitions.csv");
     report::WriteCsv(tr.stream(), report::TransitionColumns(), transitions);
     tr.Commit();

@@ -113,7 +113,10 @@ py::dict OrbitsDict(const Sweep& sweep, int dofs) {
   for (long i = 0; i < n; ++i) {
     x.row(i) = rows[i]->orbit.z0.head(dofs).transpose();
     v.row(i) = rows[i]->orbit.z0.tail(dofs).transpose();
-    if (rows[i]->stability) mu.row(i) = rows[i]->stability->multipliers.transpose();
+    if (rows[i]->stability) {
+      const Eigen::VectorXcd& m = rows[i]->stability->multipliers;  // fewer than 2N when verdict-only
+      mu.row(i).head(m.size()) = m.transpose();
+    }
   }
   d["x"] = x;
   d["v"] = v;
@@ -316,11 +319,13 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
 
   mod.def(
       "orbits",
-      [](const Model& model, int impacts, const py::object& period, const std::string& stability, int threads) {
+      [](const Model& model, int impacts, const py::object& period, const std::string& stability, int threads,
+         bool all_multipliers) {
         const AnalysisBasis b(model);
         const PeriodGrid grid = GridOf(period);
         SweepOptions opt;
         opt.stability = PolicyOf(stability);
+        opt.stability_options.all_multipliers = all_multipliers;
         opt.threads = threads;
         Sweep sweep;
         {
@@ -330,12 +335,15 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
         return OrbitsDict(sweep, b.n);
       },
       py::arg("model"), py::arg("impacts") = 1, py::arg("period"), py::arg("stability") = "potential",
-      py::arg("threads") = 0,
+      py::arg("threads") = 0, py::arg("all_multipliers") = true,
       R"doc(Potential orbits with 1 or 2 impacts per period over a grid of periods.
 
 period: (from, to, step), "FROM:TO:STEP" or one period T.
 stability: which orbits get Floquet multipliers: "potential" (default),
 "admissible" or "none".
+all_multipliers: False keeps, for 1 impact, only the verdict, the largest
+modulus and the multipliers off the unit circle (the others are NaN in
+"multipliers"): less work for large systems.
 
 Returns a dict of NumPy arrays, one entry per orbit, keyed as the columns of
 orbits.csv: "T", "t2" (NaN for one impact), "energy", "potential",

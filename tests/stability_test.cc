@@ -8,7 +8,9 @@
 #include "fixtures.h"
 #include "nsmodal/model.h"
 #include "nsmodal/one_impact.h"
+#include "nsmodal/roots.h"
 #include "nsmodal/stability.h"
+#include "nsmodal/transitions.h"
 
 namespace nsmodal {
 namespace {
@@ -111,6 +113,42 @@ TEST(Stability, SecularFunctionChangesSignAtAPeriodDoubling) {
   const double below = OneImpactSecularFunction(b, ts - 1e-3).Value(-2.0);
   const double above = OneImpactSecularFunction(b, ts + 1e-3).Value(-2.0);
   EXPECT_LT(below * above, 0.0);
+}
+
+// Issue 13: the stability changes of the paper's admissible 1-ipp family,
+// located exactly. The issue's values (6 decimals) to their last digit; each
+// +1 crossing is where E(T) is extremal (Brent on a central difference of
+// step 1e-6, whose error ~eps E / 1e-6 moves the root by < 1e-8), each -1
+// crossing a sign change of det(M + I) of the dense monodromy 1e-7 either side.
+TEST(Stability, MultiplierCrossingsOfThePaperAreLocatedExactly) {
+  const AnalysisBasis b = testing::PaperBasis();
+  std::vector<double> periods;
+  std::vector<bool> admissible;
+  for (int k = 0; k <= 3950; ++k) {
+    periods.push_back(0.5 + 0.01 * k);
+    admissible.push_back(OneImpactOrbit(b, periods.back()).admissible);
+  }
+  const std::vector<Transition> x = OneImpactMultiplierCrossings(b, periods, admissible);
+  const std::vector<std::pair<double, TransitionKind>> expected{
+      {5.721560, TransitionKind::kMultiplierPlusOne},  {7.285897, TransitionKind::kMultiplierMinusOne},
+      {8.378589, TransitionKind::kMultiplierPlusOne},  {9.490667, TransitionKind::kMultiplierMinusOne},
+      {9.621135, TransitionKind::kMultiplierMinusOne}, {20.177850, TransitionKind::kMultiplierPlusOne}};
+  ASSERT_EQ(x.size(), expected.size());
+  auto energy = [&](double t) { return OneImpactOrbit(b, t).energy; };
+  auto slope = [&](double t) { return (energy(t + 1e-6) - energy(t - 1e-6)) / 2e-6; };
+  auto det_plus_i = [&](double t) {
+    const Eigen::MatrixXd m = Monodromy(b, OneImpactOrbit(b, t));
+    return (m + Eigen::MatrixXd::Identity(m.rows(), m.cols())).determinant();
+  };
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    EXPECT_EQ(x[k].kind, expected[k].second) << k;
+    EXPECT_NEAR(x[k].period, expected[k].first, 5e-7) << k;
+    if (x[k].kind == TransitionKind::kMultiplierPlusOne) {
+      EXPECT_NEAR(PolishRoot(slope, x[k].period - 1e-3, x[k].period + 1e-3), x[k].period, 1e-7);
+    } else {
+      EXPECT_LT(det_plus_i(x[k].period - 1e-7) * det_plus_i(x[k].period + 1e-7), 0.0) << x[k].period;
+    }
+  }
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "nsmodal/flow.h"
 #include "nsmodal/model.h"
 #include "nsmodal/one_impact.h"
+#include "nsmodal/transitions.h"
 #include "nsmodal/return_map.h"
 #include "nsmodal/roots.h"
 #include "nsmodal/stability.h"
@@ -135,20 +136,16 @@ BridgeSearch FindBridgeAt(const AnalysisBasis& b, double grazing_period) {
 }
 
 std::vector<double> OneImpactPeriodDoublings(const AnalysisBasis& b, double from, double to, double step) {
-  const int dim = 2 * b.n;
-  const auto g = [&](double period) {
-    const Orbit o = OneImpactOrbit(b, period);
-    if (!o.admissible) return std::numeric_limits<double>::quiet_NaN();
-    return (Monodromy(b, o) + Eigen::MatrixXd::Identity(dim, dim)).determinant();
-  };
+  std::vector<double> periods;
+  std::vector<bool> admissible;
+  for (long k = 0; from + k * step <= to + 1e-12 * to; ++k) {
+    periods.push_back(from + k * step);
+    admissible.push_back(OneImpactOrbit(b, periods.back()).admissible);
+  }
   std::vector<double> out;
-  double t0 = from, g0 = g(from);
-  for (long k = 1; from + k * step <= to + 1e-12 * to; ++k) {
-    const double t1 = from + k * step, g1 = g(t1);
-    // Both ends admissible (a zone boundary is a transition, not a doubling).
-    if (std::isfinite(g0) && std::isfinite(g1) && (g0 < 0.0) != (g1 < 0.0)) out.push_back(PolishRoot(g, t0, t1));
-    t0 = t1;
-    g0 = g1;
+  if (periods.size() < 2) return out;
+  for (const Transition& t : OneImpactMultiplierCrossings(b, periods, admissible)) {
+    if (t.kind == TransitionKind::kMultiplierMinusOne) out.push_back(t.period);
   }
   return out;
 }

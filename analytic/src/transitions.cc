@@ -7,6 +7,7 @@
 #include "nsmodal/admissibility.h"
 #include "nsmodal/one_impact.h"
 #include "nsmodal/roots.h"
+#include "nsmodal/stability.h"
 
 namespace nsmodal {
 
@@ -15,6 +16,8 @@ std::string ToString(TransitionKind kind) {
     case TransitionKind::kSingular: return "singular";
     case TransitionKind::kModal: return "modal";
     case TransitionKind::kGrazing: return "grazing";
+    case TransitionKind::kMultiplierPlusOne: return "multiplier+1";
+    case TransitionKind::kMultiplierMinusOne: return "multiplier-1";
   }
   return "?";
 }
@@ -149,6 +152,29 @@ std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, const std::
     }
     adm_prev = adm_b;
   }
+  return out;
+}
+
+std::vector<Transition> OneImpactMultiplierCrossings(const AnalysisBasis& b, const std::vector<double>& periods,
+                                                     const std::vector<bool>& admissible) {
+  std::vector<Transition> out;
+  for (const auto& [z, kind] : {std::make_pair(2.0, TransitionKind::kMultiplierPlusOne),
+                                std::make_pair(-2.0, TransitionKind::kMultiplierMinusOne)}) {
+    auto g = [&b, z = z](double t) { return OneImpactSecularFunction(b, t).Value(z); };
+    double g_prev = g(periods.front());
+    for (std::size_t j = 1; j < periods.size(); ++j) {
+      const double g_next = g(periods[j]);
+      if (admissible[j - 1] && admissible[j] && std::isfinite(g_prev) && std::isfinite(g_next) &&
+          (g_prev < 0.0) != (g_next < 0.0)) {
+        const double t = PolishRoot(g, periods[j - 1], periods[j]);
+        if (std::abs(g(t)) <= 1e-6 * (std::abs(g_prev) + std::abs(g_next))) {
+          out.push_back({t, kind, OneImpactOrbit(b, t).energy});
+        }
+      }
+      g_prev = g_next;
+    }
+  }
+  std::sort(out.begin(), out.end(), [](const Transition& x, const Transition& y) { return x.period < y.period; });
   return out;
 }
 

@@ -235,3 +235,15 @@ def test_response_bad_requests_name_the_field(paper):
     with pytest.raises(ValueError, match="forcing.amplitude"):
         nsmodal.Model(masses=[1, 1], springs=[1, 1], gap=1.0, restitution=1.0, forcing_amplitude=[1],
                       forcing_frequency=1.0)
+
+
+def test_verdict_only_multipliers_of_a_chain():
+    # Issue 12: a 20-mass chain; the verdict-only spectrum keeps the verdict
+    # and the largest modulus of the full one (to round-off of the same roots).
+    n = 20
+    chain = nsmodal.Model(masses=[1.0] * n, springs=[1.0] * n, gap=1.0, restitution=1.0, contact_dof=n)
+    full = nsmodal.orbits(chain, period=(1.0, 20.0, 0.5))
+    quick = nsmodal.orbits(chain, period=(1.0, 20.0, 0.5), all_multipliers=False)
+    np.testing.assert_array_equal(full["stable"], quick["stable"])
+    np.testing.assert_allclose(full["max_multiplier"], quick["max_multiplier"], rtol=1e-12)
+    assert np.isnan(quick["multipliers"]).any() and not np.isnan(full["multipliers"][full["potential"]]).any()

@@ -169,7 +169,7 @@ void Figure3(Context& c) {
   std::ostringstream arrows;
   for (const Transition& t : c.transitions) {
     tr << t.period << "," << ToString(t.kind) << "," << t.energy << "\n";
-    if (t.kind != TransitionKind::kGrazing) {
+    if (t.kind == TransitionKind::kSingular || t.kind == TransitionKind::kModal) {
       arrows << "set arrow from " << t.period << ", graph 0 to " << t.period << ", graph 1 nohead lw 1 "
              << (t.kind == TransitionKind::kSingular ? "dt 2 lc rgb '#7b3294'" : "dt 3 lc rgb '#008837'") << "\n";
     }

@@ -78,9 +78,8 @@ BridgeSearch FindBridgeAt(const AnalysisBasis& b, double grazing_period);
 // InputError naming "period" when there is none.
 Bridge BridgeAt(const AnalysisBasis& b, double grazing_period);
 // Periods T* in [from, to] where an admissible 1-ipp orbit has a Floquet
-// multiplier at -1: sign changes of det(M(T) + I) (a nontrivial pair
-// (lambda, 1/lambda) contributes 2 + lambda + 1/lambda, zero at -1, negative
-// past it) between neighbouring admissible grid points, polished by Brent.
+// multiplier at -1: the kMultiplierMinusOne crossings of
+// OneImpactMultiplierCrossings (transitions.h) on that grid.
 std::vector<double> OneImpactPeriodDoublings(const AnalysisBasis& b, double from, double to, double step);
 
 // The bridge of period 2 T* through the 1-ipp orbit of period T* run twice:

@@ -14,7 +14,11 @@
 
 namespace nsmodal {
 
-enum class TransitionKind { kSingular, kModal, kGrazing };
+// kSingular, kModal, kGrazing bound the admissible zones (paper section
+// 2.1); kMultiplierPlusOne / kMultiplierMinusOne are stability changes inside
+// a zone: a nontrivial pair of Floquet multipliers through +1 (an extremum of
+// E(T)) or -1 (a period doubling), issue 13.
+enum class TransitionKind { kSingular, kModal, kGrazing, kMultiplierPlusOne, kMultiplierMinusOne };
 std::string ToString(TransitionKind kind);
 
 struct Transition {
@@ -22,6 +26,15 @@ struct Transition {
   TransitionKind kind = TransitionKind::kGrazing;
   double energy = 0.0;  // infinite for a singular transition
 };
+
+// The stability changes of the admissible 1-ipp family on a grid of periods
+// (each cell with both ends admissible): sign changes in T of Gt(2; T) (+1)
+// and Gt(-2; T) (-1) of stability.h, O(N) each, polished by Brent to ~1e-15
+// relative; a sign change through a pole of Gt (|Gt| at the polished point
+// not below 1e-6 of its values at the cell's ends) is not a crossing. Sorted,
+// energies of the orbit there.
+std::vector<Transition> OneImpactMultiplierCrossings(const AnalysisBasis& b, const std::vector<double>& periods,
+                                                     const std::vector<bool>& admissible);
 
 // Every root of D(T) in [from, to].
 std::vector<double> SingularPeriods(const AnalysisBasis& b, double from, double to);
