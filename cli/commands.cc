@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
@@ -322,9 +323,8 @@ int RunOrbit(const OrbitArgs& a) {
     std::cout << "\n";
     if (const std::optional<Stability>& s = orbits[k].stability) {
       std::cout << "  " << (s->stable ? "stable" : "unstable") << ", Floquet multipliers";
-      for (int k = 0; k < s->multipliers.size(); ++k) {
-        std::cout << " " << s->multipliers[k].real() << (s->multipliers[k].imag() < 0 ? "-" : "+")
-                  << std::abs(s->multipliers[k].imag()) << "i";
+      for (const std::complex<double>& mu : s->multipliers) {
+        std::cout << " " << mu.real() << (mu.imag() < 0 ? "-" : "+") << std::abs(mu.imag()) << "i";
       }
       std::cout << "\n";
     }
