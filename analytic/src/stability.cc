@@ -312,6 +312,7 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
   bool complete = true;
   std::vector<Complex> known;  // roots located, for the deflation
   auto add_real_root = [&](double x) {
+    known.push_back(x);
     if (std::abs(x) <= 2.0) {
       const double theta = std::acos(std::clamp(0.5 * x, -1.0, 1.0));
       mu.push_back(std::polar(1.0, theta));
@@ -324,7 +325,7 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
   auto add_complex_root = [&](Complex z) {
     if (z.imag() < 0.0) z = std::conj(z);
     for (Complex c : known) {
-      if (std::abs(c - z) <= 1e-8 * std::max(1.0, std::abs(z))) return false;  // found before
+      if (std::abs(c - z) <= 1e-8 * std::max(1.0, std::abs(z))) return;  // found before
     }
     known.push_back(z);
     known.push_back(std::conj(z));
@@ -332,7 +333,6 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
     AddPair(z, mu);
     AddPair(std::conj(z), mu);
     for (std::size_t j = mu.size() - 4; j < mu.size(); ++j) max_modulus = std::max(max_modulus, std::abs(mu[j]));
-    return true;
   };
   // Newton on the deflated polynomial Q = P / prod (z - known) (Newton-Maehly):
   //   Q'/Q = Gt'/Gt + sum_i 1 / (z - z_i) - sum_known 1 / (z - r),
@@ -387,10 +387,7 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
       rr.value[0] = polish(g, g.lo, rr.split);
       rr.value[1] = polish(g, rr.split, g.hi);
     }
-    for (int j = 0; j < rr.count; ++j) {
-      known.push_back(rr.value[j]);
-      add_real_root(rr.value[j]);
-    }
+    for (int j = 0; j < rr.count; ++j) add_real_root(rr.value[j]);
   }
   // Stage 4: with every real root deflated, Newton from the extrema again and
   // then from points on circles around the poles: at most as many starts as
@@ -403,7 +400,6 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
     const std::optional<Complex> z = newton(start);
     if (!z) continue;
     if (is_real(*z)) {
-      known.push_back(z->real());
       ++found;
       add_real_root(z->real());
     } else {
@@ -411,11 +407,7 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
     }
   }
   if (found != k - 1) return false;
-  for (int j = 0; j < s.uncoupled.size(); ++j) {
-    const double theta = std::acos(std::clamp(0.5 * s.uncoupled[j], -1.0, 1.0));
-    mu.push_back(std::polar(1.0, theta));
-    mu.push_back(std::polar(1.0, -theta));
-  }
+  for (double z : s.uncoupled) add_real_root(z);  // on the circle: |z_j| <= 2
   out = Finish(std::move(mu), complete, max_modulus, options.tol);
   return true;
 }

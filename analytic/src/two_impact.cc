@@ -78,13 +78,13 @@ Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const T
   //   X p = p_i (-k, -1/2),  X S(tau) p = p_i (-sin(w tau)/2 - k cos(w tau), k sin(w tau) - cos(w tau)/2).
   Eigen::MatrixXd kernel(2 * n, 2);
   for (int i = 0; i < n; ++i) {
-    const double pi = b.r[i] / std::sqrt(b.r_norm2);
+    const double p_i = b.r[i] / std::sqrt(b.r_norm2);
     const double k = 0.5 * std::cos(0.5 * b.omega[i] * period) / std::sin(0.5 * b.omega[i] * period);
     const double c = std::cos(b.omega[i] * (period - t2)), s = std::sin(b.omega[i] * (period - t2));
-    kernel(i, 0) = pi * (-0.5 * s - k * c);
-    kernel(n + i, 0) = pi * (k * s - 0.5 * c);
-    kernel(i, 1) = -pi * k;
-    kernel(n + i, 1) = -0.5 * pi;
+    kernel(i, 0) = p_i * (-0.5 * s - k * c);
+    kernel(n + i, 0) = p_i * (k * s - 0.5 * c);
+    kernel(i, 1) = -p_i * k;
+    kernel(n + i, 1) = -0.5 * p_i;
   }
   // An orthonormal basis of the kernel, so that the rank test below compares
   // like with like whatever the scale of X.
