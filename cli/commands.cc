@@ -2,7 +2,6 @@
 
 #include <unistd.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <complex>
@@ -101,11 +100,8 @@ int RunOrbits(const OrbitsArgs& a) {
   out.Commit();
   std::cout << "wrote " << orbits << " orbits (" << admissible << " admissible) to " << a.out << "/orbits.csv\n";
   if (a.impacts == 1) {
-    // Zone boundaries, then the stability changes inside the zones (issue 13).
-    std::vector<Transition> transitions = OneImpactTransitions(b, periods, one_admissible);
-    for (const Transition& t : OneImpactMultiplierCrossings(b, periods, one_admissible)) transitions.push_back(t);
-    std::stable_sort(transitions.begin(), transitions.end(),
-                     [](const Transition& x, const Transition& y) { return x.period < y.period; });
+    // Zone boundaries and the stability changes inside the zones (issue 13).
+    const std::vector<Transition> transitions = OneImpactTransitionsAndCrossings(b, periods, one_admissible);
     report::ResultFile tr(dir, "transitions.csv");
     report::WriteCsv(tr.stream(), report::TransitionColumns(), transitions);
     tr.Commit();

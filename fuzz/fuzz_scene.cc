@@ -27,8 +27,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (scene.model.dofs() > 64) return 0;
     if (!scene.model.Conservative()) {
       const nsmodal::Model& m = scene.model;
+      const double longest = nsmodal::MakeModalBasis(m).Periods().maxCoeff();
       nsmodal::SimulateOptions sim;
-      sim.t_end = 3.0 * nsmodal::MakeModalBasis(m).Periods().maxCoeff();
+      sim.t_end = 3.0 * longest;
       sim.sample_dt = 0.0;
       // A bound on the work of one input (~0.5 s under the sanitizers): a
       // run that needs more ends with status step_limit, which is checked.
@@ -43,7 +44,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       // library refuses periods beyond 1e5 shortest linear periods). Beyond
       // 1e3 of the longest the input stops here: a bound on the work per input.
       const bool forced = m.forcing.HasHarmonic() && (m.HasDamping() || m.restitution < 1.0);
-      if (forced && 2.0 * M_PI / m.forcing.frequency <= 1e3 * nsmodal::MakeModalBasis(m).Periods().maxCoeff()) {
+      if (forced && 2.0 * M_PI / m.forcing.frequency <= 1e3 * longest) {
         const nsmodal::ForcedProblem p(m, 1, 1, m.forcing.frequency, m.forcing.amplitude.cwiseAbs().maxCoeff());
         for (const Eigen::VectorXd& u : p.FindAll()) {
           const nsmodal::ForcedOrbit o = p.Orbit(u);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include "nsmodal/admissibility.h"
 #include "nsmodal/one_impact.h"
@@ -157,13 +158,19 @@ std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, const std::
 
 std::vector<Transition> OneImpactMultiplierCrossings(const AnalysisBasis& b, const std::vector<double>& periods,
                                                      const std::vector<bool>& admissible) {
+  // Gt(2) and Gt(-2) on the grid, from one secular function per period.
+  std::vector<double> plus(periods.size()), minus(periods.size());
+  for (std::size_t j = 0; j < periods.size(); ++j) {
+    const OneImpactSecular s = OneImpactSecularFunction(b, periods[j]);
+    plus[j] = s.Value(2.0);
+    minus[j] = s.Value(-2.0);
+  }
   std::vector<Transition> out;
-  for (const auto& [z, kind] : {std::make_pair(2.0, TransitionKind::kMultiplierPlusOne),
-                                std::make_pair(-2.0, TransitionKind::kMultiplierMinusOne)}) {
+  for (const auto& [z, kind, g_grid] : {std::make_tuple(2.0, TransitionKind::kMultiplierPlusOne, &plus),
+                                        std::make_tuple(-2.0, TransitionKind::kMultiplierMinusOne, &minus)}) {
     auto g = [&b, z = z](double t) { return OneImpactSecularFunction(b, t).Value(z); };
-    double g_prev = g(periods.front());
     for (std::size_t j = 1; j < periods.size(); ++j) {
-      const double g_next = g(periods[j]);
+      const double g_prev = (*g_grid)[j - 1], g_next = (*g_grid)[j];
       if (admissible[j - 1] && admissible[j] && std::isfinite(g_prev) && std::isfinite(g_next) &&
           (g_prev < 0.0) != (g_next < 0.0)) {
         const double t = PolishRoot(g, periods[j - 1], periods[j]);
@@ -171,10 +178,17 @@ std::vector<Transition> OneImpactMultiplierCrossings(const AnalysisBasis& b, con
           out.push_back({t, kind, OneImpactOrbit(b, t).energy});
         }
       }
-      g_prev = g_next;
     }
   }
   std::sort(out.begin(), out.end(), [](const Transition& x, const Transition& y) { return x.period < y.period; });
+  return out;
+}
+
+std::vector<Transition> OneImpactTransitionsAndCrossings(const AnalysisBasis& b, const std::vector<double>& periods,
+                                                         const std::vector<bool>& admissible) {
+  std::vector<Transition> out = OneImpactTransitions(b, periods, admissible);
+  for (const Transition& t : OneImpactMultiplierCrossings(b, periods, admissible)) out.push_back(t);
+  std::stable_sort(out.begin(), out.end(), [](const Transition& x, const Transition& y) { return x.period < y.period; });
   return out;
 }
 

@@ -35,6 +35,10 @@ struct Transition {
 // energies of the orbit there.
 std::vector<Transition> OneImpactMultiplierCrossings(const AnalysisBasis& b, const std::vector<double>& periods,
                                                      const std::vector<bool>& admissible);
+// Both lists (OneImpactTransitions, then the crossings) in one, sorted by T:
+// the rows of transitions.csv.
+std::vector<Transition> OneImpactTransitionsAndCrossings(const AnalysisBasis& b, const std::vector<double>& periods,
+                                                         const std::vector<bool>& admissible);
 
 // Every root of D(T) in [from, to].
 std::vector<double> SingularPeriods(const AnalysisBasis& b, double from, double to);
