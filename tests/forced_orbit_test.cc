@@ -171,6 +171,15 @@ TEST(ForcedOrbit, BadRequestsNameTheFieldAndValue) {
   // A response period beyond 1e5 shortest linear periods: NC3 and the
   // quadrature would scan more than 1e5 oscillations per flight.
   expect([&] { ForcedProblem(m, 1, 1, 1e-6, 0.3); }, "forcing.frequency", "response period of 6283185");
+  // Measured in the flow's fastest time scale, not the undamped period: an
+  // overdamped oscillator (omega = 1, zeta = 1e4) decays at |lambda| ~ 2e4, so
+  // a period of 6283 (1e3 undamped periods, allowed by that measure) is 1.3e8
+  // of its time scales: the quadrature alone would take 1.6e8 panels.
+  Model overdamped = MakeChain({1.0}, {1.0}, 0, 1.0, 0.8);
+  overdamped.damping = Eigen::MatrixXd::Constant(1, 1, 2e4);
+  overdamped.forcing.amplitude = Eigen::VectorXd::Constant(1, 1.0);
+  overdamped.forcing.frequency = 1e-3;
+  expect([&] { ForcedProblem(overdamped, 1, 1, 1e-3, 1.0); }, "forcing.frequency", "response period of 6283.18");
   Model free = PaperModel();
   expect([&] { ForcedProblem(free, 1, 1, 0.5, 0.3); }, "forcing.amplitude", "harmonic");
   free.forcing.amplitude = Eigen::Vector2d(1.0, 0.0);

@@ -67,6 +67,7 @@ ForcedProblem::ForcedProblem(const Model& model, int impacts, int periods, doubl
       w_(frequency),
       amplitude_(amplitude),
       period_(periods * 2.0 * M_PI / frequency),
+      fastest_(0.0),
       flow_(model_) {
   if (impacts < 1 || impacts > kMaxResponseImpacts) {
     throw InputError("impacts", "must be between 1 and " + std::to_string(kMaxResponseImpacts) +
@@ -78,14 +79,17 @@ ForcedProblem::ForcedProblem(const Model& model, int impacts, int periods, doubl
                                     std::to_string(periods));
   }
   // As for free orbits (AnalysisBasis::kMaxPeriodRatio): a period longer than
-  // 1e5 periods of the fastest mode would make NC3 and the quadrature scan
-  // more than 1e5 oscillations per flight.
-  const double shortest = MakeModalBasis(model_).Periods().minCoeff();
-  if (!(period_ <= AnalysisBasis::kMaxPeriodRatio * shortest)) {
+  // 1e5 of the flow's fastest time scale 2 pi / max|lambda| would make NC3 and
+  // the quadrature scan more than 1e5 of them per period. For a damped flow
+  // that scale can be far shorter than the shortest linear period (an
+  // overdamped mode decays at up to 2 zeta w_k).
+  fastest_ = std::max(flow_.Eigenvalues().cwiseAbs().maxCoeff(), w_);
+  if (!(period_ * fastest_ <= 2.0 * M_PI * AnalysisBasis::kMaxPeriodRatio)) {
     throw InputError("forcing.frequency", "w = " + FormatValue(frequency) + " with n = " + std::to_string(periods) +
                                               " gives a response period of " + FormatValue(period_) +
                                               ", more than " + FormatValue(AnalysisBasis::kMaxPeriodRatio) +
-                                              " times the shortest linear period " + FormatValue(shortest));
+                                              " times the flow's fastest time scale 2 pi / max|lambda| = " +
+                                              FormatValue(2.0 * M_PI / fastest_));
   }
   if (model_.restitution == 1.0 && !model_.HasDamping()) {
     throw InputError("system", "has no damping and e = 1: its forced periodic responses are not isolated (the "
@@ -325,7 +329,6 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
   // eighth of the fastest time scale (the integrands are smooth there: the
   // quadrature is exact to round-off); interior maxima of x_c; NC3.
   static const Quadrature q;
-  const double fastest = std::max(flow_.Eigenvalues().cwiseAbs().maxCoeff(), w_);
   Eigen::RowVectorXd gap_row = Eigen::RowVectorXd::Zero(2 * n);
   gap_row[c] = 1.0;
   o.max_interior_gap = -std::numeric_limits<double>::infinity();
@@ -337,7 +340,7 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
     const double t0 = pass.times[i];
     const double tau = (i + 1 < m_ ? pass.times[i + 1] : pass.times[0] + period_) - t0;
     const Eigen::VectorXd& z0 = pass.after[i];
-    const int panels = 1 + static_cast<int>(std::ceil(tau * fastest / (M_PI / 4.0)));
+    const int panels = 1 + static_cast<int>(std::ceil(tau * fastest_ / (M_PI / 4.0)));
     const double hp = tau / panels;
     for (int p = 0; p < panels; ++p) {
       for (int k = 0; k < Quadrature::kNodes; ++k) {
@@ -354,7 +357,7 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
     flow_.Observe(t0, z0, gap_row, -d, 0.0, g);
     // Interior maxima: g' from + to - between samples 1/16 of the fastest
     // time scale apart, polished by Brent on g'.
-    const int samples = 16 + static_cast<int>(std::ceil(tau * fastest * 16.0 / (2.0 * M_PI)));
+    const int samples = 16 + static_cast<int>(std::ceil(tau * fastest_ * 16.0 / (2.0 * M_PI)));
     double prev_s = 0.0, prev_v = g.Velocity(0.0);
     for (int k = 1; k <= samples; ++k) {
       const double s = tau * k / samples;

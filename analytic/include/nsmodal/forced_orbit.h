@@ -76,6 +76,11 @@ class ForcedProblem {
   // The model at this frequency and amplitude (the one the orbits solve).
   const Model& model() const { return model_; }
   double period() const { return period_; }
+  // The fastest rate of a flight: max(max |lambda| over the flow's eigenvalues,
+  // w). The work of Orbit (quadrature panels, NC3, maxima) grows as
+  // period() * fastest_rate(); the constructor refuses it beyond
+  // 2 pi AnalysisBasis::kMaxPeriodRatio.
+  double fastest_rate() const { return fastest_; }
   // x_c(t_i-) - d for i = 1..m; false outside the domain (a flight <= 0, or
   // I - A singular).
   bool Residual(const Eigen::VectorXd& u, Eigen::VectorXd& r) const;
@@ -105,7 +110,7 @@ class ForcedProblem {
 
   Model model_;
   int m_, n_;
-  double w_, amplitude_, period_;
+  double w_, amplitude_, period_, fastest_;
   ForcedFlow flow_;
   Eigen::MatrixXd impact_;  // R
   Eigen::MatrixXd minv_k_, minv_d_;
