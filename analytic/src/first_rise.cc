@@ -80,7 +80,9 @@ FirstRiseResult Search(const Signal& g, double horizon, double tol) {
     const double g0 = d[0] - level;  // < 0
     double sigma;
     if (l2 <= 0.0) {
-      sigma = std::numeric_limits<double>::infinity();  // constant signal below level
+      // An affine signal (a constant, or a rigid-body drift): exactly linear,
+      // so step to tol past the level (inside the contact band) or forever.
+      sigma = d[1] > 0.0 ? (tol - g0) / d[1] : std::numeric_limits<double>::infinity();
     } else {
       sigma = (-d[1] + std::sqrt(d[1] * d[1] - 2.0 * l2 * g0)) / l2;
       if (sigma * w_max < 1e-3 && l4 > 0.0 && d[1] * d[1] < -2.0 * l2 * g0) {

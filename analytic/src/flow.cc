@@ -5,7 +5,8 @@
 namespace nsmodal {
 
 void Flow(const ModalBasis& b, double t, Eigen::Ref<Eigen::VectorXd> y) {
-  for (int i = 0; i < b.n; ++i) {
+  for (int i = 0; i < b.rigid; ++i) y[i] += t * y[b.n + i];  // free drift, u_i = q_i
+  for (int i = b.rigid; i < b.n; ++i) {
     const double c = std::cos(b.omega[i] * t);
     const double s = std::sin(b.omega[i] * t);
     const double u = y[i];
@@ -22,7 +23,11 @@ void Impact(const ModalBasis& b, double e, Eigen::Ref<Eigen::VectorXd> y) {
 
 Eigen::MatrixXd FlowMatrix(const ModalBasis& b, double t) {
   Eigen::MatrixXd s = Eigen::MatrixXd::Zero(2 * b.n, 2 * b.n);
-  for (int i = 0; i < b.n; ++i) {
+  for (int i = 0; i < b.rigid; ++i) {
+    s(i, i) = s(b.n + i, b.n + i) = 1.0;
+    s(i, b.n + i) = t;
+  }
+  for (int i = b.rigid; i < b.n; ++i) {
     const double c = std::cos(b.omega[i] * t);
     const double sn = std::sin(b.omega[i] * t);
     s(i, i) = c;
@@ -54,26 +59,33 @@ void SinusoidSum::UpdateBounds() {
       wk *= omega[i];
     }
   }
+  bound[1] += std::abs(slope);
 }
 
-ContactSignal::ContactSignal(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y)
-    : SinusoidSum(0.0, basis.r_over_omega.cwiseProduct(y.head(basis.n)),
-                  basis.r_over_omega.cwiseProduct(y.tail(basis.n)), basis.omega) {}
+ContactSignal::ContactSignal(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y) {
+  omega = basis.omega;
+  Reset(basis, y);
+}
 
 void ContactSignal::Reset(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y) {
   a = basis.r_over_omega.cwiseProduct(y.head(basis.n));
   b = basis.r_over_omega.cwiseProduct(y.tail(basis.n));
+  // A rigid-body mode (w_i = 0) drifts: its a_i = r_i q_i stays (cos 0 = 1),
+  // its velocity term is the slope r_i s_i, not b_i sin(0).
+  const int rigid = basis.rigid;
+  slope = b.head(rigid).sum();
+  b.head(rigid).setZero();
   UpdateBounds();
 }
 
 double SinusoidSum::Position(double t) const {
-  double f = offset;
+  double f = offset + slope * t;
   for (int i = 0; i < omega.size(); ++i) f += a[i] * std::cos(omega[i] * t) + b[i] * std::sin(omega[i] * t);
   return f;
 }
 
 double SinusoidSum::Velocity(double t) const {
-  double f = 0.0;
+  double f = slope;
   for (int i = 0; i < omega.size(); ++i) {
     f += omega[i] * (b[i] * std::cos(omega[i] * t) - a[i] * std::sin(omega[i] * t));
   }
@@ -89,7 +101,7 @@ double SinusoidSum::Acceleration(double t) const {
 }
 
 std::pair<double, double> SinusoidSum::VelocityAcceleration(double t) const {
-  double v = 0.0, acc = 0.0;
+  double v = slope, acc = 0.0;
   for (int i = 0; i < omega.size(); ++i) {
     const double c = std::cos(omega[i] * t), s = std::sin(omega[i] * t);
     v += omega[i] * (b[i] * c - a[i] * s);
@@ -99,8 +111,9 @@ std::pair<double, double> SinusoidSum::VelocityAcceleration(double t) const {
 }
 
 void SinusoidSum::Derivatives(double t, double out[4]) const {
-  out[0] = offset;
-  out[1] = out[2] = out[3] = 0.0;
+  out[0] = offset + slope * t;
+  out[1] = slope;
+  out[2] = out[3] = 0.0;
   for (int i = 0; i < omega.size(); ++i) {
     const double c = std::cos(omega[i] * t), s = std::sin(omega[i] * t), w = omega[i];
     const double p = a[i] * c + b[i] * s;  // the term itself

@@ -15,17 +15,24 @@ ModalBasis MakeModalBasis(const Model& model) {
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(model.stiffness, model.mass);
   ModalBasis b;
   b.n = model.dofs();
-  b.omega = ges.eigenvalues().cwiseSqrt();
-  if (!b.omega.allFinite() || !(b.omega.minCoeff() > 0.0) ||
-      b.omega.maxCoeff() > kMaxFrequencyRatio * b.omega.minCoeff()) {
-    throw InputError("system", "linear frequencies from " + FormatValue(b.omega.minCoeff()) + " to " +
-                                   FormatValue(b.omega.maxCoeff()) + " rad/s: nsmodal honours a ratio up to " +
+  b.rigid = RigidBodyModes(model.stiffness);
+  // The generalized eigenvalues ascend: the rigid-body modes come first, at
+  // round-off of either sign; their frequency is zero exactly.
+  b.omega = ges.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  b.omega.head(b.rigid).setZero();
+  const Eigen::VectorXd elastic = b.omega.tail(b.n - b.rigid);
+  if (elastic.size() == 0 || !elastic.allFinite() || !(elastic.minCoeff() > 0.0) ||
+      elastic.maxCoeff() > kMaxFrequencyRatio * elastic.minCoeff()) {
+    throw InputError("system", "linear frequencies from " + FormatValue(elastic.minCoeff()) + " to " +
+                                   FormatValue(elastic.maxCoeff()) + " rad/s: nsmodal honours a ratio up to " +
                                    FormatValue(kMaxFrequencyRatio));
   }
+  b.u_scale = b.omega;
+  b.u_scale.head(b.rigid).setOnes();
   b.phi = ges.eigenvectors();  // normalised so that Phi' M Phi = I
   b.phi_inv = b.phi.transpose() * model.mass;
   b.r = b.phi.row(model.contact).transpose();
-  b.r_over_omega = b.r.cwiseQuotient(b.omega);
+  b.r_over_omega = b.r.cwiseQuotient(b.u_scale);
   b.r_norm2 = b.r.squaredNorm();
   b.gap = model.gap;
   return b;
@@ -53,7 +60,15 @@ const Model& ElasticModel(const Model& model) {
 }
 }  // namespace
 
-AnalysisBasis::AnalysisBasis(const Model& model) : ModalBasis(MakeModalBasis(ElasticModel(model))) {}
+AnalysisBasis::AnalysisBasis(const Model& model) : ModalBasis(MakeModalBasis(ElasticModel(model))) {
+  if (rigid > 0) {
+    throw InputError("system.stiffness_matrix",
+                     "has " + std::to_string(rigid) + " rigid-body mode(s) (zero eigenvalues of K: a free-free " +
+                         "structure, or a mass with no spring to ground): no periodic orbit has impacts (each " +
+                         "impact pushes the drift's momentum away from the obstacle and no flight brings it back), " +
+                         "so there are no nonsmooth modes to compute; simulate it, or ground it with a spring");
+  }
+}
 
 void AnalysisBasis::CheckPeriod(double period, const std::string& field) const {
   const double shortest = Periods().minCoeff();
@@ -68,13 +83,13 @@ void AnalysisBasis::CheckPeriod(double period, const std::string& field) const {
 
 Eigen::VectorXd ToModal(const ModalBasis& b, const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
   Eigen::VectorXd y(2 * b.n);
-  y.head(b.n) = b.omega.cwiseProduct(b.phi_inv * x);
+  y.head(b.n) = b.u_scale.cwiseProduct(b.phi_inv * x);
   y.tail(b.n) = b.phi_inv * v;
   return y;
 }
 
 Eigen::VectorXd PositionOf(const ModalBasis& b, const Eigen::VectorXd& y) {
-  return b.phi * y.head(b.n).cwiseQuotient(b.omega);
+  return b.phi * y.head(b.n).cwiseQuotient(b.u_scale);
 }
 
 Eigen::VectorXd VelocityOf(const ModalBasis& b, const Eigen::VectorXd& y) { return b.phi * y.tail(b.n); }

@@ -18,8 +18,8 @@ std::string FormatValue(double v) {
 
 namespace {
 
-// Checks a symmetric positive-definite matrix; returns its extreme eigenvalues.
-std::pair<double, double> CheckSpd(const Eigen::MatrixXd& a, const std::string& field) {
+// Checks a square, finite, symmetric matrix; returns its eigenvalues.
+Eigen::VectorXd CheckedEigenvalues(const Eigen::MatrixXd& a, const std::string& field) {
   if (a.rows() == 0 || a.rows() != a.cols()) {
     throw InputError(field, "must be a non-empty square matrix, got " +
                                 std::to_string(a.rows()) + "x" + std::to_string(a.cols()));
@@ -32,15 +32,29 @@ std::pair<double, double> CheckSpd(const Eigen::MatrixXd& a, const std::string& 
   if (asym > 1e-12 * scale) {
     throw InputError(field, "is not symmetric (max |A - A^T| = " + FormatValue(asym) + ")");
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(a, Eigen::EigenvaluesOnly);
-  const double lmin = eig.eigenvalues().minCoeff(), lmax = eig.eigenvalues().maxCoeff();
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(a, Eigen::EigenvaluesOnly).eigenvalues();
+}
+
+// Checks a symmetric positive-definite matrix; returns its extreme eigenvalues.
+std::pair<double, double> CheckSpd(const Eigen::MatrixXd& a, const std::string& field) {
+  const Eigen::VectorXd eig = CheckedEigenvalues(a, field);
+  const double lmin = eig.minCoeff(), lmax = eig.maxCoeff();
   if (!(lmin > 0.0)) {
     throw InputError(field, "is not positive definite (smallest eigenvalue " + FormatValue(lmin) + ")");
   }
   return {lmin, lmax};
 }
 
+int CountRigid(const Eigen::VectorXd& eig) {
+  const double lmax = eig.maxCoeff();
+  return static_cast<int>((eig.array() <= kRigidBodyTolerance * lmax).count());
+}
+
 }  // namespace
+
+int RigidBodyModes(const Eigen::MatrixXd& stiffness) {
+  return CountRigid(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(stiffness, Eigen::EigenvaluesOnly).eigenvalues());
+}
 
 Model MakeChain(const std::vector<double>& masses, const std::vector<double>& springs,
                 int contact, double gap, double restitution) {
@@ -60,9 +74,10 @@ Model MakeChain(const std::vector<double>& masses, const std::vector<double>& sp
       throw InputError("system.masses", "entry " + std::to_string(i + 1) +
                                             " must be positive and finite, got " + FormatValue(masses[i]));
     }
-    if (!(springs[i] > 0.0) || !std::isfinite(springs[i])) {
+    // A zero spring leaves a rigid-body mode (k_1 = 0: no spring to ground).
+    if (!(springs[i] >= 0.0) || !std::isfinite(springs[i])) {
       throw InputError("system.springs", "entry " + std::to_string(i + 1) +
-                                             " must be positive and finite, got " + FormatValue(springs[i]));
+                                             " must be non-negative and finite, got " + FormatValue(springs[i]));
     }
   }
   Model m;
@@ -139,7 +154,24 @@ void Validate(const Model& model) {
                                                " rows; nsmodal honours up to " + std::to_string(kMaxDofs) + " dofs");
   }
   const auto [mass_min, mass_max] = CheckSpd(model.mass, "system.mass_matrix");
-  const auto [stiffness_min, stiffness_max] = CheckSpd(model.stiffness, "system.stiffness_matrix");
+  // K: positive semi-definite; its zero eigenvalues are rigid-body modes and
+  // the conditioning is that of the others.
+  const Eigen::VectorXd k_eig = CheckedEigenvalues(model.stiffness, "system.stiffness_matrix");
+  const double stiffness_max = k_eig.maxCoeff();
+  if (!(stiffness_max > 0.0)) {
+    throw InputError("system.stiffness_matrix", "has no positive eigenvalue (largest " + FormatValue(stiffness_max) +
+                                                    "): a system without stiffness has no modes");
+  }
+  if (k_eig.minCoeff() < -kRigidBodyTolerance * stiffness_max) {
+    throw InputError("system.stiffness_matrix", "is not positive semi-definite (smallest eigenvalue " +
+                                                    FormatValue(k_eig.minCoeff()) + ", largest " +
+                                                    FormatValue(stiffness_max) + ")");
+  }
+  const int rigid = CountRigid(k_eig);
+  double stiffness_min = stiffness_max;
+  for (int i = 0; i < k_eig.size(); ++i) {
+    if (k_eig[i] > kRigidBodyTolerance * stiffness_max) stiffness_min = std::min(stiffness_min, k_eig[i]);
+  }
   if (mass_max > kMaxCondition * mass_min) {
     throw InputError("system.mass_matrix", "is too close to singular: eigenvalues from " + FormatValue(mass_min) +
                                                " to " + FormatValue(mass_max) + " (nsmodal honours a ratio up to " +
@@ -149,7 +181,15 @@ void Validate(const Model& model) {
     throw InputError("system.stiffness_matrix", "is too close to singular: eigenvalues from " +
                                                     FormatValue(stiffness_min) + " to " + FormatValue(stiffness_max) +
                                                     " (nsmodal honours a ratio up to " + FormatValue(kMaxCondition) +
-                                                    ")");
+                                                    ", and takes eigenvalues below " +
+                                                    FormatValue(kRigidBodyTolerance) +
+                                                    " of the largest as rigid-body modes)");
+  }
+  if (rigid > 0 && !model.Conservative()) {
+    throw InputError("system.stiffness_matrix",
+                     "has " + std::to_string(rigid) + " rigid-body mode(s) (zero eigenvalues of K): nsmodal flies " +
+                         "them as a free drift for an undamped, unforced system only; damping or forcing needs " +
+                         "a positive definite K (a spring to ground)");
   }
   if (model.stiffness.rows() != model.mass.rows()) {
     throw InputError("system.stiffness_matrix", "must have the size of system.mass_matrix (" +

@@ -143,12 +143,6 @@ BarSpec ReadBar(const toml::node& node) {
   for (const char* required : {"length", "youngs_modulus", "density", "area", "elements"}) {
     if (!t->contains(required)) throw InputError(std::string("system.bar.") + required, "is missing");
   }
-  if (bar.boundary == BarSpec::Boundary::kFreeFree) {
-    // K is singular (the rigid-body translation): refused with its reason
-    // until the integrators fly zero-frequency modes (issue 12).
-    throw InputError("system.bar.boundary", "\"free-free\" has a rigid-body mode (K semi-definite), which nsmodal "
-                                            "cannot simulate or analyse yet; use \"fixed-free\"");
-  }
   return bar;
 }
 

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "nsmodal/error.h"
+
 namespace nsmodal {
 
 ContactModel::ContactModel(const Model& m) : model(m), basis(MakeModalBasis(m)) {
@@ -80,6 +82,16 @@ StickingFlow::StickingFlow(const ContactModel& cm) : cm_(&cm) {
   }
   const Eigen::MatrixXd mr = z.transpose() * m.mass * z;
   const Eigen::MatrixXd kr = z.transpose() * m.stiffness * z;
+  // Held, the other dofs must not drift: a rigid-body mode that the contact
+  // does not hold (a part of the system not tied to the contact dof) would
+  // leave K_r singular.
+  const int rigid = RigidBodyModes(kr);
+  if (rigid > 0) {
+    throw InputError("system.stiffness_matrix",
+                     "holding the contact dof " + std::to_string(m.contact + 1) + " leaves " +
+                         std::to_string(rigid) + " rigid-body mode(s) of the other dofs (a part not tied to it): " +
+                         "the sticking phase of such a system is not modelled; tie that part with a spring");
+  }
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(kr, mr);
   omega_ = ges.eigenvalues().cwiseSqrt();
   phi_ = ges.eigenvectors();

@@ -144,12 +144,15 @@ class Cvode {
     ud_.sticking = sticking;
     Check(CVodeReInit(mem_, t, y_), "CVodeReInit");
   }
-  // Advances to tout, never past it (a stop time: roots and samples stay
-  // inside the last step, where the dense output is valid); returns
-  // CV_SUCCESS, CV_TSTOP_RETURN, CV_ROOT_RETURN or throws.
+  // One internal step towards tout, never past it (a stop time: roots and
+  // samples stay inside the last step, where the dense output is valid);
+  // returns CV_SUCCESS, CV_TSTOP_RETURN, CV_ROOT_RETURN or throws. One step
+  // at a time, so that every step is checked for a crossing CVODE cannot
+  // see (a penetration from a restart at the wall, where g0 is inactive):
+  // in CV_NORMAL mode only the last of many steps could be searched.
   int Step(double tout, double* t) {
     Check(CVodeSetStopTime(mem_, tout), "CVodeSetStopTime");
-    const int flag = CVode(mem_, tout, y_, t, CV_NORMAL);
+    const int flag = CVode(mem_, tout, y_, t, CV_ONE_STEP);
     Check(flag, "CVode");
     return flag;
   }
@@ -284,9 +287,17 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
       if (!sticking && z[c] > d + xtol) {
         // Beyond the obstacle with no root reported (two crossings in one
         // step): locate the rising crossing on the dense output of the step.
+        // A step that started in the contact band (a restart at the wall with
+        // v_c = 0, after an impact with e = 0 where nothing pushed yet: g0 = 0
+        // there, inactive by CVODE's rule) is pushed in later: the contact is
+        // where x_c leaves the band's lower half.
         const double lo = solver.LastStepStart();
-        auto gap = [&](double ts) { return solver.Interpolate(ts)[c] - d; };
-        if (!(gap(lo) < 0.0)) throw std::runtime_error("penetration of the obstacle not bracketed at t = " + std::to_string(t));
+        const double start = solver.Interpolate(lo)[c] - d;
+        const double level = start < 0.0 ? 0.0 : 0.5 * (start + xtol);
+        auto gap = [&](double ts) { return solver.Interpolate(ts)[c] - d - level; };
+        if (!(start < xtol)) {
+          throw std::runtime_error("penetration of the obstacle not bracketed at t = " + std::to_string(t));
+        }
         t = PolishRoot(gap, lo, t);
         z = solver.Interpolate(t);
         sampler.Emit(t, [&](double ts) { return solver.Interpolate(ts); });

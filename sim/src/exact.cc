@@ -18,12 +18,14 @@ struct ConservativeFlight {
   using Held = Eigen::VectorXd;   // StickingFlow's reduced modal state
   const ContactModel& cm;
   const ModalBasis& b;
-  StickingFlow stick;
+  // Built at the first sticking phase: it refuses a rigid-body mode the held
+  // contact does not stop, which only matters if the mass is ever held.
+  std::optional<StickingFlow> stick;
   ContactSignal gap;
   SinusoidSum release;
 
   explicit ConservativeFlight(const ContactModel& c)
-      : cm(c), b(c.basis), stick(c), gap(c.basis, Eigen::VectorXd::Zero(2 * c.basis.n)) {
+      : cm(c), b(c.basis), gap(c.basis, Eigen::VectorXd::Zero(2 * c.basis.n)) {
     gap.offset = -c.model.gap;
   }
   double FastestRate() const { return b.omega.maxCoeff(); }
@@ -38,15 +40,16 @@ struct ConservativeFlight {
   double ContactVelocity(const State& y) const { return nsmodal::ContactVelocity(b, y); }
   Held Hold(double, const State& y) {
     const Eigen::VectorXd z = PhysicalOf(b, y);
-    return stick.Enter(z.head(b.n), z.tail(b.n));
+    if (!stick) stick.emplace(cm);
+    return stick->Enter(z.head(b.n), z.tail(b.n));
   }
   const SinusoidSum& Release(double, const Held& yr) {
-    const SinusoidSum ac = stick.ContactAcceleration(yr);
+    const SinusoidSum ac = stick->ContactAcceleration(yr);
     release = SinusoidSum(-ac.offset, -ac.a, -ac.b, ac.omega);  // release when -a_c rises to 0
     return release;
   }
-  void FlyHeld(double, double s, Held& yr) const { stick.Advance(s, yr); }
-  Eigen::VectorXd PhysicalHeld(const Held& yr) const { return stick.Physical(yr); }
+  void FlyHeld(double, double s, Held& yr) const { stick->Advance(s, yr); }
+  Eigen::VectorXd PhysicalHeld(const Held& yr) const { return stick->Physical(yr); }
 };
 
 struct ForcedFlight {

@@ -28,11 +28,14 @@ inline double ContactVelocity(const ModalBasis& b, const Eigen::Ref<const Eigen:
 }
 inline double Energy(const Eigen::Ref<const Eigen::VectorXd>& y) { return 0.5 * y.squaredNorm(); }
 
-// A sum of sinusoids with an offset, f(t) = c + sum_i a_i cos(w_i t) + b_i sin(w_i t):
-// x_c(t) on a flight, or the contact force while sticking. The bounds
-// |f^(k)(t)| <= sum_i w_i^k sqrt(a_i^2 + b_i^2) (k >= 1) make root isolation provable.
+// A sum of sinusoids with an offset and a drift,
+//   f(t) = c + p t + sum_i a_i cos(w_i t) + b_i sin(w_i t):
+// x_c(t) on a flight (p: the rigid-body modes' drift, modal_basis.h), or the
+// contact force while sticking. The bounds |f^(k)(t)| <= sum_i w_i^k
+// sqrt(a_i^2 + b_i^2) (k >= 2; k = 1 adds |p|) make root isolation provable.
 struct SinusoidSum {
   double offset = 0.0;
+  double slope = 0.0;  // p
   Eigen::VectorXd a, b, omega;
   // bound[k] >= sup |f^(k)| for k = 1..4; bound[0] = sum of the amplitudes.
   double bound[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
@@ -46,7 +49,7 @@ struct SinusoidSum {
   std::pair<double, double> VelocityAcceleration(double t) const;
   // The value and the first three derivatives at t.
   void Derivatives(double t, double out[4]) const;
-  // Recomputes `bound` after a, b or omega changed.
+  // Recomputes `bound` after a, b, omega or slope changed.
   void UpdateBounds();
 };
 

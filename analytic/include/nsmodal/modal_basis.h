@@ -8,6 +8,11 @@
 //   free flight is a rotation by w_i t in each plane (u_i, s_i) (eq. 8),
 //   the impact is s <- s - (1 + e) r (r.s)/|r|^2 with r = row c of Phi (eq. 10-12);
 // for e = 1 the impact is a reflection, so S(t) and N are orthogonal.
+//
+// Rigid-body modes (w_i = 0, K semi-definite; the first `rigid` modes): u_i = q_i
+// (there is no w_i to scale by) and the flight is the free drift
+// u_i <- u_i + t s_i, exactly. |y|^2 / 2 is then no longer the energy; the
+// analysis (AnalysisBasis) refuses such systems, the simulator flies them.
 #include <Eigen/Dense>
 #include <string>
 
@@ -17,15 +22,17 @@ namespace nsmodal {
 
 struct ModalBasis {
   int n = 0;                // dofs
+  int rigid = 0;            // rigid-body modes: w_i = 0 for i < rigid
   Eigen::VectorXd omega;    // w_i, ascending
+  Eigen::VectorXd u_scale;  // u_i = u_scale_i q_i: w_i, or 1 for a rigid-body mode
   Eigen::MatrixXd phi;      // Phi, columns M-orthonormal
   Eigen::MatrixXd phi_inv;  // Phi^{-1} = Phi' M
   Eigen::VectorXd r;        // row c of Phi: x_c = sum r_i q_i
-  Eigen::VectorXd r_over_omega;  // r_i / w_i: x_c = sum (r_i / w_i) u_i
+  Eigen::VectorXd r_over_omega;  // r_i / u_scale_i: x_c = sum (r_i / w_i) u_i (+ rigid r_i q_i)
   double r_norm2 = 0.0;     // |r|^2 = (M^{-1})_cc
   double gap = 1.0;
 
-  // Linear periods T_i = 2 pi / w_i.
+  // Linear periods T_i = 2 pi / w_i (infinite for a rigid-body mode).
   Eigen::VectorXd Periods() const;
 };
 
@@ -38,7 +45,10 @@ ModalBasis MakeModalBasis(const Model& model);
 // constructor throws InputError naming system.restitution), every analysis
 // function takes one, and kRestitution is the one place the analysis states e.
 // Nonsmooth modes are those of the conservative system: a model with damping
-// or forcing is refused too (InputError naming "system" or "forcing").
+// or forcing is refused too (InputError naming "system" or "forcing"), and so
+// is one with a rigid-body mode ("system.stiffness_matrix"): no periodic orbit
+// has impacts there (each impact pushes the drift's momentum away from the
+// obstacle and no flight brings it back).
 struct AnalysisBasis : ModalBasis {
   static constexpr double kRestitution = 1.0;
   // Periods the analysis honours, relative to the shortest linear period

@@ -27,7 +27,8 @@ struct Forcing {
 
 struct Model {
   Eigen::MatrixXd mass;       // M, symmetric positive definite, N x N
-  Eigen::MatrixXd stiffness;  // K, symmetric positive definite, N x N
+  Eigen::MatrixXd stiffness;  // K, symmetric positive semi-definite, N x N (zero
+                              // eigenvalues: rigid-body modes, undamped and unforced only)
   Eigen::MatrixXd damping;    // C, symmetric positive semi-definite N x N, or empty (none)
   Forcing forcing;            // none by default
   int contact = 0;            // c, 0-based index of the dof that meets the obstacle
@@ -103,12 +104,26 @@ inline constexpr int kMaxDofs = 2000;
 inline constexpr double kMaxCondition = 1e12;
 inline constexpr double kMaxFrequencyRatio = 1e6;
 inline constexpr double kMaxEnergyScale = 1e200;
+// An eigenvalue of K at most kRigidBodyTolerance times the largest (either
+// sign) is a rigid-body mode: zero frequency, a free drift. Round-off leaves
+// the zero eigenvalue of an assembled singular K within ~1e-16 of the largest
+// (measured: free-free bars and chains of 2 to 2,000 dofs); the other
+// eigenvalues must stay above 1 / kMaxCondition of the largest, and those in
+// between are refused as too close to singular.
+inline constexpr double kRigidBodyTolerance = 1e-14;
+
+// The number of rigid-body modes of a symmetric stiffness (its eigenvalues
+// within kRigidBodyTolerance of zero). No checks: Validate's.
+int RigidBodyModes(const Eigen::MatrixXd& stiffness);
 
 // Checks every field and the scales above; throws InputError naming the field
 // ("system.mass_matrix", "system.contact_dof", "system.gap",
 // "system.restitution", "system.damping_matrix", "forcing.amplitude",
 // "forcing.frequency", ...) and the value. The damping must be symmetric
-// positive semi-definite (a negative eigenvalue would feed energy in); a
+// positive semi-definite (a negative eigenvalue would feed energy in); so
+// must the stiffness, nonzero, and with rigid-body modes (zero eigenvalues)
+// only for an undamped, unforced model (the free drift is flown in closed
+// form; damping and forcing need the static and harmonic responses, K^-1); a
 // harmonic force needs w > 0 within kMaxFrequencyRatio of the linear
 // frequencies.
 void Validate(const Model& model);

@@ -66,6 +66,8 @@ ContactDecision DecideContact(double vc, double ac, double e, const ContactResol
 // sum of sinusoids: the mass is released when a_c falls through 0.
 class StickingFlow {
  public:
+  // Throws InputError naming "system.stiffness_matrix" when K_r is singular
+  // (a rigid-body mode the held contact does not stop).
   explicit StickingFlow(const ContactModel& cm);
   int reduced_dofs() const { return nr_; }
   // State on entry (physical x, v with x_c = d, v_c = 0) -> scaled reduced modal state.
