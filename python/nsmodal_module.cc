@@ -314,6 +314,29 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
       });
 
   mod.def(
+      "bar",
+      [](double length, double youngs_modulus, double density, double area, int elements, const std::string& boundary,
+         const std::string& mass, std::optional<int> contact_dof, double gap, double restitution) {
+        BarSpec bar;
+        bar.length = length;
+        bar.youngs_modulus = youngs_modulus;
+        bar.density = density;
+        bar.area = area;
+        bar.elements = elements;
+        bar.boundary = ParseBarBoundary(boundary, "boundary");
+        bar.mass = ParseBarMass(mass, "mass");
+        return MakeBar(bar, contact_dof ? *contact_dof - 1 : bar.Dofs() - 1, gap, restitution);
+      },
+      py::kw_only(), py::arg("length"), py::arg("youngs_modulus"), py::arg("density"), py::arg("area"),
+      py::arg("elements"), py::arg("boundary") = "fixed-free", py::arg("mass") = "consistent",
+      py::arg("contact_dof") = py::none(), py::arg("gap"), py::arg("restitution"),
+      R"doc(A uniform elastic bar in axial vibration by linear finite elements (the
+scene's [system] bar): `elements` elements, one node per element end;
+boundary "fixed-free" (node 0 clamped; dofs = nodes 1..n) or "free-free"
+(dofs = nodes 0..n, one rigid-body mode: simulation only); mass
+"consistent" or "lumped". contact_dof is 1-based (default: the last node).)doc");
+
+  mod.def(
       "load_scene", [](const std::string& path) { return LoadScene(path).model; }, py::arg("path"),
       R"doc(The model of a scene file (TOML, the [system] table; see configs/paper.toml).)doc");
 

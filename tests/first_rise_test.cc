@@ -19,6 +19,28 @@ TEST(FirstRise, FindsATransversalCrossingToMachinePrecision) {
   EXPECT_NEAR(r.s, 2.0 * M_PI / 3.0, 1e-14);
 }
 
+// A drift (a rigid-body mode, flow.h's slope) whose vibration is round-off:
+// g = -1 + t + 1e-30 cos(1e3 t). The quadratic step's usual form
+// (-g' + sqrt(g'^2 - 2 L2 g)) / L2 is 0 to round-off there (L2 = 1e-24), and
+// the search stalled at t = 0; the step must reach the root t = 1.
+TEST(FirstRise, ANearlyAffineSignalIsSteppedToItsRoot) {
+  SinusoidSum g = Wave(-1.0, {1e-30}, {0.0}, {1e3});
+  g.slope = 1.0;
+  g.UpdateBounds();
+  const FirstRiseResult r = FirstRise(g, 10.0, 1e-14);
+  ASSERT_TRUE(r.found);
+  EXPECT_FALSE(r.stalled);
+  EXPECT_NEAR(r.s, 1.0, 1e-14);
+  // An exactly affine one (no sinusoid at all): the same root, at once.
+  SinusoidSum line = Wave(-1.0, {}, {}, {});
+  line.slope = 1.0;
+  line.UpdateBounds();
+  const FirstRiseResult l = FirstRise(line, 10.0, 1e-14);
+  ASSERT_TRUE(l.found);
+  EXPECT_NEAR(l.s, 1.0, 1e-14);
+  EXPECT_LE(l.steps, 3);
+}
+
 TEST(FirstRise, CannotStepOverAShortExcursion) {
   // A slow wave that peaks 1e-9 above zero, plus a fast one that is large
   // elsewhere: the excursion lasts ~1e-4 and is found.

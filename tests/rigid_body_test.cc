@@ -156,7 +156,7 @@ TEST(RigidBody, TheDroppedBarsContactTendsToTwoLOverC) {
   bar.boundary = BarSpec::Boundary::kFreeFree;
   const double contact = 2.0 * bar.length / bar.WaveSpeed();
   double last_error = 1.0;
-  for (int elements : {10, 20, 50, 100}) {
+  for (int elements : {10, 20, 50, 100, 200}) {
     bar.elements = elements;
     const Model m = MakeBar(bar, elements, 5e-5, 0.0);
     const int n = m.dofs();
@@ -167,7 +167,10 @@ TEST(RigidBody, TheDroppedBarsContactTendsToTwoLOverC) {
     ASSERT_EQ(s.status, SimulationStatus::kFinished) << s.message;
     EXPECT_EQ(s.sticking_phases, 1) << elements;
     const double error = std::abs(s.sticking_time / contact - 1.0);
-    // The error falls as the mesh refines (measured 3.0, 1.6, 0.92, 0.61 %).
+    // The error falls as the mesh refines (measured 3.0, 1.7, 0.94, 0.61,
+    // 0.37 %). From 200 elements on, the fast modes (w_max / w_1 ~ 220)
+    // made FirstRise's quartic step lose its root, and the contact was
+    // stepped over: the bar flew through the ground.
     EXPECT_LT(error, last_error) << elements << " elements";
     last_error = error;
     // It leaves with the momentum reversed to within the same order: the mean

@@ -13,17 +13,27 @@ namespace {
 // (the bound touching zero at a tangency) comes out of the eigenvalue solver
 // as a complex pair ~sqrt(eps) off the axis; it must not be skipped, and
 // taking a real part of a complex root is only ever shorter, so safe.
+// The polynomial is first scaled to s = s0 t with s0 = (-c0 / c4)^(1/4), so
+// that its end coefficients are -1 and 1: with the fast modes of a fine mesh
+// c4 / |c0| reaches 1e40 and the unscaled companion matrix loses the real
+// root (a bar of 200 elements stepped over its contact). No root found: 0
+// (the caller keeps its quadratic step).
 double FirstPositiveRootQuartic(const double c[5]) {
+  const double s0 = std::pow(-c[0] / c[4], 0.25);
+  if (!(s0 > 0.0) || !std::isfinite(s0)) return 0.0;
+  double scaled[5];
+  double pk = 1.0;
+  for (int i = 0; i < 5; ++i, pk *= s0) scaled[i] = c[i] * pk / -c[0];
   Eigen::Matrix4d comp = Eigen::Matrix4d::Zero();
   for (int i = 0; i < 3; ++i) comp(i + 1, i) = 1.0;
-  for (int i = 0; i < 4; ++i) comp(i, 3) = -c[i] / c[4];
+  for (int i = 0; i < 4; ++i) comp(i, 3) = -scaled[i] / scaled[4];
   const Eigen::Vector4cd roots = comp.eigenvalues();
   double best = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 4; ++i) {
     const double re = roots[i].real();
     if (re > 0.0 && std::abs(roots[i].imag()) <= re) best = std::min(best, re);
   }
-  return best;
+  return std::isfinite(best) ? best * s0 : 0.0;
 }
 
 double MaxRate(const SinusoidSum& g) { return g.omega.size() > 0 ? g.omega.maxCoeff() : 1.0; }
@@ -84,7 +94,12 @@ FirstRiseResult Search(const Signal& g, double horizon, double tol) {
       // so step to tol past the level (inside the contact band) or forever.
       sigma = d[1] > 0.0 ? (tol - g0) / d[1] : std::numeric_limits<double>::infinity();
     } else {
-      sigma = (-d[1] + std::sqrt(d[1] * d[1] - 2.0 * l2 * g0)) / l2;
+      // The first root of g0 + g' sigma + L2 sigma^2 / 2, in the form without
+      // cancellation: with g' > 0 and L2 |g0| << g'^2 (a nearly affine
+      // signal: a drift whose vibration is round-off) (-g' + sqrt(.)) / L2
+      // is 0 to round-off, and the search stalled short of a contact.
+      const double root = std::sqrt(d[1] * d[1] - 2.0 * l2 * g0);
+      sigma = d[1] > 0.0 ? -2.0 * g0 / (d[1] + root) : (root - d[1]) / l2;
       if (sigma * w_max < 1e-3 && l4 > 0.0 && d[1] * d[1] < -2.0 * l2 * g0) {
         // Near a tangency (the slope does not dominate the curvature bound) the
         // quadratic bound is too pessimistic: the quartic one uses the actual

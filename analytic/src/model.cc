@@ -101,6 +101,23 @@ Model MakeChain(const std::vector<double>& masses, const std::vector<double>& sp
 
 double BarSpec::WaveSpeed() const { return std::sqrt(youngs_modulus / density); }
 
+namespace {
+template <typename Enum>
+Enum OneOf(const std::string& text, const std::string& field, const char* a, Enum ea, const char* b, Enum eb) {
+  if (text == a) return ea;
+  if (text == b) return eb;
+  throw InputError(field, std::string("must be \"") + a + "\" or \"" + b + "\", got \"" + text + "\"");
+}
+}  // namespace
+
+BarSpec::Boundary ParseBarBoundary(const std::string& text, const std::string& field) {
+  return OneOf(text, field, "fixed-free", BarSpec::Boundary::kFixedFree, "free-free", BarSpec::Boundary::kFreeFree);
+}
+
+BarSpec::MassForm ParseBarMass(const std::string& text, const std::string& field) {
+  return OneOf(text, field, "consistent", BarSpec::MassForm::kConsistent, "lumped", BarSpec::MassForm::kLumped);
+}
+
 Model MakeBar(const BarSpec& bar, int contact, double gap, double restitution) {
   const std::pair<const char*, double> positive[] = {{"length", bar.length},
                                                      {"youngs_modulus", bar.youngs_modulus},

@@ -126,15 +126,11 @@ BarSpec ReadBar(const toml::node& node) {
       bar.elements = static_cast<int>(e);
     } else if (k == "boundary" || k == "mass") {
       const std::optional<std::string> text = value.value<std::string>();
-      const std::string a = k == "boundary" ? "fixed-free" : "consistent", b = k == "boundary" ? "free-free" : "lumped";
-      if (!text || (*text != a && *text != b)) {
-        throw InputError(field, "must be \"" + a + "\" or \"" + b + "\", got " +
-                                    (text ? "\"" + *text + "\"" : std::string("a non-string value")));
-      }
+      if (!text) throw InputError(field, "must be a string, got a non-string value");
       if (k == "boundary") {
-        bar.boundary = *text == a ? BarSpec::Boundary::kFixedFree : BarSpec::Boundary::kFreeFree;
+        bar.boundary = ParseBarBoundary(*text, field);
       } else {
-        bar.mass = *text == a ? BarSpec::MassForm::kConsistent : BarSpec::MassForm::kLumped;
+        bar.mass = ParseBarMass(*text, field);
       }
     } else {
       throw InputError(field, "is not a known key (length, youngs_modulus, density, area, elements, boundary, mass)");

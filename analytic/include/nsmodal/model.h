@@ -87,6 +87,10 @@ struct BarSpec {
   double WaveSpeed() const;     // c = sqrt(E / rho)
 };
 Model MakeBar(const BarSpec& bar, int contact, double gap, double restitution);
+// "fixed-free" | "free-free" and "consistent" | "lumped"; throws InputError
+// naming `field` and the text otherwise.
+BarSpec::Boundary ParseBarBoundary(const std::string& text, const std::string& field = "system.bar.boundary");
+BarSpec::MassForm ParseBarMass(const std::string& text, const std::string& field = "system.bar.mass");
 
 // The paper's default system: m1 = m2 = 1, k1 = 0.85, k2 = 2, d = 1, e = 1, c = x2.
 Model PaperModel();
