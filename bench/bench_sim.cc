@@ -11,7 +11,9 @@
 // 7.5 (on an unstable one round-off grows geometrically: DESIGN.md).
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cmath>
+#include <vector>
 
 #include "forced_fixtures.h"
 #include "nsmodal/flow.h"
@@ -126,6 +128,48 @@ void BM_ExactDampedForced(benchmark::State& state) {
   state.counters["steps_per_impact"] = static_cast<double>(s.steps) / s.impacts;
 }
 BENCHMARK(BM_ExactDampedForced)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+// Issue 12: the exact integrator on a chain of N unit masses and springs,
+// contact on the last mass (gap 1, e = 1), started on an admissible 1-ipp
+// orbit (args: N, 100 T; the first admissible T >= 3 of a sweep with step
+// 0.01: 3.8, 5.2, 9.34 for N = 10, 100, 1,000; all unstable, so the motion
+// leaves the orbit after some periods, and impacts stay frequent). Impacts per
+// second of the event loop alone: the run to t_end minus a run to
+// t_end / 10 (the same setup, the modal basis of an N x N system, taken out).
+// Target: >= 10,000 impacts per second for N = 1,000.
+void BM_ExactChainImpacts(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const Model m = MakeChain(std::vector<double>(n, 1.0), std::vector<double>(n, 1.0), n - 1, 1.0, 1.0);
+  const Orbit o = OneImpactOrbit(AnalysisBasis(m), state.range(1) / 100.0);
+  SimulateOptions opt;
+  opt.sample_dt = 0.0;
+  SimulationSummary s, s_short;
+  double t_long = 0.0, t_short = 0.0;
+  for (auto _ : state) {
+    opt.t_end = 2000.0 * o.period;
+    const auto a = std::chrono::steady_clock::now();
+    s = Simulate(m, o.z0.head(n), o.z0.tail(n), opt);
+    const auto b = std::chrono::steady_clock::now();
+    opt.t_end = 200.0 * o.period;
+    s_short = Simulate(m, o.z0.head(n), o.z0.tail(n), opt);
+    const auto c = std::chrono::steady_clock::now();
+    t_long = std::chrono::duration<double>(b - a).count();
+    t_short = std::chrono::duration<double>(c - b).count();
+  }
+  state.counters["impacts"] = static_cast<double>(s.impacts);
+  state.counters["setup_s"] = t_short - (t_long - t_short) / 9.0;  // the run to t_end / 10 less its share of events
+  state.counters["impacts_per_s"] = static_cast<double>(s.impacts - s_short.impacts) / (t_long - t_short);
+  state.counters["steps_per_impact"] = static_cast<double>(s.steps) / static_cast<double>(s.impacts);
+  // The impact search's step (one evaluation of N sinusoids and their
+  // derivatives): what the loop's cost is made of once impacts grow rare.
+  state.counters["us_per_step"] = 1e6 * (t_long - t_short) / static_cast<double>(s.steps - s_short.steps);
+}
+BENCHMARK(BM_ExactChainImpacts)
+    ->Args({10, 380})
+    ->Args({100, 520})
+    ->Args({1000, 934})
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
 
 }  // namespace
 }  // namespace nsmodal

@@ -1,7 +1,8 @@
 // libFuzzer target: the scene parser, and what a parsed scene reaches at once
 // (the modal basis, the analysis basis, the orbits at one period; for a damped
 // or forced scene the closed-form flight, a short exact simulation and the
-// forced periodic orbits at the scene's frequency). Any input
+// forced periodic orbits at the scene's frequency; with a rigid-body mode, a
+// short exact simulation). Any input
 // must end in a scene or an InputError naming a field: never a crash, a hang
 // (libFuzzer's -timeout), memory exhaustion (-rss_limit_mb) or a potential
 // orbit with a non-finite energy, state or multiplier (trapped here).
@@ -56,6 +57,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           if (!std::isfinite(o.energy) || !o.after.front().allFinite()) __builtin_trap();
         }
       }
+      return 0;
+    }
+    const nsmodal::ModalBasis modal = nsmodal::MakeModalBasis(scene.model);
+    if (modal.rigid > 0) {
+      // Rigid-body modes: the analysis refuses them; the exact integrator
+      // flies the drift. The contact dof pushed at the obstacle, for three
+      // of the slowest elastic periods, bounded in steps as above.
+      const int n = scene.model.dofs();
+      nsmodal::SimulateOptions sim;
+      sim.t_end = 3.0 * modal.Periods().tail(n - modal.rigid).maxCoeff();
+      sim.sample_dt = 0.0;
+      sim.max_steps = 20000;
+      const Eigen::VectorXd v0 = Eigen::VectorXd::Unit(n, scene.model.contact);
+      const nsmodal::SimulationSummary s = nsmodal::Simulate(scene.model, Eigen::VectorXd::Zero(n), v0, sim);
+      if (s.status == nsmodal::SimulationStatus::kFinished && !s.final_state.allFinite()) __builtin_trap();
+      if (s.status == nsmodal::SimulationStatus::kSolverError && s.message.empty()) __builtin_trap();
       return 0;
     }
     const nsmodal::AnalysisBasis b(scene.model);

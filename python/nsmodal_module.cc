@@ -408,9 +408,11 @@ residuals, "nc3_margin", "x", "v", "reason", "stable", "max_multiplier",
         return TableDict(report::TransitionColumns(), Pointers(tr));
       },
       py::arg("model"), py::arg("period"),
-      R"doc(Transitions of the admissible 1-ipp zones seen on the grid (paper section 2.1):
-dict of arrays "T", "kind" (list of "singular", "modal", "grazing"), "energy"
-(inf at a singular transition).)doc");
+      R"doc(Transitions of the admissible 1-ipp zones seen on the grid (paper section 2.1),
+and the stability changes inside them: dict of arrays "T", "kind" (list of
+"singular", "modal", "grazing" -- the zones' ends -- and "multiplier+1",
+"multiplier-1": a pair of Floquet multipliers through +1 or -1), "energy"
+(inf at a singular transition); the rows of transitions.csv.)doc");
 
   mod.def(
       "atlas",

@@ -31,13 +31,15 @@ AnalysisBasis* PaperAtlas::basis_ = nullptr;
 Atlas* PaperAtlas::atlas_ = nullptr;
 
 TEST_F(PaperAtlas, TwelveTransitionsOnZeroToForty) {
-  int singular = 0, modal = 0, grazing = 0;
-  for (const Transition& t : atlas_->transitions) {
-    (t.kind == TransitionKind::kSingular ? singular : t.kind == TransitionKind::kModal ? modal : grazing) += 1;
-  }
-  EXPECT_EQ(singular, 3);
-  EXPECT_EQ(modal, 6);
-  EXPECT_EQ(grazing, 3);
+  int count[5] = {0, 0, 0, 0, 0};
+  for (const Transition& t : atlas_->transitions) ++count[static_cast<int>(t.kind)];
+  EXPECT_EQ(count[static_cast<int>(TransitionKind::kSingular)], 3);
+  EXPECT_EQ(count[static_cast<int>(TransitionKind::kModal)], 6);
+  EXPECT_EQ(count[static_cast<int>(TransitionKind::kGrazing)], 3);
+  // And the stability changes inside the zones (stability_test checks their
+  // values): three through +1, three through -1.
+  EXPECT_EQ(count[static_cast<int>(TransitionKind::kMultiplierPlusOne)], 3);
+  EXPECT_EQ(count[static_cast<int>(TransitionKind::kMultiplierMinusOne)], 3);
 }
 
 TEST_F(PaperAtlas, FourBridgesThreeGrazingOneAtAPeriodDoubling) {

@@ -169,7 +169,7 @@ std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& on
   std::vector<bool> admissible;
   admissible.reserve(one.at.size());
   for (const auto& list : one.at) admissible.push_back(list.front().orbit.admissible);
-  return OneImpactTransitions(b, one.periods, admissible);
+  return OneImpactTransitionsAndCrossings(b, one.periods, admissible);
 }
 
 Atlas ComputeAtlas(const AnalysisBasis& b, const PeriodGrid& grid, const AtlasOptions& options) {
@@ -202,7 +202,12 @@ Atlas ComputeAtlas(const AnalysisBasis& b, const PeriodGrid& grid, const AtlasOp
       a.notes.push_back("no bridge at the grazing transition T = " + FormatValue(t.period) + ": " + search.message);
     }
   }
-  a.doublings = OneImpactPeriodDoublings(b, grid.from, 0.5 * grid.to, grid.step);
+  // The period doublings are the -1 crossings of the sweep (OneImpactPeriodDoublings
+  // on the same grid points), up to T / 2 = grid.to / 2: the 2T-periodic 2-ipp
+  // orbit born there must fit the grid too.
+  for (const Transition& t : a.transitions) {
+    if (t.kind == TransitionKind::kMultiplierMinusOne && t.period <= 0.5 * grid.to) a.doublings.push_back(t.period);
+  }
   for (double ts : a.doublings) {
     bool known = false;
     for (const Bridge& br : a.bridges) known = known || std::abs(br.period - 2.0 * ts) <= 1e-9 * br.period;

@@ -47,7 +47,11 @@ const Orbit* NotAdmissibleExample(const Atlas& atlas, double gap) {
 
 ModalPick PickModalTransition(const AnalysisBasis& b, const Atlas& atlas) {
   const Eigen::VectorXd ti = b.Periods();
-  const std::vector<Transition>& tr = atlas.transitions;
+  // The zones' ends only: a stability change inside a zone is not its edge.
+  std::vector<Transition> tr;
+  for (const Transition& t : atlas.transitions) {
+    if (BoundsAZone(t.kind)) tr.push_back(t);
+  }
   const std::vector<double>& periods = atlas.one.periods;
   ModalPick first;
   for (std::size_t k = 0; k < tr.size(); ++k) {

@@ -54,6 +54,12 @@ def test_one_impact_transitions(paper):
     t1, t2 = paper.linear_periods
     np.testing.assert_allclose(by_kind["modal"], [t1, 2 * t1, 3 * t1, t2, 2 * t2, 10 * t1], rtol=1e-12)
     assert np.all(np.isinf(tr["energy"][[x == "singular" for x in tr["kind"]]]))
+    # The stability changes inside the zones, as transitions.csv has them
+    # (stability_test locates them to 1e-6 from the secular function).
+    plus = tr["T"][[x == "multiplier+1" for x in tr["kind"]]]
+    minus = tr["T"][[x == "multiplier-1" for x in tr["kind"]]]
+    np.testing.assert_allclose(plus, [5.72156003, 8.37858935, 20.17784971], atol=1e-6)
+    np.testing.assert_allclose(minus, [7.28589696, 9.49066654, 9.62113539], atol=1e-6)
 
 
 def test_orbits_arrays_follow_the_csv_columns(paper):

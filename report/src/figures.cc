@@ -185,6 +185,10 @@ void Figure3(Context& c) {
        << " title 'admissible, unstable', "
        << "'fig03_transitions.csv' using 1:(strcol(2) eq 'grazing' ? $3 : 1/0) with points pt 6 ps 1.5 lw 2 lc rgb "
           "'black' title 'grazing transition T_G', "
+       << "'' using 1:(strcol(2) eq 'multiplier+1' ? $3 : 1/0) with points pt 8 ps 1.5 lw 2 lc rgb '#E69F00' "
+          "title 'multipliers through +1', "
+       << "'' using 1:(strcol(2) eq 'multiplier-1' ? $3 : 1/0) with points pt 10 ps 1.5 lw 2 lc rgb '#56B4E9' "
+          "title 'multipliers through -1 (period doubling)', "
        << "1/0 with lines dt 2 lc rgb '#7b3294' title 'singular transition T_S', "
        << "1/0 with lines dt 3 lc rgb '#008837' title 'linear modal transition k T_i'";
   out.Commit();

@@ -20,6 +20,10 @@ namespace nsmodal {
 // E(T)) or -1 (a period doubling), issue 13.
 enum class TransitionKind { kSingular, kModal, kGrazing, kMultiplierPlusOne, kMultiplierMinusOne };
 std::string ToString(TransitionKind kind);
+// True for kSingular, kModal, kGrazing: the ends of the admissible zones.
+inline bool BoundsAZone(TransitionKind kind) {
+  return kind == TransitionKind::kSingular || kind == TransitionKind::kModal || kind == TransitionKind::kGrazing;
+}
 
 struct Transition {
   double period = 0.0;

@@ -92,7 +92,8 @@ std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int imp
 std::vector<Orbit> PotentialOrbits(const AnalysisBasis& b, const PeriodGrid& grid, const std::vector<int>& impacts,
                                    const SweepOptions& options = {});
 
-// The transitions of the admissible 1-ipp zones seen on a 1-ipp sweep.
+// The transitions of the admissible 1-ipp zones seen on a 1-ipp sweep and
+// the stability changes inside them (OneImpactTransitionsAndCrossings).
 std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& one);
 
 struct AtlasOptions {
