@@ -99,7 +99,7 @@ expect_error "^error: --root-tol" "$bin" validate "$paper" --out "$tmp/v" --peri
 
 # bench: the work-precision contract (quick mode), charts, and its scene check.
 if "$bin" bench "$paper" --out "$tmp/bench" --quick >"$tmp/bench.txt" 2>/dev/null; then
-  [ "$(head -1 "$tmp/bench/work_precision.csv")" = "case,integrator,setting,error,cpu_s,impacts,steps" ] && ok ||
+  [ "$(head -1 "$tmp/bench/work_precision.csv")" = "case,integrator,setting,error,cpu_s,impacts,steps,expected_impacts" ] && ok ||
     bad "work_precision.csv header"
   for c in smooth near-grazing high-energy long zeno; do
     grep -q "^$c,exact," "$tmp/bench/work_precision.csv" && grep -q "^$c,moreau-jean," "$tmp/bench/work_precision.csv" &&

@@ -151,5 +151,18 @@ TEST(Stability, MultiplierCrossingsOfThePaperAreLocatedExactly) {
   }
 }
 
+// One dof: the trivial pair is the whole spectrum. The dense path's reduced
+// monodromy is then 0 x 0 (fuzz_scene found Eigen's eigenvalues of it binding
+// a reference to null data under UBSan).
+TEST(Stability, OneDofHasOnlyTheTrivialPair) {
+  const AnalysisBasis b(MakeChain({1.0}, {1.0}, 0, 1.0, 1.0));
+  const Orbit o = OneImpactOrbit(b, 3.0);
+  ASSERT_TRUE(o.potential);
+  const Stability s = OrbitStability(b, o);
+  EXPECT_TRUE(s.defined);
+  EXPECT_TRUE(s.stable);
+  EXPECT_LE(s.max_modulus, 1.0 + 1e-12);
+}
+
 }  // namespace
 }  // namespace nsmodal

@@ -5,6 +5,7 @@
 #include <complex>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "nsmodal/flow.h"
@@ -87,8 +88,14 @@ Stability DenseStability(const AnalysisBasis& b, const Orbit& orbit, double tol)
   const Eigen::MatrixXd q = Eigen::HouseholderQR<Eigen::MatrixXd>(pair).householderQ();
   const Eigen::MatrixXd u = q.rightCols(dim - 2);
   const Eigen::MatrixXd reduced = u.transpose() * m * u;
-  const Eigen::VectorXcd ev = reduced.eigenvalues();
-  return Finish(std::vector<Complex>(ev.data(), ev.data() + ev.size()), true, 0.0, tol);
+  // One dof: the trivial pair is all there is (Eigen's eigenvalues of a 0 x 0
+  // matrix bind a reference to its null data: UBSan, found by fuzz_scene).
+  std::vector<Complex> nontrivial;
+  if (reduced.size() > 0) {
+    const Eigen::VectorXcd ev = reduced.eigenvalues();
+    nontrivial.assign(ev.data(), ev.data() + ev.size());
+  }
+  return Finish(std::move(nontrivial), true, 0.0, tol);
 }
 
 // 1 / w without libgcc's guarded complex division (__divdc3, most of the

@@ -618,7 +618,10 @@ FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas&
 }
 
 int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisionRow>& rows, std::ostream& log) {
-  // The reference setting itself (error 0) has no place on a log scale.
+  // A zero error (a run that reproduces the reference to the last bit) has
+  // no place on a log scale: it is drawn at a floor a decade below the
+  // smallest nonzero error of the case, open and labelled. A run whose impact
+  // count is not the reference's is crossed out, whatever its error.
   std::vector<std::string> case_names, integrators;
   for (const WorkPrecisionRow& r : rows) {
     if (std::find(case_names.begin(), case_names.end(), r.case_name) == case_names.end()) {
@@ -632,13 +635,28 @@ int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisio
   for (const std::string& i : integrators) integrator_list += (integrator_list.empty() ? "" : " ") + i;
   int failed = 0;
   for (const std::string& name : case_names) {
+    double smallest = std::numeric_limits<double>::infinity();
+    for (const WorkPrecisionRow& r : rows) {
+      if (r.case_name == name && r.error > 0.0 && std::isfinite(r.error)) smallest = std::min(smallest, r.error);
+    }
+    const double floor = std::isfinite(smallest) ? 0.1 * smallest : 1e-16;
     std::ostringstream body;
+    // work_precision.csv: case 1, integrator 2, setting 3, error 4, cpu_s 5,
+    // impacts 6, steps 7, expected_impacts 8.
     body << "set datafile separator ','\nset logscale xy\nset format y '10^{%T}'\nset format x '10^{%T}'\n"
          << "set xlabel 'CPU time per run (s)'\nset ylabel 'relative error of the final state (vs exact, root\\_tol 1e-14)'\n"
          << "set title 'work-precision: " << name << "'\nset key outside right\nset grid\n"
+         << "floor = " << floor << "\n"
+         << "set arrow from graph 0, first floor to graph 1, first floor nohead dt 3 lc rgb '#999999'\n"
+         << "set label 'error 0 (drawn at this floor)' at graph 0.02, first floor offset 0, 0.7 font ',8'\n"
          << "plot for [i in '" << integrator_list << "'] 'work_precision.csv' "
          << "using (strcol(1) eq '" << name << "' && strcol(2) eq i && $4 > 0 ? $5 : 1/0):4 "
-         << "with linespoints lw 2 pt 7 title i\n";
+         << "with linespoints lw 2 pt 7 title i, \\\n"
+         << "  for [i in '" << integrator_list << "'] '' "
+         << "using (strcol(1) eq '" << name << "' && strcol(2) eq i && $4 == 0 ? $5 : 1/0):(floor) "
+         << "with points pt 6 ps 1.5 lw 2 lc rgb '#555555' notitle, \\\n"
+         << "  '' using (strcol(1) eq '" << name << "' && $6 != $8 ? $5 : 1/0):($4 > 0 ? $4 : floor) "
+         << "with points pt 2 ps 2.5 lw 2 lc rgb 'black' title 'wrong impact count'\n";
     const ChartStatus chart = DrawChart(dir, "work_precision_" + name, body.str());
     if (!chart.drawn) {
       log << "work_precision_" << name << " not drawn: " << chart.message << "\n";

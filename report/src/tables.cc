@@ -191,7 +191,8 @@ Columns<WorkPrecisionRow> WorkPrecisionColumns() {
           {"error", K::kReal, [](const R& r) -> Cell { return r.error; }},
           {"cpu_s", K::kReal, [](const R& r) -> Cell { return r.cpu_s; }},
           {"impacts", K::kInteger, [](const R& r) -> Cell { return r.impacts; }},
-          {"steps", K::kInteger, [](const R& r) -> Cell { return r.steps; }}};
+          {"steps", K::kInteger, [](const R& r) -> Cell { return r.steps; }},
+          {"expected_impacts", K::kInteger, [](const R& r) -> Cell { return r.expected_impacts; }}};
 }
 
 Columns<GrazingRow> GrazingColumns() {

@@ -170,7 +170,7 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const WorkPrecisionOptions& optio
         const double err = r.status == SimulationStatus::kFinished
                                ? (r.final_state - ref.final_state).norm() / ref.final_state.norm()
                                : INFINITY;
-        rows[j] = {c.name, s.integrator, Label(s), s.value, err, cpu, r.impacts, r.steps};
+        rows[j] = {c.name, s.integrator, Label(s), s.value, err, cpu, r.impacts, r.steps, ref.impacts};
       },
       options.progress);
   return rows;

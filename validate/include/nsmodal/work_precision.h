@@ -31,6 +31,7 @@ struct WorkPrecisionRow {
   double cpu_s = 0.0;
   long impacts = 0;
   long steps = 0;
+  long expected_impacts = 0;  // the reference run's (exact, root_tol 1e-14)
 };
 
 struct GrazingRow {
