@@ -11,8 +11,6 @@ bar_convergence.png to OUT_DIR (default out/examples).
 """
 import csv
 import os
-import sys
-import tempfile
 
 import matplotlib
 
@@ -21,15 +19,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import nsmodal  # noqa: E402
+from mesh_args import out_and_max_elements  # noqa: E402
 
-out = sys.argv[1] if len(sys.argv) > 1 else os.path.join("out", "examples")
-try:
-    max_elements = int(sys.argv[2]) if len(sys.argv) > 2 else 1000
-except ValueError:
-    sys.exit(f"MAX_ELEMENTS: must be an integer, got {sys.argv[2]!r}")
-if not 10 <= max_elements <= 2000:
-    sys.exit(f"MAX_ELEMENTS: must be between 10 and 2000 (the meshes start at 10 elements), got {max_elements}")
-os.makedirs(out, exist_ok=True)
+out, max_elements = out_and_max_elements(1000)
 
 L, E, RHO, A, GAP = 1.0, 210e9, 7800.0, 3.14e-4, 1e-4
 C = np.sqrt(E / RHO)
@@ -39,14 +31,7 @@ meshes = [n for n in (10, 20, 50, 100, 200, 500, 1000) if n <= max_elements]
 
 rows = []
 for n in meshes:
-    with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as f:
-        f.write(f"[system]\nbar = {{ length = {L}, youngs_modulus = {E}, density = {RHO}, area = {A}, "
-                f"elements = {n} }}\ngap = {GAP}\nrestitution = 1.0\n")
-        path = f.name
-    try:
-        model = nsmodal.load_scene(path)
-    finally:
-        os.unlink(path)
+    model = nsmodal.bar(length=L, youngs_modulus=E, density=RHO, area=A, elements=n, gap=GAP, restitution=1.0)
     t1 = max(model.linear_periods)
     for frac in FRACTIONS:
         (o,) = nsmodal.orbit(model, frac * T1_EXACT)

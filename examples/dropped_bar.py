@@ -24,15 +24,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import nsmodal  # noqa: E402
+from mesh_args import out_and_max_elements  # noqa: E402
 
-out = sys.argv[1] if len(sys.argv) > 1 else os.path.join("out", "examples")
-try:
-    max_elements = int(sys.argv[2]) if len(sys.argv) > 2 else 1000
-except ValueError:
-    sys.exit(f"MAX_ELEMENTS: must be an integer, got {sys.argv[2]!r}")
-if not 10 <= max_elements <= 2000:
-    sys.exit(f"MAX_ELEMENTS: must be between 10 and 2000 (the meshes start at 10 elements), got {max_elements}")
-os.makedirs(out, exist_ok=True)
+out, max_elements = out_and_max_elements(1000)
 
 L, E, RHO, A = 1.0, 210e9, 7800.0, 3.14e-4
 V0, GAP = 0.1, 5e-5
