@@ -105,7 +105,8 @@ if "$bin" bench "$paper" --out "$tmp/bench" --quick >"$tmp/bench.txt" 2>/dev/nul
     grep -q "^$c,exact," "$tmp/bench/work_precision.csv" && grep -q "^$c,moreau-jean," "$tmp/bench/work_precision.csv" &&
       grep -q "^$c,cvode-adams," "$tmp/bench/work_precision.csv" && ok || bad "work_precision.csv lacks case $c"
     if command -v gnuplot >/dev/null; then
-      [ -s "$tmp/bench/work_precision_$c.png" ] && [ -s "$tmp/bench/work_precision_$c.svg" ] && ok || bad "chart $c"
+      [ -s "$tmp/bench/work_precision_$c.png" ] && [ -s "$tmp/bench/work_precision_$c.svg" ] &&
+        [ -s "$tmp/bench/work_precision_$c.pdf" ] && ok || bad "chart $c"
     fi
   done
   grep -q "^moreau-jean  step=1e-02" "$tmp/bench.txt" && ok || bad "bench grazing table"
@@ -125,7 +126,7 @@ if "$bin" figures "$paper" --out "$tmp/fig" --period 0.05:20:0.05 >"$tmp/fig.txt
   if command -v gnuplot >/dev/null; then
     grep -q "^14 figures drawn" "$tmp/fig.txt" && ok || bad "figures: not all drawn: $(tail -1 "$tmp/fig.txt")"
     for f in fig02_not_admissible fig03_one_impact_energy fig06_det_a2 fig08_fep fig12_two_impact_mode fig15_bridge_fep; do
-      [ -s "$tmp/fig/$f.png" ] && [ -s "$tmp/fig/$f.svg" ] && ok || bad "figures: $f chart"
+      [ -s "$tmp/fig/$f.png" ] && [ -s "$tmp/fig/$f.svg" ] && [ -s "$tmp/fig/$f.pdf" ] && ok || bad "figures: $f chart"
     done
   fi
   # Paper Fig. 6: roots t2 != T/2 exactly for T in {3, 4, 5, 6, 9}.
