@@ -1,8 +1,13 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "fixtures.h"
 #include "nsmodal/error.h"
 #include "nsmodal/explore.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/stability.h"
+#include "nsmodal/transitions.h"
 
 namespace nsmodal {
 namespace {
@@ -86,6 +91,77 @@ TEST(Explore, AdmissibleThreeImpactOrbitThatIsNotALowerOrbit) {
   EXPECT_LT((z - found->orbit.z0).norm(), 1e-12 * found->orbit.z0.norm());  // periodic
   EXPECT_LT(max_interior, m.gap - 1e-5);                                     // NC3 with margin
   EXPECT_GT(min_impact_speed, 0.1);                                          // real impacts
+}
+
+}  // namespace
+}  // namespace nsmodal
+
+namespace nsmodal {
+namespace {
+
+// The admissible 3-impact family of the paper's system, followed in T from
+// the orbit the search finds at T = 27.5 (issue 13: the README's 26.8-28.3
+// came from a coarse grid). Upwards it stays admissible until the grazing
+// transition of the 1-ipp family, T_G = 29.3072, where one of its impacts
+// becomes a grazing contact of the 1-ipp orbit; downwards until T = 26.5714.
+// Every point is a potential orbit (NC2 to 1e-12 of d), and it is unstable.
+TEST(Explore, TheAdmissibleThreeImpactFamilyIsFollowedToItsEnds) {
+  const AnalysisBasis b = testing::PaperBasis();
+  ExploreOptions opt;
+  opt.impacts = 3;
+  const ExploreReport r = ExploreImpacts(b, {27.5}, opt);
+  const Orbit* start = nullptr;
+  for (const ExploreFinding& f : r.findings) {
+    if (f.kind == "new" && f.orbit.admissible) start = &f.orbit;
+  }
+  ASSERT_NE(start, nullptr);
+  const Family up = FollowOddImpactFamily(b, *start, 30.0);
+  const Family down = FollowOddImpactFamily(b, *start, 26.0);
+  // The grazing transition, computed independently from the 1-ipp family.
+  double t_g = 0.0, e_g = 0.0;
+  for (const Transition& t : OneImpactTransitions(b, 29.0, 29.5, 0.01)) {
+    if (t.kind == TransitionKind::kGrazing) {
+      t_g = t.period;
+      e_g = t.energy;
+    }
+  }
+  ASSERT_GT(t_g, 0.0);
+  // Located by bisection to 1e-12 T; at a grazing contact the NC1 velocity
+  // margin vanishes like sqrt(T_G - T), so the admissibility change and T_G
+  // agree to the square of the NC1 tolerance's reach: 1e-8 is what is asserted.
+  EXPECT_NEAR(up.admissibility_change, t_g, 1e-8) << up.stop;
+  EXPECT_NEAR(down.admissibility_change, 26.5714, 1e-4) << down.stop;
+  // It ends on the grazing 1-ipp orbit: the same energy there (measured
+  // 0.411044350 both; the 3-ipp orbit is within ~1e-12 in T of T_G).
+  EXPECT_NEAR(up.at_change.energy, e_g, 1e-8);
+  for (const Family* fam : {&up, &down}) {
+    ASSERT_GE(fam->orbits.size(), 50u) << fam->stop;
+    for (const Orbit& o : fam->orbits) {
+      if (o.potential) {
+        EXPECT_LT(o.nc2_residual, 1e-11) << "T = " << o.period;
+      }
+    }
+  }
+  // Unstable along the admissible stretch (a multiplier outside the circle).
+  for (double f : {0.1, 0.5, 0.9}) {
+    const double target = down.admissibility_change + f * (up.admissibility_change - down.admissibility_change);
+    const Orbit* nearest = &up.orbits.front();
+    for (const Family* fam : {&up, &down}) {
+      for (const Orbit& o : fam->orbits) {
+        if (std::abs(o.period - target) < std::abs(nearest->period - target)) nearest = &o;
+      }
+    }
+    ASSERT_TRUE(nearest->admissible) << nearest->period;
+    const Stability s = OrbitStability(b, *nearest);
+    EXPECT_TRUE(s.defined);
+    EXPECT_GT(s.max_modulus, 1.0 + 1e-3) << "T = " << nearest->period;
+  }
+}
+
+TEST(Explore, FamilyRequestsAreChecked) {
+  const AnalysisBasis b = testing::PaperBasis();
+  const Orbit one = OneImpactOrbit(b, 5.0);
+  EXPECT_THROW(FollowOddImpactFamily(b, one, 6.0), InputError);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <functional>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "nsmodal/admissibility.h"
 #include "nsmodal/error.h"
@@ -247,6 +248,153 @@ ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& 
     report.best_phi_new = std::min(report.best_phi_new, p.best_phi_new);
   }
   return report;
+}
+
+}  // namespace nsmodal
+
+namespace nsmodal {
+namespace {
+
+// Converged: every |c_i / c_0 - 1| at most this (round-off of the SVD kernel
+// and of the flows, measured ~1e-14 on the paper's 3-ipp family).
+constexpr double kFamilyTol = 1e-12;
+
+// NC2 of an odd-m orbit at (times, T): r_i = c_i / c_0 - 1, i = 1..m-1, with c
+// the x_c of the kernel vector at the impacts; y0 = y d / c_0. False outside
+// the domain (times out of order, c_0 = 0).
+bool OddResidual(const AnalysisBasis& b, const std::vector<double>& times, double period, Eigen::VectorXd& r,
+                 Eigen::VectorXd* y0 = nullptr) {
+  double prev = 0.0;
+  for (double t : times) {
+    if (!(t > prev)) return false;
+    prev = t;
+  }
+  if (!(prev < period)) return false;
+  const int m = static_cast<int>(times.size()) + 1;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, times, period), Eigen::ComputeFullV);
+  const Eigen::VectorXd y = svd.matrixV().rightCols(1);
+  Eigen::VectorXd w = y, c(m);
+  c[0] = ContactPosition(b, w);
+  prev = 0.0;
+  for (int i = 1; i < m; ++i) {
+    Flow(b, times[i - 1] - prev, w);
+    c[i] = ContactPosition(b, w);
+    ElasticImpact(b, w);
+    prev = times[i - 1];
+  }
+  if (!(std::abs(c[0]) > 0.0)) return false;
+  r = c.tail(m - 1) / c[0] - Eigen::VectorXd::Ones(m - 1);
+  if (y0 != nullptr) *y0 = y * (b.gap / c[0]);
+  return r.allFinite();
+}
+
+// Newton on the impact times at a fixed period.
+std::optional<std::vector<double>> CorrectTimes(const AnalysisBasis& b, std::vector<double> times, double period) {
+  const int k = static_cast<int>(times.size());
+  Eigen::VectorXd r(k), rh(k);
+  for (int it = 0; it <= 30; ++it) {
+    if (!OddResidual(b, times, period, r)) return std::nullopt;
+    if (r.cwiseAbs().maxCoeff() <= kFamilyTol) return times;
+    if (it == 30) break;
+    Eigen::MatrixXd jac(k, k);
+    const double h = 1e-7 * period;
+    for (int j = 0; j < k; ++j) {
+      std::vector<double> tp = times;
+      tp[j] += h;
+      if (!OddResidual(b, tp, period, rh)) return std::nullopt;
+      jac.col(j) = (rh - r) / h;
+    }
+    const Eigen::VectorXd dx = jac.fullPivLu().solve(-r);
+    if (!dx.allFinite()) return std::nullopt;
+    for (int j = 0; j < k; ++j) times[j] += dx[j];
+  }
+  return std::nullopt;
+}
+
+// The times at T on the line through two points of the family.
+std::vector<double> Interpolate(const Orbit& a, const Orbit& b, double period) {
+  std::vector<double> t(a.times.size());
+  const double s = (period - a.period) / (b.period - a.period);
+  for (std::size_t i = 0; i < t.size(); ++i) t[i] = a.times[i] + s * (b.times[i] - a.times[i]);
+  return t;
+}
+
+std::optional<Orbit> FamilyOrbit(const AnalysisBasis& b, const std::vector<double>& guess, double period) {
+  const std::optional<std::vector<double>> times = CorrectTimes(b, guess, period);
+  if (!times) return std::nullopt;
+  Eigen::VectorXd r, y0;
+  OddResidual(b, *times, period, r, &y0);
+  return EvaluateOrbit(b, y0, *times, period);
+}
+
+}  // namespace
+
+Family FollowOddImpactFamily(const AnalysisBasis& b, const Orbit& start, double to, const FamilyOptions& options) {
+  const int m = start.impacts;
+  if (m % 2 == 0 || m < 3 || m > 5 || static_cast<int>(start.times.size()) != m - 1) {
+    throw InputError("impacts", "the family continuation takes an orbit with 3 or 5 impacts (odd m: a one-"
+                                "dimensional kernel), got " + std::to_string(m));
+  }
+  b.CheckPeriod(start.period, "period");
+  b.CheckPeriod(to, "period");
+  if (!(options.step > 0.0) || !std::isfinite(options.step)) {
+    throw InputError("step", "must be positive and finite, got " + FormatValue(options.step));
+  }
+  Family f;
+  f.admissibility_change = std::numeric_limits<double>::quiet_NaN();
+  f.orbits.push_back(start);
+  const double dir = to >= start.period ? 1.0 : -1.0;
+  double h = options.step;
+  int halvings = 0;
+  while (true) {
+    const Orbit& cur = f.orbits.back();
+    if (std::abs(to - cur.period) <= 1e-12 * std::abs(to)) {
+      f.stop = "reached T = " + FormatValue(to);
+      break;
+    }
+    if (static_cast<long>(f.orbits.size()) >= options.max_points) {
+      f.stop = "point limit " + std::to_string(options.max_points) + " reached at T = " + FormatValue(cur.period);
+      break;
+    }
+    const double period = cur.period + dir * std::min(h, std::abs(to - cur.period));
+    std::vector<double> guess = cur.times;
+    if (f.orbits.size() >= 2) {
+      guess = Interpolate(f.orbits[f.orbits.size() - 2], cur, period);
+    } else {
+      for (double& t : guess) t *= period / cur.period;
+    }
+    const std::optional<Orbit> next = FamilyOrbit(b, guess, period);
+    if (!next) {
+      if (++halvings > 30) {
+        f.stop = "Newton does not converge beyond T = " + FormatValue(cur.period) + " (30 step halvings)";
+        break;
+      }
+      h *= 0.5;
+      continue;
+    }
+    halvings = 0;
+    h = std::min(options.step, 2.0 * h);
+    f.orbits.push_back(*next);
+    const Orbit& a = f.orbits[f.orbits.size() - 2];
+    const Orbit& z = f.orbits.back();
+    if (std::isnan(f.admissibility_change) && a.admissible != z.admissible) {
+      // Bisection in T, each point corrected from the line through a and z.
+      Orbit lo = a, hi = z;
+      for (int it = 0; it < 60 && std::abs(hi.period - lo.period) > 1e-12 * std::abs(lo.period); ++it) {
+        const double mid = 0.5 * (lo.period + hi.period);
+        const std::optional<Orbit> o = FamilyOrbit(b, Interpolate(a, z, mid), mid);
+        if (!o) break;
+        (o->admissible == a.admissible ? lo : hi) = *o;
+      }
+      f.admissibility_change = 0.5 * (lo.period + hi.period);
+      f.at_change = lo;
+    }
+    if (!z.potential) {
+      f.stop = "not potential at T = " + FormatValue(z.period) + ": " + z.reason;
+      break;
+    }
+  }
+  return f;
 }
 
 }  // namespace nsmodal

@@ -51,4 +51,32 @@ struct ExploreReport {
 // Throws InputError naming "impacts" (3 to 6) or "grid" (4 to 200).
 ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& periods, const ExploreOptions& options);
 
+// Continuation in T of a family of potential orbits with an odd number m of
+// impacts (dim ker A_m = 1, explore.h): with y the kernel vector and c_i its
+// x_c at the impacts, NC2 is c_i / c_0 = 1 for i = 1..m-1, m - 1 equations in
+// the m - 1 impact times t_2..t_m. From `start` the period steps by `step`
+// towards `to`; each point is predicted by the secant of the last two and
+// corrected by Newton (finite-difference Jacobian, at most 30 iterations,
+// converged at max |c_i / c_0 - 1| <= 1e-13); a point that does not converge
+// is retried at half the step, at most 30 times. It stops at `to`, or after
+// the first point that is not potential (a flight or an impact velocity
+// changing sign: the family has left the orbits with m impacts). Where
+// admissibility changes for the first time between two points, the change
+// is located by bisection in T to 1e-12 T.
+struct FamilyOptions {
+  double step = 0.01;
+  long max_points = 100000;  // a bound on the work; reported when hit
+};
+struct Family {
+  std::vector<Orbit> orbits;  // in the order followed, start first
+  // The first period from `start` towards `to` where admissibility changes
+  // (NaN: none met), and the orbit just on start's side of it.
+  double admissibility_change = 0.0;
+  Orbit at_change;
+  std::string stop;  // why the continuation ended ("reached T = ...", or what failed)
+};
+// Throws InputError naming "impacts" (odd, 3 to 5: the start's), "period" (to
+// outside what the basis honours) or "step" (not positive and finite).
+Family FollowOddImpactFamily(const AnalysisBasis& b, const Orbit& start, double to, const FamilyOptions& options = {});
+
 }  // namespace nsmodal
