@@ -31,6 +31,8 @@ CommandLine::CommandLine() {
   c_explore->add_option("--period", explore.period, "Period grid FROM:TO:STEP")->required();
   c_explore->add_option("--grid", explore.grid, "Grid nodes per impact-time axis")->default_val(24);
   c_explore->add_flag("--json", explore.json, "Print JSON");
+  c_explore->add_option("--follow", explore.follow,
+                        "FROM:TO:STEP: follow each admissible new orbit's family in T over [FROM, TO] (odd m)");
 
   c_sim = app.add_subcommand("simulate", "Simulate an initial condition (exact, cvode or moreau-jean)");
   c_sim->add_option("scene", simulate.scene, "Scene file (TOML) with a [simulate] table")->required();

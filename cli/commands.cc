@@ -16,6 +16,7 @@
 #include "nsmodal/atlas.h"
 #include "nsmodal/error.h"
 #include "nsmodal/explore.h"
+#include "nsmodal/stability.h"
 #include "nsmodal/figure_subjects.h"
 #include "nsmodal/figures.h"
 #include "nsmodal/modal_basis.h"
@@ -340,6 +341,16 @@ int RunExplore(const ExploreArgs& a) {
     throw InputError("--impacts", "explore takes 3 to 6 impacts per period, got " + std::to_string(a.impacts) +
                                       " (use 'nsmodal orbits' for 1 or 2)");
   }
+  std::optional<PeriodGrid> follow_range;
+  if (a.follow) {
+    follow_range = PeriodGrid::Parse(*a.follow, "--follow");
+    if (a.impacts % 2 == 0) {
+      throw InputError("--follow", "follows families with an odd number of impacts (3 or 5), got --impacts " +
+                                       std::to_string(a.impacts));
+    }
+    b.CheckPeriod(follow_range->from, "--follow");
+    b.CheckPeriod(follow_range->to, "--follow");
+  }
   opt.progress = ProgressBar("explore");
   const std::vector<double> periods = range.Values();
   const ExploreReport r = ExploreImpacts(b, periods, opt);
@@ -376,6 +387,42 @@ int RunExplore(const ExploreArgs& a) {
     for (double t : f.orbit.times) std::cout << " " << t;
     std::cout << " energy = " << f.orbit.energy << " min/max |v_c-| = " << f.grazing_ratio
               << (f.orbit.admissible ? " admissible" : " not admissible") << "\n";
+  }
+  if (follow_range) {
+    std::vector<std::pair<double, double>> stretches;  // families already printed
+    for (const ExploreFinding& f : r.findings) {
+      if (f.kind != "new" || !f.orbit.admissible) continue;
+      FamilyOptions fo;
+      fo.step = follow_range->step;
+      const Family down = FollowOddImpactFamily(b, f.orbit, follow_range->from, fo);
+      const Family up = FollowOddImpactFamily(b, f.orbit, follow_range->to, fo);
+      const double lo = std::isnan(down.admissibility_change) ? down.orbits.back().period : down.admissibility_change;
+      const double hi = std::isnan(up.admissibility_change) ? up.orbits.back().period : up.admissibility_change;
+      bool seen = false;
+      for (const auto& [l, h] : stretches) seen = seen || (std::abs(l - lo) <= 1e-9 * hi && std::abs(h - hi) <= 1e-9 * hi);
+      if (seen) continue;
+      stretches.emplace_back(lo, hi);
+      double e_min = INFINITY, e_max = 0.0, mu_min = INFINITY, mu_max = 0.0;
+      long points = 0;
+      for (const Family* fam : {&down, &up}) {
+        for (const Orbit& o : fam->orbits) {
+          if (!o.admissible) continue;
+          ++points;
+          e_min = std::min(e_min, o.energy);
+          e_max = std::max(e_max, o.energy);
+          const Stability s = OrbitStability(b, o);
+          if (s.defined) {
+            mu_min = std::min(mu_min, s.max_modulus);
+            mu_max = std::max(mu_max, s.max_modulus);
+          }
+        }
+      }
+      std::cout << "  family of T = " << f.orbit.period << ": admissible for T in [" << FormatValue(lo) << ", "
+                << FormatValue(hi) << "]" << (std::isnan(down.admissibility_change) ? " (lower end: " + down.stop + ")" : "")
+                << (std::isnan(up.admissibility_change) ? " (upper end: " + up.stop + ")" : "") << "; " << points
+                << " points at step " << fo.step << ": energy " << e_min << " to " << e_max << ", largest |multiplier| " << mu_min
+                << " to " << mu_max << (mu_min > 1.0 ? " (unstable throughout)" : "") << "\n";
+    }
   }
   return 0;
 }

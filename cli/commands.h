@@ -22,6 +22,7 @@ struct ExploreArgs {
   int impacts = 3;
   int grid = 24;
   bool json = false;
+  std::optional<std::string> follow;  // FROM:TO:STEP: follow each admissible new family (odd m) over that range
 };
 
 // Flags of `simulate`; unset ones fall back to the scene's [simulate] table.

@@ -20,6 +20,15 @@ expect_error "\-\-period" "$bin" orbits "$paper" --period a:2:0.1 --out "$tmp/o"
 expect_error "\-\-period" "$bin" orbit "$paper" --period -1
 expect_error "\-\-impacts" "$bin" orbits "$paper" --impacts 3 --period 1:2:0.5 --out "$tmp/o"
 expect_error "impacts" "$bin" explore "$paper" --impacts 2 --period 1:2:0.5
+expect_error "--follow" "$bin" explore "$paper" --impacts 4 --period 27:27:1 --follow 26:30:0.01
+expect_error "--follow" "$bin" explore "$paper" --impacts 3 --period 27:27:1 --follow 26:x:0.01
+# --follow: the paper's admissible 3-ipp family, from the orbit found at T = 27.5, to its ends.
+if out=$("$bin" explore "$paper" --impacts 3 --period 27.5:27.5:1 --follow 26:30:0.01 2>/dev/null); then
+  echo "$out" | grep -q "admissible for T in \[26.5714" && echo "$out" | grep -q ", 29.30716875" && ok ||
+    bad "explore --follow: the 3-ipp family's ends"
+else
+  bad "explore --follow exit status"
+fi
 
 # orbits.csv and transitions.csv contracts.
 if "$bin" orbits "$paper" --impacts 1 --period 2:12:0.01 --out "$tmp/one" >/dev/null 2>&1; then
