@@ -1,5 +1,6 @@
 #include "nsmodal/figure_subjects.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "nsmodal/admissibility.h"
@@ -121,6 +122,54 @@ ModeBranch TwoImpactModeBranch(const AnalysisBasis& b) {
   }
   if (m.run.empty()) m.why_not = "no admissible 2-ipp orbit next to the mode at T = " + FormatValue(m.period);
   return m;
+}
+
+ThreeImpactPick ThreeImpactFamilyExample(const AnalysisBasis& b, const Atlas& atlas) {
+  ThreeImpactPick pick;
+  const double last = atlas.one.periods.back(), first = atlas.one.periods.front();
+  const double spacing = std::max(1.0, last / 100.0);
+  std::vector<double> periods;
+  for (double t = spacing; t <= last; t += spacing) periods.push_back(t);
+  if (periods.empty()) {
+    pick.why_not = "the atlas ends before T = 1";
+    return pick;
+  }
+  ExploreOptions opt;
+  opt.impacts = 3;
+  const ExploreReport report = ExploreImpacts(b, periods, opt);
+  FamilyOptions fo;
+  fo.step = atlas.grid.step;
+  // Preferred: a family that ends on a grazing 1-ipp orbit (one of its
+  // impacts becoming the graze: where it meets the 1-ipp family), then the
+  // longest admissible stretch.
+  auto ends_on_graze = [&](double lo, double hi) {
+    for (const Transition& t : atlas.transitions) {
+      if (t.kind != TransitionKind::kGrazing) continue;
+      if (std::abs(lo - t.period) <= 1e-6 * t.period || std::abs(hi - t.period) <= 1e-6 * t.period) return true;
+    }
+    return false;
+  };
+  bool best_on_graze = false;
+  double best = -1.0;
+  for (const ExploreFinding& f : report.findings) {
+    if (f.kind != "new" || !f.orbit.admissible) continue;
+    const Family down = FollowOddImpactFamily(b, f.orbit, std::max(first, 0.5 * f.orbit.period), fo);
+    const Family up = FollowOddImpactFamily(b, f.orbit, std::min(last, 2.0 * f.orbit.period), fo);
+    const double lo = std::isnan(down.admissibility_change) ? down.orbits.back().period : down.admissibility_change;
+    const double hi = std::isnan(up.admissibility_change) ? up.orbits.back().period : up.admissibility_change;
+    const bool on_graze = ends_on_graze(lo, hi);
+    if (best_on_graze && !on_graze) continue;
+    if (on_graze == best_on_graze && !(hi - lo > best)) continue;
+    best_on_graze = on_graze;
+    best = hi - lo;
+    pick.start = f.orbit;
+    pick.admissible_from = lo;
+    pick.admissible_to = hi;
+    pick.family.assign(down.orbits.rbegin(), down.orbits.rend());
+    pick.family.insert(pick.family.end(), up.orbits.begin() + 1, up.orbits.end());
+  }
+  if (pick.family.empty()) pick.why_not = "no admissible 3-ipp orbit that is not a lower-m orbit found";
+  return pick;
 }
 
 }  // namespace nsmodal

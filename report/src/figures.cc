@@ -6,6 +6,7 @@
 // transitions, so another system gets the corresponding figures.
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -16,6 +17,7 @@
 #include "nsmodal/admissibility.h"
 #include "nsmodal/atlas.h"
 #include "nsmodal/figure_subjects.h"
+#include "nsmodal/stability.h"
 #include "nsmodal/bridge.h"
 #include "nsmodal/error.h"
 #include "nsmodal/flow.h"
@@ -593,6 +595,78 @@ void Figures13To15(Context& c) {
 
 }  // namespace
 
+// Fig. 16 (beyond the paper): an admissible 3-ipp family (figure_subjects.h).
+// Left: its energies over T beside the 1-ipp family's, admissible stretch
+// solid where stable and dashed where unstable, the rest thin grey, the ends
+// of the admissible stretch circled. Right: x_c(t) of the orbit the search
+// found, one period, its three impacts at d.
+void Figure16(Context& c) {
+  const ThreeImpactPick pick = ThreeImpactFamilyExample(c.b, c.atlas);
+  if (pick.family.empty()) {
+    c.log << "  fig16: " << pick.why_not << "; skipped\n";
+    return;
+  }
+  report::ResultFile out(c.dir, "fig16_three_impact_family.csv");
+  out << "T,t2,t3,energy,admissible,stable,max_multiplier\n";
+  for (const Orbit& o : pick.family) {
+    out << o.period << "," << o.times[0] << "," << o.times[1] << "," << o.energy << "," << o.admissible << ",";
+    if (o.admissible) {
+      const Stability s = OrbitStability(c.b, o);
+      out << (s.defined && s.stable) << "," << s.max_modulus;
+    } else {
+      out << "0,";
+    }
+    out << "\n";
+  }
+  report::ResultFile one(c.dir, "fig16_one_impact.csv");
+  one << "T,energy,stable\n";
+  const double width = pick.admissible_to - pick.admissible_from;
+  const double t_lo = pick.admissible_from - 0.5 * width, t_hi = pick.admissible_to + 0.5 * width;
+  for (const auto& list : c.atlas.one.at) {
+    const OrbitRecord& r = list.front();
+    if (r.orbit.admissible && r.orbit.period >= t_lo && r.orbit.period <= t_hi) {
+      one << r.orbit.period << "," << r.orbit.energy << "," << IsStable(r.stability) << "\n";
+    }
+  }
+  report::ResultFile orbit(c.dir, "fig16_orbit.csv");
+  WriteTrajectoryHeader(orbit.stream(), c);
+  WriteTrajectory(orbit.stream(), "x", pick.start.period, OrbitTrajectory(c.b, pick.start, kSamples));
+  double e_lo = INFINITY, e_hi = 0.0;
+  for (const Orbit& o : pick.family) {
+    if (o.admissible) {
+      e_lo = std::min(e_lo, o.energy);
+      e_hi = std::max(e_hi, o.energy);
+    }
+  }
+  std::ostringstream body, period_label;
+  period_label << std::setprecision(4) << pick.start.period;
+  body << "set multiplot layout 1,2\n";
+  // The ends of the admissible stretch, dotted.
+  for (double t : {pick.admissible_from, pick.admissible_to}) {
+    body << "set arrow from " << t << ", graph 0 to " << t << ", graph 1 nohead dt 3 lc rgb 'black'\n";
+  }
+  body
+       << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset logscale y\nset key below\n"
+       << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << 0.5 * e_lo << ":" << 3.0 * e_hi << "]\n"
+       << "plot 'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0) with lines lw 1 lc rgb '" << kPotential
+       << "' title '3-ipp, not admissible', "
+       << "'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0) with lines lw 2 dt 2 lc rgb '#CC79A7' title '3-ipp, unstable', "
+       << "'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0) with lines lw 3 lc rgb '#CC79A7' title '3-ipp, stable', "
+       << "'fig16_one_impact.csv' using 1:($3 == 1 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '" << kOneStable
+       << "' title '1-ipp, stable', "
+       << "'' using 1:($3 == 0 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '" << kOneUnstable
+       << "' title '1-ipp, unstable'\n"
+       << "unset arrow\nunset logscale y\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
+       << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n"
+       << "plot 'fig16_orbit.csv' using " << TCol() << ":" << XCol(c, c.contact)
+       << " with lines lw 2 lc rgb '#CC79A7' title 'x_c(t), T = " << period_label.str() << "', " << c.b.gap << " with lines dt 2 lc rgb 'black' title 'obstacle d'\n"
+       << "unset multiplot";
+  out.Commit();
+  one.Commit();
+  orbit.Commit();
+  Draw(c, "fig16_three_impact_family", body.str());
+}
+
 FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas& atlas, const OutputDir& dir,
                                std::ostream& log) {
   Context c{.b = b,
@@ -614,6 +688,7 @@ FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas&
   Figure10(c, modal);
   Figures11And12(c);
   Figures13To15(c);
+  Figure16(c);
   return {c.drawn, c.failed};
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "nsmodal/atlas.h"
+#include "nsmodal/explore.h"
 
 namespace nsmodal {
 
@@ -64,5 +65,20 @@ struct ModeBranch {
   std::string why_not;
 };
 ModeBranch TwoImpactModeBranch(const AnalysisBasis& b);
+
+// Fig. 16 (beyond the paper): an admissible 3-ipp family that is not a
+// lower-m orbit. The exploratory search (explore.h, default grid) at
+// T = 1, 2, ... up to the atlas's last period (at most 100 periods, evenly
+// spread), each admissible new orbit followed by FollowOddImpactFamily with
+// the atlas's step over [T / 2, 2 T] within the atlas; a family whose
+// admissible stretch ends on a 1-ipp grazing transition first (where it meets
+// the 1-ipp family), then the longest stretch. Empty `family`: `why_not` says why.
+struct ThreeImpactPick {
+  Orbit start;
+  std::vector<Orbit> family;        // ascending T, start included
+  double admissible_from = 0.0, admissible_to = 0.0;  // ends of start's admissible stretch
+  std::string why_not;
+};
+ThreeImpactPick ThreeImpactFamilyExample(const AnalysisBasis& b, const Atlas& atlas);
 
 }  // namespace nsmodal
