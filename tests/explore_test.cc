@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
 #include "fixtures.h"
 #include "nsmodal/error.h"
@@ -54,6 +55,18 @@ TEST(Explore, RejectsImpossibleRequests) {
 namespace nsmodal {
 namespace {
 
+// The admissible 3-ipp orbit that is not a lower-m orbit, found by the
+// search at T (the last such finding), if any.
+std::optional<ExploreFinding> AdmissibleNewThreeImpactOrbit(const AnalysisBasis& b, double period) {
+  ExploreOptions opt;
+  opt.impacts = 3;
+  std::optional<ExploreFinding> found;
+  for (const ExploreFinding& f : ExploreImpacts(b, {period}, opt).findings) {
+    if (f.kind == "new" && f.orbit.admissible) found = f;
+  }
+  return found;
+}
+
 TEST(Explore, AdmissibleThreeImpactOrbitThatIsNotALowerOrbit) {
   // Section 2.3 conjectures that odd-m potential solutions exist only as
   // degenerate counterparts of fewer impacts. The search finds, at T = 27.5,
@@ -61,14 +74,8 @@ TEST(Explore, AdmissibleThreeImpactOrbitThatIsNotALowerOrbit) {
   // three genuine impacts. Check it independently: physical state, matrix
   // exponential flow, the impact law written out, dense sampling of x2.
   const AnalysisBasis b = testing::PaperBasis();
-  ExploreOptions opt;
-  opt.impacts = 3;
-  const ExploreReport r = ExploreImpacts(b, {27.5}, opt);
-  const ExploreFinding* found = nullptr;
-  for (const ExploreFinding& f : r.findings) {
-    if (f.kind == "new" && f.orbit.admissible) found = &f;
-  }
-  ASSERT_NE(found, nullptr);
+  const std::optional<ExploreFinding> found = AdmissibleNewThreeImpactOrbit(b, 27.5);
+  ASSERT_TRUE(found.has_value());
   const Model m = PaperModel();
   Eigen::VectorXd z = found->orbit.z0;
   double prev = 0.0, max_interior = -1e300, min_impact_speed = 1e300;
@@ -107,14 +114,9 @@ namespace {
 // Every point is a potential orbit (NC2 to 1e-12 of d), and it is unstable.
 TEST(Explore, TheAdmissibleThreeImpactFamilyIsFollowedToItsEnds) {
   const AnalysisBasis b = testing::PaperBasis();
-  ExploreOptions opt;
-  opt.impacts = 3;
-  const ExploreReport r = ExploreImpacts(b, {27.5}, opt);
-  const Orbit* start = nullptr;
-  for (const ExploreFinding& f : r.findings) {
-    if (f.kind == "new" && f.orbit.admissible) start = &f.orbit;
-  }
-  ASSERT_NE(start, nullptr);
+  const std::optional<ExploreFinding> found = AdmissibleNewThreeImpactOrbit(b, 27.5);
+  ASSERT_TRUE(found.has_value());
+  const Orbit* start = &found->orbit;
   const Family up = FollowOddImpactFamily(b, *start, 30.0);
   const Family down = FollowOddImpactFamily(b, *start, 26.0);
   // The grazing transition, computed independently from the 1-ipp family.
