@@ -6,7 +6,7 @@ rigid ground at its end node, e = 0 at the node.
 The continuous bar (length L, wave speed c) stays in contact exactly 2 L / c
 and leaves with its velocity reversed. For n = 10 ... MAX_ELEMENTS (default
 1000) linear elements with consistent mass, each integrator (exact, CVODE at
-rtol 1e-10 up to 200 elements, where it already takes ~25 s, Moreau-Jean at a
+rtol 1e-10 up to 200 elements, where it already takes 25 to 30 s, Moreau-Jean at a
 tenth of an element's wave transit h / c) gives
 the contact duration (the time the node is held: e = 0, so it arrives and
 stays until the contact force falls through 0), the rebound velocity (the
