@@ -133,7 +133,7 @@ if "$bin" figures "$paper" --out "$tmp/fig" --period 0.05:20:0.05 >"$tmp/fig.txt
     [ -s "$tmp/fig/$f.csv" ] && ok || bad "figures: $f.csv missing"
   done
   if command -v gnuplot >/dev/null; then
-    grep -q "^14 figures drawn" "$tmp/fig.txt" && ok || bad "figures: not all drawn: $(tail -1 "$tmp/fig.txt")"
+    grep -q "^15 figures drawn" "$tmp/fig.txt" && ok || bad "figures: not all drawn: $(tail -1 "$tmp/fig.txt")"
     for f in fig02_not_admissible fig03_one_impact_energy fig06_det_a2 fig08_fep fig12_two_impact_mode fig15_bridge_fep; do
       [ -s "$tmp/fig/$f.png" ] && [ -s "$tmp/fig/$f.svg" ] && [ -s "$tmp/fig/$f.pdf" ] && ok || bad "figures: $f chart"
     done

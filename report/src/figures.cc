@@ -260,19 +260,43 @@ void Figure6(Context& c) {
     }
   }
   std::ostringstream body;
-  body << "set multiplot layout 2,5 title 'Fig. 6: det A_2(t_2, T) against t_2; roots (t_2, T) marked'\n"
+  body << "set multiplot layout 2,5 title 'Fig. 6: det A_2(t_2, T) against t_2; roots: t_2 = T/2 open, others filled'\n"
        << "unset key\nset xlabel 't_2 (s)'\nset ylabel 'det A_2'\n";
   for (int period = 1; period <= 10; ++period) {
     body << "set title 'T = " << period << "'\nset xrange [0:" << period << "]\nset xtics " << 0.5 * period
          << "\n"
          << "plot 'fig06_det_a2.csv' using ($1 == " << period << " ? $2 : 1/0):3 with lines lw 1.5 lc rgb '#1f5fb4', "
-         << "'fig06_roots.csv' using ($1 == " << period << " ? $2 : 1/0):(0) with points pt 7 ps 0.8 lc rgb "
-         << "'#d62728'\n";
+         << "'fig06_roots.csv' using ($1 == " << period << " && $3 == 1 ? $2 : 1/0):(0) with points pt 6 ps 1.0 lw 1.5 "
+         << "lc rgb 'black', "
+         << "'' using ($1 == " << period << " && $3 == 0 ? $2 : 1/0):(0) with points pt 7 ps 0.8 lc rgb '#D55E00'\n";
   }
   body << "unset multiplot";
   out.Commit();
   roots.Commit();
   Draw(c, "fig06_det_a2", body.str());
+  // The roots as curves in the (t2, T) plane, from the atlas's 2-ipp sweep:
+  // the trivial line t2 = T/2 (eq. 26) and the nontrivial curves, potential
+  // and admissible apart.
+  report::ResultFile curves(c.dir, "fig06_root_curves.csv");
+  curves << "T,t2,half_period,admissible\n";
+  for (const auto& list : c.atlas.two.at) {
+    for (const OrbitRecord& r : list) {
+      if (!r.orbit.potential) continue;
+      curves << r.orbit.period << "," << r.orbit.times[0] << "," << IsHalfPeriodRoot(r.orbit) << ","
+             << r.orbit.admissible << "\n";
+    }
+  }
+  curves.Commit();
+  std::ostringstream plane;
+  plane << "set xlabel 'period T (s)'\nset ylabel 'time of the second impact t_2 (s)'\nset key below\n"
+        << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:" << c.periods.back() << "]\n"
+        << "plot 'fig06_root_curves.csv' using 1:($3 == 1 ? $2 : 1/0) with points pt 7 ps 0.2 lc rgb 'black' "
+        << "title 'trivial root t_2 = T/2', "
+        << "'' using 1:($3 == 0 && $4 == 0 ? $2 : 1/0) with points pt 7 ps 0.2 lc rgb '#E69F00' "
+        << "title 'nontrivial root, not admissible', "
+        << "'' using 1:($3 == 0 && $4 == 1 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '#0072B2' "
+        << "title 'nontrivial root, admissible'";
+  Draw(c, "fig06_root_curves", plane.str());
 }
 
 // The 2-ipp sweep as CSV: every potential orbit with its stability.
