@@ -34,14 +34,25 @@
 namespace nsmodal::report {
 namespace {
 
-// Colours shared by every frequency-energy plot: stable and unstable parts of
-// the 1-ipp (blues) and 2-ipp (oranges) families.
-constexpr const char* kOneStable = "#1f5fb4";
-constexpr const char* kOneUnstable = "#8ec1ee";
-constexpr const char* kTwoStable = "#d95f02";
-constexpr const char* kTwoUnstable = "#fdbf6f";
-constexpr const char* kDilated = "#2ca02c";
-constexpr const char* kPotential = "#c8c8c8";
+// One visual language for every figure (Okabe-Ito, colour-blind safe), each
+// colour with one meaning; stable is dark, unstable light (apart in greyscale
+// too), and lines also change dash where it matters:
+//   1-ipp blue (dark #0072B2 stable, sky #56B4E9 unstable); 2-ipp vermillion
+//   (#D55E00 stable, orange #E69F00 unstable); 2-ipp with t2 = T/2 (the
+//   dilated 1-ipp) bluish green; 3-ipp reddish purple; potential or not
+//   admissible grey; the limits of a family (a grazing linear mode, a grazing
+//   orbit) and the obstacle black. Continua (orbits along a branch) are
+//   shaded with viridis and a colour bar.
+constexpr const char* kOneStable = "#0072B2";
+constexpr const char* kOneUnstable = "#56B4E9";
+constexpr const char* kTwoStable = "#D55E00";
+constexpr const char* kTwoUnstable = "#E69F00";
+constexpr const char* kDilated = "#009E73";
+constexpr const char* kThree = "#CC79A7";
+constexpr const char* kPotential = "#BBBBBB";
+constexpr const char* kNotAdmissible = "#777777";
+constexpr const char* kViridis =
+    "set palette defined (0 '#440154', 0.25 '#3B528B', 0.5 '#21908C', 0.75 '#5DC863', 1 '#FDE725')\n";
 constexpr int kSamples = 200;  // per flight of a drawn trajectory
 
 struct Context {
@@ -136,7 +147,7 @@ void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const std
   body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset title \"" << title
        << "\"\n"
        << extra << "plot '" << name << ".csv' using " << TCol() << ":" << XCol(c, c.contact)
-       << " with lines lw 2 lc rgb '#1f5fb4' title 'x_c(t)', " << c.b.gap
+       << " with lines lw 2 lc rgb '" << kOneStable << "' title 'x_c(t)', " << c.b.gap
        << " with lines dt 2 lc rgb 'black' title 'obstacle d'";
   Draw(c, name, body.str());
 }
@@ -173,7 +184,7 @@ void Figure3(Context& c) {
     tr << t.period << "," << ToString(t.kind) << "," << t.energy << "\n";
     if (t.kind == TransitionKind::kSingular || t.kind == TransitionKind::kModal) {
       arrows << "set arrow from " << t.period << ", graph 0 to " << t.period << ", graph 1 nohead lw 1 "
-             << (t.kind == TransitionKind::kSingular ? "dt 2 lc rgb '#7b3294'" : "dt 3 lc rgb '#008837'") << "\n";
+             << (t.kind == TransitionKind::kSingular ? "dt 2 lc rgb 'black'" : "dt 3 lc rgb '#777777'") << "\n";
     }
   }
   std::ostringstream body;
@@ -183,16 +194,16 @@ void Figure3(Context& c) {
        << "' title 'potential', "
        << "'' using 1:($4 == 1 && $5 == 1 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '" << kOneStable
        << "' title 'admissible, stable', "
-       << "'' using 1:($4 == 1 && $5 == 0 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '#d62728'"
+       << "'' using 1:($4 == 1 && $5 == 0 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '" << kOneUnstable << "'"
        << " title 'admissible, unstable', "
        << "'fig03_transitions.csv' using 1:(strcol(2) eq 'grazing' ? $3 : 1/0) with points pt 6 ps 1.5 lw 2 lc rgb "
           "'black' title 'grazing transition T_G', "
-       << "'' using 1:(strcol(2) eq 'multiplier+1' ? $3 : 1/0) with points pt 8 ps 1.5 lw 2 lc rgb '#E69F00' "
+       << "'' using 1:(strcol(2) eq 'multiplier+1' ? $3 : 1/0) with points pt 8 ps 1.5 lw 2 lc rgb 'black' "
           "title 'multipliers through +1', "
-       << "'' using 1:(strcol(2) eq 'multiplier-1' ? $3 : 1/0) with points pt 10 ps 1.5 lw 2 lc rgb '#56B4E9' "
+       << "'' using 1:(strcol(2) eq 'multiplier-1' ? $3 : 1/0) with points pt 10 ps 1.5 lw 2 lc rgb 'black' "
           "title 'multipliers through -1 (period doubling)', "
-       << "1/0 with lines dt 2 lc rgb '#7b3294' title 'singular transition T_S', "
-       << "1/0 with lines dt 3 lc rgb '#008837' title 'linear modal transition k T_i'";
+       << "1/0 with lines dt 2 lc rgb 'black' title 'singular transition T_S', "
+       << "1/0 with lines dt 3 lc rgb '#777777' title 'linear modal transition k T_i'";
   out.Commit();
   tr.Commit();
   Draw(c, "fig03_one_impact_energy", body.str());
@@ -218,11 +229,12 @@ void Figure4(Context& c, const ModalPick& m) {
   body << "set xlabel 'normalised time t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
        << "set title 'Fig. 4: linear modal transition at T = " << m.period << " (1-ipp)'\n"
        << "plot 'fig04_modal_transition.csv' using (strcol(1) eq 'admissible' ? $3/$2 : 1/0):" << XCol(c, c.contact)
-       << " with lines lw 2 lc rgb '#1f5fb4' title 'T = " << in.period << " (admissible)', "
+       << " with lines lw 2 lc rgb '" << kOneStable << "' title 'T = " << in.period << " (admissible)', "
        << "'' using (strcol(1) eq 'modal' ? $3/$2 : 1/0):" << XCol(c, c.contact)
        << " with lines lw 2 lc rgb 'black' title 'T = " << m.period << " (grazing linear mode)', "
        << "'' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" << XCol(c, c.contact)
-       << " with lines lw 2 lc rgb '#d62728' title 'T = " << beyond.period << " (x_c > d: not admissible)', "
+       << " with lines lw 2 dt 2 lc rgb '" << kNotAdmissible << "' title 'T = " << beyond.period
+       << " (x_c > d: not admissible)', "
        << c.b.gap << " with lines dt 2 lc rgb 'gray40' title 'd'";
   out.Commit();
   Draw(c, "fig04_modal_transition", body.str());
@@ -265,7 +277,7 @@ void Figure6(Context& c) {
   for (int period = 1; period <= 10; ++period) {
     body << "set title 'T = " << period << "'\nset xrange [0:" << period << "]\nset xtics " << 0.5 * period
          << "\n"
-         << "plot 'fig06_det_a2.csv' using ($1 == " << period << " ? $2 : 1/0):3 with lines lw 1.5 lc rgb '#1f5fb4', "
+         << "plot 'fig06_det_a2.csv' using ($1 == " << period << " ? $2 : 1/0):3 with lines lw 1.5 lc rgb '" << kOneStable << "', "
          << "'fig06_roots.csv' using ($1 == " << period << " && $3 == 1 ? $2 : 1/0):(0) with points pt 6 ps 1.0 lw 1.5 "
          << "lc rgb 'black', "
          << "'' using ($1 == " << period << " && $3 == 0 ? $2 : 1/0):(0) with points pt 7 ps 0.8 lc rgb '#D55E00'\n";
@@ -290,12 +302,12 @@ void Figure6(Context& c) {
   std::ostringstream plane;
   plane << "set xlabel 'period T (s)'\nset ylabel 'time of the second impact t_2 (s)'\nset key below\n"
         << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:" << c.periods.back() << "]\n"
-        << "plot 'fig06_root_curves.csv' using 1:($3 == 1 ? $2 : 1/0) with points pt 7 ps 0.2 lc rgb 'black' "
-        << "title 'trivial root t_2 = T/2', "
-        << "'' using 1:($3 == 0 && $4 == 0 ? $2 : 1/0) with points pt 7 ps 0.2 lc rgb '#E69F00' "
-        << "title 'nontrivial root, not admissible', "
-        << "'' using 1:($3 == 0 && $4 == 1 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '#0072B2' "
-        << "title 'nontrivial root, admissible'";
+        << "plot 'fig06_root_curves.csv' using 1:($3 == 1 ? $2 : 1/0) with points pt 7 ps 0.2 lc rgb '" << kDilated
+        << "' title 'trivial root t_2 = T/2 (the dilated 1-ipp)', "
+        << "'' using 1:($3 == 0 && $4 == 0 ? $2 : 1/0) with points pt 7 ps 0.2 lc rgb '" << kPotential
+        << "' title 'other root, not admissible', "
+        << "'' using 1:($3 == 0 && $4 == 1 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '" << kTwoStable
+        << "' title 'other root, admissible'";
   Draw(c, "fig06_root_curves", plane.str());
 }
 
@@ -450,7 +462,7 @@ void Figure10(Context& c, const ModalPick& m) {
        << " : 1/0):" << XCol(c, c.contact) << ":" << VCol(c, c.contact) << " with lines lw 1 lc rgb '" << kOneStable
        << "' title '1-ipp orbits', '' using (strcol(1) eq 'modal' ? $" << SectionXCol(c)
        << " : 1/0):" << XCol(c, c.contact) << ":" << VCol(c, c.contact)
-       << " with lines lw 3 lc rgb '#d62728' title 'grazing linear mode'";
+       << " with lines lw 3 lc rgb 'black' title 'grazing linear mode'";
   out.Commit();
   Draw(c, "fig10_one_impact_mode", body.str());
 }
@@ -499,16 +511,16 @@ void Figures11And12(Context& c) {
   }
   std::ostringstream body;
   body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
-       << "set palette defined (0 '#d62728', 1 '#1f5fb4')\nset cbrange [0:" << curves << "]\nunset colorbox\n"
+       << kViridis << "set cbrange [0:" << curves << "]\nset cblabel 'orbit along the branch (0: the grazing mode)'\n"
        << "set title \"Fig. 11: 2-ipp orbits along the branch from the grazing linear mode, T = 3 T_i = " << period
-       << " (red),\\nto " << summary.str() << " (blue); T spans [" << tmin << ", " << tmax << "]\"\n"
+       << " (dark),\\nto " << summary.str() << " (yellow); T spans [" << tmin << ", " << tmax << "]\"\n"
        << "plot 'fig11_two_impact_mode.csv' using " << TCol() << ":" << XCol(c, c.contact)
        << ":1 with lines lw 1.5 lc palette notitle, " << c.b.gap << " with lines dt 2 lc rgb 'black' title 'd'";
   out.Commit();
   Draw(c, "fig11_two_impact_orbits", body.str());
   std::ostringstream body12;
-  body12 << SectionAxes(c) << "set palette defined (0 '#d62728', 1 '#1f5fb4')\nset cbrange [0:" << curves
-         << "]\nunset colorbox\nset title 'Fig. 12: the same 2-ipp orbits in the phase section: a "
+  body12 << SectionAxes(c) << kViridis << "set cbrange [0:" << curves
+         << "]\nset cblabel 'orbit along the branch (0: the grazing mode)'\nset title 'Fig. 12: the same 2-ipp orbits in the phase section: a "
             "nonsmooth mode'\n"
          << "splot 'fig11_two_impact_mode.csv' using " << SectionUsing(c) << ":1 with lines lw 1.5 lc palette notitle";
   Draw(c, "fig12_two_impact_mode", body12.str());
@@ -538,10 +550,10 @@ void Figures13To15(Context& c) {
          << "set title \"Fig. 13: the continuum of 2-ipp orbits of period T_G = " << t
          << "\\nbetween the grazing 1-ipp orbit and its shift by " << t - br->t2 << "\"\n"
          << "plot 'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" << XCol(c, c.contact)
-         << " with lines lw 3 lc rgb '#1f5fb4' title '1-ipp (s = 0)', "
+         << " with lines lw 3 lc rgb '" << kOneStable << "' title '1-ipp (s = 0)', "
          << "'' using (strcol(1) eq 'one_shifted' ? $3 : 1/0):" << XCol(c, c.contact)
-         << " with lines lw 3 dt 2 lc rgb '#1f5fb4' title '1-ipp shifted (s = s_{end})'";
-    const char* colours[] = {"#fdae6b", "#e6550d", "#a63603"};
+         << " with lines lw 3 dt 2 lc rgb '" << kOneStable << "' title '1-ipp shifted (s = s_{end})'";
+    const char* colours[] = {"#E69F00", "#D55E00", "#8C3A00"};  // the 2-ipp hue, light to dark along s
     int k = 0;
     for (int pct : {20, 50, 80}) {
       body << ", '' using (strcol(1) eq 's" << pct << "' ? $3 : 1/0):" << XCol(c, c.contact)
@@ -575,7 +587,7 @@ void Figures13To15(Context& c) {
          << "'' using (strcol(1) eq 'two' ? $" << u << " : 1/0):" << XCol(c, c.contact) << ":" << VCol(c, c.contact)
          << " with lines lw 1 lc rgb '" << kTwoStable << "' title '2-ipp, T = T_G (bridge)', "
          << "'' using (strcol(1) eq 'grazing' ? $" << u << " : 1/0):" << XCol(c, c.contact) << ":"
-         << VCol(c, c.contact) << " with lines lw 3 lc rgb '#d62728' title 'grazing 1-ipp orbit'";
+         << VCol(c, c.contact) << " with lines lw 3 lc rgb 'black' title 'grazing 1-ipp orbit'";
     out.Commit();
     Draw(c, "fig14_bridge_section", body.str());
   }
@@ -674,8 +686,8 @@ void Figure16(Context& c) {
        << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << 0.5 * e_lo << ":" << 3.0 * e_hi << "]\n"
        << "plot 'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0) with lines lw 1 lc rgb '" << kPotential
        << "' title '3-ipp, not admissible', "
-       << "'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0) with lines lw 2 dt 2 lc rgb '#CC79A7' title '3-ipp, unstable', "
-       << "'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0) with lines lw 3 lc rgb '#CC79A7' title '3-ipp, stable', "
+       << "'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0) with lines lw 2 dt 2 lc rgb '" << kThree << "' title '3-ipp, unstable', "
+       << "'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0) with lines lw 3 lc rgb '" << kThree << "' title '3-ipp, stable', "
        << "'fig16_one_impact.csv' using 1:($3 == 1 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '" << kOneStable
        << "' title '1-ipp, stable', "
        << "'' using 1:($3 == 0 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '" << kOneUnstable
@@ -683,7 +695,7 @@ void Figure16(Context& c) {
        << "unset arrow\nunset logscale y\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
        << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n"
        << "plot 'fig16_orbit.csv' using " << TCol() << ":" << XCol(c, c.contact)
-       << " with lines lw 2 lc rgb '#CC79A7' title 'x_c(t), T = " << period_label.str() << "', " << c.b.gap << " with lines dt 2 lc rgb 'black' title 'obstacle d'\n"
+       << " with lines lw 2 lc rgb '" << kThree << "' title 'x_c(t), T = " << period_label.str() << "', " << c.b.gap << " with lines dt 2 lc rgb 'black' title 'obstacle d'\n"
        << "unset multiplot";
   out.Commit();
   one.Commit();
