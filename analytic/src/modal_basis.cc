@@ -11,11 +11,11 @@ Eigen::VectorXd ModalBasis::Periods() const {
 }
 
 ModalBasis MakeModalBasis(const Model& model) {
-  Validate(model);
+  const int rigid = Validate(model);
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(model.stiffness, model.mass);
   ModalBasis b;
   b.n = model.dofs();
-  b.rigid = RigidBodyModes(model.stiffness);
+  b.rigid = rigid;
   // The generalized eigenvalues ascend: the rigid-body modes come first, at
   // round-off of either sign; their frequency is zero exactly.
   b.omega = ges.eigenvalues().cwiseMax(0.0).cwiseSqrt();

@@ -165,7 +165,7 @@ Model MakeBar(const BarSpec& bar, int contact, double gap, double restitution) {
 
 Model PaperModel() { return MakeChain({1.0, 1.0}, {0.85, 2.0}, 1, 1.0, 1.0); }
 
-void Validate(const Model& model) {
+int Validate(const Model& model) {
   if (model.mass.rows() > kMaxDofs) {
     throw InputError("system.mass_matrix", "has " + std::to_string(model.mass.rows()) +
                                                " rows; nsmodal honours up to " + std::to_string(kMaxDofs) + " dofs");
@@ -288,6 +288,7 @@ void Validate(const Model& model) {
                          " times the linear frequencies (" + FormatValue(w_low / kMaxFrequencyRatio) + " to " +
                          FormatValue(w_high * kMaxFrequencyRatio) + " rad/s), got " + FormatValue(w));
   }
+  return rigid;
 }
 
 Eigen::MatrixXd RayleighDamping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& stiffness, double a, double b) {

@@ -129,8 +129,9 @@ int RigidBodyModes(const Eigen::MatrixXd& stiffness);
 // only for an undamped, unforced model (the free drift is flown in closed
 // form; damping and forcing need the static and harmonic responses, K^-1); a
 // harmonic force needs w > 0 within kMaxFrequencyRatio of the linear
-// frequencies.
-void Validate(const Model& model);
+// frequencies. Returns the number of rigid-body modes (RigidBodyModes of K,
+// from the eigenvalues the checks computed).
+int Validate(const Model& model);
 
 std::string FormatValue(double v);
 
