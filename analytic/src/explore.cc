@@ -24,36 +24,53 @@ struct Candidate {
   Eigen::VectorXd y0;
 };
 
-// phi(times) and the y0 that realises it (see explore.h).
-Candidate Objective(const AnalysisBasis& b, const std::vector<double>& times, double period, int impacts) {
+// The k right singular vectors of A_m(times, T) of smallest singular value
+// (`basis`, 2N x k; the kernel where it exists), the next singular value
+// above them, and c(i, j) = x_c of basis vector j at impact i (i = 0: just
+// after the impact at t = 0; i > 0: just before the impact at t_i).
+struct KernelContacts {
+  Eigen::MatrixXd basis, c;
+  double sigma_k = 0.0;  // the k-th smallest singular value
+};
+// False when the times are not increasing inside (0, T).
+bool KernelAtImpacts(const AnalysisBasis& b, const std::vector<double>& times, double period, int k,
+                     KernelContacts& out) {
   double prev = 0.0;
   for (double t : times) {
-    if (!(t > prev)) return {std::numeric_limits<double>::infinity(), {}};
+    if (!(t > prev)) return false;
     prev = t;
   }
-  if (!(prev < period)) return {std::numeric_limits<double>::infinity(), {}};
-  const int dim = 2 * b.n;
-  const int k = impacts % 2 == 0 ? 2 : 1;
+  if (!(prev < period)) return false;
+  const int dim = 2 * b.n, impacts = static_cast<int>(times.size()) + 1;
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, times, period), Eigen::ComputeFullV);
-  const Eigen::MatrixXd basis = svd.matrixV().rightCols(k);
-  Eigen::MatrixXd c(impacts, k);
-  Eigen::MatrixXd y = basis;
+  out.basis = svd.matrixV().rightCols(k);
+  out.sigma_k = svd.singularValues()[dim - k];
+  out.c.resize(impacts, k);
+  Eigen::MatrixXd y = out.basis;
   prev = 0.0;
   // y0 is the state just after the impact at t = 0: record x_c there, then
   // flow to each t_i, record x_c (NC2) and apply that impact.
   for (int i = 0; i < impacts; ++i) {
     for (int j = 0; j < k; ++j) {
       if (i > 0) Flow(b, times[i - 1] - prev, y.col(j));
-      c(i, j) = ContactPosition(b, y.col(j));
+      out.c(i, j) = ContactPosition(b, y.col(j));
       if (i > 0) ElasticImpact(b, y.col(j));
     }
     if (i > 0) prev = times[i - 1];
   }
+  return true;
+}
+
+// phi(times) and the y0 that realises it (see explore.h).
+Candidate Objective(const AnalysisBasis& b, const std::vector<double>& times, double period, int impacts) {
+  const int k = impacts % 2 == 0 ? 2 : 1;
+  KernelContacts kc;
+  if (!KernelAtImpacts(b, times, period, k, kc)) return {std::numeric_limits<double>::infinity(), {}};
   const Eigen::VectorXd rhs = Eigen::VectorXd::Constant(impacts, b.gap);
-  const Eigen::VectorXd alpha = c.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(rhs);
-  const double misfit = (c * alpha - rhs).norm() / (b.gap * std::sqrt(impacts));
-  const double sigma = impacts % 2 == 0 ? svd.singularValues()[dim - 2] : 0.0;
-  return {sigma + misfit, basis * alpha};
+  const Eigen::VectorXd alpha = kc.c.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(rhs);
+  const double misfit = (kc.c * alpha - rhs).norm() / (b.gap * std::sqrt(impacts));
+  const double sigma = impacts % 2 == 0 ? kc.sigma_k : 0.0;
+  return {sigma + misfit, kc.basis * alpha};
 }
 
 struct NmParams {
@@ -264,27 +281,13 @@ constexpr double kFamilyTol = 1e-12;
 // the domain (times out of order, c_0 = 0).
 bool OddResidual(const AnalysisBasis& b, const std::vector<double>& times, double period, Eigen::VectorXd& r,
                  Eigen::VectorXd* y0 = nullptr) {
-  double prev = 0.0;
-  for (double t : times) {
-    if (!(t > prev)) return false;
-    prev = t;
-  }
-  if (!(prev < period)) return false;
-  const int m = static_cast<int>(times.size()) + 1;
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, times, period), Eigen::ComputeFullV);
-  const Eigen::VectorXd y = svd.matrixV().rightCols(1);
-  Eigen::VectorXd w = y, c(m);
-  c[0] = ContactPosition(b, w);
-  prev = 0.0;
-  for (int i = 1; i < m; ++i) {
-    Flow(b, times[i - 1] - prev, w);
-    c[i] = ContactPosition(b, w);
-    ElasticImpact(b, w);
-    prev = times[i - 1];
-  }
+  KernelContacts kc;
+  if (!KernelAtImpacts(b, times, period, 1, kc)) return false;
+  const Eigen::VectorXd c = kc.c.col(0);
+  const long m = c.size();
   if (!(std::abs(c[0]) > 0.0)) return false;
   r = c.tail(m - 1) / c[0] - Eigen::VectorXd::Ones(m - 1);
-  if (y0 != nullptr) *y0 = y * (b.gap / c[0]);
+  if (y0 != nullptr) *y0 = kc.basis.col(0) * (b.gap / c[0]);
   return r.allFinite();
 }
 
@@ -395,6 +398,25 @@ Family FollowOddImpactFamily(const AnalysisBasis& b, const Orbit& start, double 
     }
   }
   return f;
+}
+
+FamilyStretch FollowOddImpactFamilyBothWays(const AnalysisBasis& b, const Orbit& start, double from, double to,
+                                            const FamilyOptions& options) {
+  FamilyStretch f;
+  f.down = FollowOddImpactFamily(b, start, from, options);
+  f.up = FollowOddImpactFamily(b, start, to, options);
+  auto end = [](const Family& fam) {
+    return std::isnan(fam.admissibility_change) ? fam.orbits.back().period : fam.admissibility_change;
+  };
+  f.from = end(f.down);
+  f.to = end(f.up);
+  return f;
+}
+
+std::vector<Orbit> FamilyStretch::Ascending() const {
+  std::vector<Orbit> out(down.orbits.rbegin(), down.orbits.rend());
+  out.insert(out.end(), up.orbits.begin() + 1, up.orbits.end());
+  return out;
 }
 
 }  // namespace nsmodal
