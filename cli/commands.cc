@@ -394,27 +394,24 @@ int RunExplore(const ExploreArgs& a) {
       if (f.kind != "new" || !f.orbit.admissible) continue;
       FamilyOptions fo;
       fo.step = follow_range->step;
-      const Family down = FollowOddImpactFamily(b, f.orbit, follow_range->from, fo);
-      const Family up = FollowOddImpactFamily(b, f.orbit, follow_range->to, fo);
-      const double lo = std::isnan(down.admissibility_change) ? down.orbits.back().period : down.admissibility_change;
-      const double hi = std::isnan(up.admissibility_change) ? up.orbits.back().period : up.admissibility_change;
+      const FamilyStretch fam = FollowOddImpactFamilyBothWays(b, f.orbit, follow_range->from, follow_range->to, fo);
+      const Family &down = fam.down, &up = fam.up;
+      const double lo = fam.from, hi = fam.to;
       bool seen = false;
       for (const auto& [l, h] : stretches) seen = seen || (std::abs(l - lo) <= 1e-9 * hi && std::abs(h - hi) <= 1e-9 * hi);
       if (seen) continue;
       stretches.emplace_back(lo, hi);
       double e_min = INFINITY, e_max = 0.0, mu_min = INFINITY, mu_max = 0.0;
       long points = 0;
-      for (const Family* fam : {&down, &up}) {
-        for (const Orbit& o : fam->orbits) {
-          if (!o.admissible) continue;
-          ++points;
-          e_min = std::min(e_min, o.energy);
-          e_max = std::max(e_max, o.energy);
-          const Stability s = OrbitStability(b, o);
-          if (s.defined) {
-            mu_min = std::min(mu_min, s.max_modulus);
-            mu_max = std::max(mu_max, s.max_modulus);
-          }
+      for (const Orbit& o : fam.Ascending()) {  // the start once (it was counted in both directions)
+        if (!o.admissible) continue;
+        ++points;
+        e_min = std::min(e_min, o.energy);
+        e_max = std::max(e_max, o.energy);
+        const Stability s = OrbitStability(b, o);
+        if (s.defined) {
+          mu_min = std::min(mu_min, s.max_modulus);
+          mu_max = std::max(mu_max, s.max_modulus);
         }
       }
       std::cout << "  family of T = " << f.orbit.period << ": admissible for T in [" << FormatValue(lo) << ", "

@@ -153,10 +153,9 @@ ThreeImpactPick ThreeImpactFamilyExample(const AnalysisBasis& b, const Atlas& at
   double best = -1.0;
   for (const ExploreFinding& f : report.findings) {
     if (f.kind != "new" || !f.orbit.admissible) continue;
-    const Family down = FollowOddImpactFamily(b, f.orbit, std::max(first, 0.5 * f.orbit.period), fo);
-    const Family up = FollowOddImpactFamily(b, f.orbit, std::min(last, 2.0 * f.orbit.period), fo);
-    const double lo = std::isnan(down.admissibility_change) ? down.orbits.back().period : down.admissibility_change;
-    const double hi = std::isnan(up.admissibility_change) ? up.orbits.back().period : up.admissibility_change;
+    const FamilyStretch fam = FollowOddImpactFamilyBothWays(b, f.orbit, std::max(first, 0.5 * f.orbit.period),
+                                                            std::min(last, 2.0 * f.orbit.period), fo);
+    const double lo = fam.from, hi = fam.to;
     const bool on_graze = ends_on_graze(lo, hi);
     if (best_on_graze && !on_graze) continue;
     if (on_graze == best_on_graze && !(hi - lo > best)) continue;
@@ -165,8 +164,7 @@ ThreeImpactPick ThreeImpactFamilyExample(const AnalysisBasis& b, const Atlas& at
     pick.start = f.orbit;
     pick.admissible_from = lo;
     pick.admissible_to = hi;
-    pick.family.assign(down.orbits.rbegin(), down.orbits.rend());
-    pick.family.insert(pick.family.end(), up.orbits.begin() + 1, up.orbits.end());
+    pick.family = fam.Ascending();
   }
   if (pick.family.empty()) pick.why_not = "no admissible 3-ipp orbit that is not a lower-m orbit found";
   return pick;

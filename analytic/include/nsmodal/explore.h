@@ -79,4 +79,15 @@ struct Family {
 // outside what the basis honours) or "step" (not positive and finite).
 Family FollowOddImpactFamily(const AnalysisBasis& b, const Orbit& start, double to, const FamilyOptions& options = {});
 
+// The family followed both ways from `start`, down to `from` and up to `to`,
+// and the stretch of it around start between the first admissibility changes
+// (where there is none, the period the continuation reached on that side).
+struct FamilyStretch {
+  Family down, up;
+  double from = 0.0, to = 0.0;
+  std::vector<Orbit> Ascending() const;  // every orbit followed, ascending T, start once
+};
+FamilyStretch FollowOddImpactFamilyBothWays(const AnalysisBasis& b, const Orbit& start, double from, double to,
+                                            const FamilyOptions& options = {});
+
 }  // namespace nsmodal
