@@ -46,6 +46,9 @@ CommandLine::CommandLine() {
   c_sim->add_option("--theta", simulate.theta, "Moreau-Jean theta in [0.5, 1]");
   c_sim->add_option("--root-tol", simulate.root_tol, "Exact integrator contact tolerance (relative)");
   c_sim->add_option("--sample-dt", simulate.sample_dt, "Trajectory sampling interval (0: none)");
+  c_sim->add_option("--modes", simulate.modes, "Simulate on the first K linear modes only (modal truncation)");
+  c_sim->add_option("--contact-tolerance", simulate.contact_tolerance,
+                    "Keep the fewest modes whose neglected share of x_c is at most this (m) at the initial energy");
   c_sim->add_option("--x0", simulate.x0, "Initial position (N values)")->expected(-1);
   c_sim->add_option("--v0", simulate.v0, "Initial velocity (N values)")->expected(-1);
 

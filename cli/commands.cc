@@ -26,6 +26,7 @@
 #include "nsmodal/transitions.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate.h"
+#include "nsmodal/truncation.h"
 #include "nsmodal/validate.h"
 #include "nsmodal/work_precision.h"
 #include "common.h"
@@ -228,6 +229,51 @@ int RunValidate(const ValidateArgs& a) {
   return 0;
 }
 
+namespace {
+
+Eigen::VectorXd PhysicalState(const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
+  Eigen::VectorXd z(x.size() + v.size());
+  z << x, v;
+  return z;
+}
+
+// The modal truncation a simulation asks for (--modes or --contact-tolerance,
+// else the scene's simulate.modes or simulate.contact_tolerance), printed;
+// none when neither is given. `energy`: the full initial state's.
+std::optional<ModalTruncation> SimulationTruncation(const SimulateArgs& a, const Scene& scene,
+                                                    const Eigen::VectorXd& x0, double energy) {
+  // A flag overrides both keys of the scene (--contact-tolerance replaces a
+  // scene's modes), as flags override the [simulate] table.
+  const SimulateSection& sec = scene.simulate;
+  const bool flags = a.modes || a.contact_tolerance;
+  const std::optional<double> modes = flags ? a.modes : sec.modes;
+  const std::optional<double> tol = flags ? a.contact_tolerance : sec.contact_tolerance;
+  const std::string modes_field = flags ? "--modes" : "simulate.modes";
+  const std::string tol_field = flags ? "--contact-tolerance" : "simulate.contact_tolerance";
+  if (!modes && !tol) return std::nullopt;
+  if (modes && tol) throw InputError(modes_field, "and " + tol_field + " are both given: give one of them");
+  const Model& m = scene.model;
+  if (modes && (*modes != std::floor(*modes) || !(std::abs(*modes) <= kMaxDofs))) {
+    throw InputError(modes_field, "must be a whole number of modes, got " + FormatValue(*modes));
+  }
+  ModalTruncation t = modes ? TruncateModes(m, static_cast<int>(*modes), modes_field)
+                            : TruncateForContactBound(m, energy, *tol, tol_field);
+  const double xc_kept = (t.from_physical * x0)[0];
+  std::cout << "modal truncation: " << t.kept << " of " << t.dofs << " modes kept (up to "
+            << t.highest_kept_frequency << " rad/s; "
+            << (t.kept < t.dofs ? "the first neglected " : "none neglected");
+  if (t.kept < t.dofs) std::cout << t.lowest_neglected_frequency << " rad/s";
+  std::cout
+            << "); residual flexibility " << t.residual_flexibility << " m/N: at the initial energy " << energy
+            << " J the neglected modes carry at most " << t.ContactBound(energy)
+            << " m of x_c in the full model (for as long as the energy does not grow: unforced, e <= 1); "
+            << "the run starts from the kept modes' part of the initial state (x_c " << xc_kept << " of "
+            << x0[m.contact] << ")\n";
+  return t;
+}
+
+}  // namespace
+
 int RunSimulate(const SimulateArgs& a) {
   const Scene scene = LoadScene(a.scene);
   const SimulateSection& sec = scene.simulate;
@@ -253,6 +299,8 @@ int RunSimulate(const SimulateArgs& a) {
 
   opt.Validate(names);
   Validate(scene.model);
+  const double initial_energy = MechanicalEnergy(scene.model, PhysicalState(x0, v0));
+  const std::optional<ModalTruncation> truncation = SimulationTruncation(a, scene, x0, initial_energy);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"trajectory.csv", "impacts.csv", "summary.json"});
   report::ResultFile traj(dir, "trajectory.csv");
   report::ResultFile imp(dir, "impacts.csv");
@@ -261,20 +309,36 @@ int RunSimulate(const SimulateArgs& a) {
   const auto impact_columns = report::ImpactColumns(n);
   report::WriteCsvHeader(traj.stream(), trajectory_columns);
   report::WriteCsvHeader(imp.stream(), impact_columns);
+  // On a truncated model the run's states are its modal coordinates p:
+  // every output is the physical state to_physical p of the kept modes.
+  auto physical = [&](const Eigen::VectorXd& z) -> Eigen::VectorXd {
+    if (!truncation) return z;
+    const int k = truncation->kept;
+    Eigen::VectorXd out(2 * n);
+    out << truncation->to_physical * z.head(k), truncation->to_physical * z.tail(k);
+    return out;
+  };
   SimulationObserver obs;
   obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
-    report::WriteCsvRow(traj.stream(), trajectory_columns, report::SampleOf(m, t, z));
+    report::WriteCsvRow(traj.stream(), trajectory_columns, report::SampleOf(m, t, physical(z)));
   };
-  obs.on_impact = [&](const ContactEvent& ev) { report::WriteCsvRow(imp.stream(), impact_columns, ev); };
+  obs.on_impact = [&](const ContactEvent& ev) {
+    report::WriteCsvRow(imp.stream(), impact_columns, ContactEvent{ev.t, physical(ev.before), physical(ev.after)});
+  };
   const auto bar = ProgressBar("simulate");
   if (bar) {
     obs.on_progress = [&](double t) { bar(static_cast<long>(1000.0 * t / opt.t_end), 1000); };
   }
-  const SimulationSummary s = Simulate(m, x0, v0, opt, obs);
+  SimulationSummary s = truncation ? Simulate(truncation->model, truncation->from_physical * x0,
+                                              truncation->from_physical * v0, opt, obs)
+                                   : Simulate(m, x0, v0, opt, obs);
+  if (truncation && s.final_state.size() > 0) s.final_state = physical(s.final_state);
   if (bar) bar(1000, 1000);
   traj.Commit();
   imp.Commit();
-  report::WriteResult(dir, "summary.json", report::SimulationJson(s, opt).dump(2) + "\n");
+  nlohmann::json summary = report::SimulationJson(s, opt);
+  if (truncation) summary["truncation"] = report::TruncationJson(*truncation, initial_energy);
+  report::WriteResult(dir, "summary.json", summary.dump(2) + "\n");
   std::cout << ToString(opt.integrator) << ": t = " << s.final_time << ", " << s.impacts << " impacts, " << s.grazes
             << " grazes, " << s.zeno_events << " Zeno sequences, sticking " << s.sticking_time << ", energy drift "
             << s.energy_drift << ", " << s.wall_time_s << " s; wrote " << a.out << "/{trajectory.csv,impacts.csv,summary.json}\n";

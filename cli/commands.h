@@ -31,6 +31,7 @@ struct SimulateArgs {
   std::optional<std::string> integrator, method;
   std::optional<double> t_end, rtol, atol, step, theta, root_tol, sample_dt;
   std::optional<std::vector<double>> x0, v0;
+  std::optional<double> modes, contact_tolerance;
 };
 
 struct ValidateArgs {

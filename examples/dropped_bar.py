@@ -21,18 +21,12 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
 
 import nsmodal  # noqa: E402
+from dropped_bar_scene import C, CONTACT, L, T_END, V0, model, rebound_over_v0  # noqa: E402
 from mesh_args import out_and_max_elements  # noqa: E402
 
 out, max_elements = out_and_max_elements(1000)
-
-L, E, RHO, A = 1.0, 210e9, 7800.0, 3.14e-4
-V0, GAP = 0.1, 5e-5
-C = np.sqrt(E / RHO)
-CONTACT = 2.0 * L / C
-T_END = GAP / V0 + 2.0 * CONTACT  # the fall, the contact, as long again in flight
 meshes = [n for n in (10, 20, 50, 100, 200, 500, 1000, 2000) if n <= max_elements]
 INTEGRATORS = ("exact", "cvode", "moreau-jean")
 MAX_ELEMENTS = {"exact": 2000, "cvode": 200, "moreau-jean": 2000}  # CVODE's dense Newton: ~n^3 per run
@@ -41,20 +35,16 @@ MARKERS = {"exact": "o", "cvode": "s", "moreau-jean": "^"}
 
 rows = []
 for n in meshes:
-    model = nsmodal.bar(length=L, youngs_modulus=E, density=RHO, area=A, elements=n, boundary="free-free",
-                        gap=GAP, restitution=0.0)
-    dofs = model.dofs
-    mass = model.mass_matrix
+    bar = model(n)
+    dofs = bar.dofs
     for integrator in (i for i in INTEGRATORS if n <= MAX_ELEMENTS[i]):
-        s = nsmodal.simulate(model, x0=[0.0] * dofs, v0=[V0] * dofs, t_end=T_END, integrator=integrator,
+        s = nsmodal.simulate(bar, x0=[0.0] * dofs, v0=[V0] * dofs, t_end=T_END, integrator=integrator,
                              rtol=1e-10, atol=1e-14, step=0.1 * (L / n) / C, sample_dt=0.0)
         if s["status"] != "finished":
             sys.exit(f"{integrator}, {n} elements: {s['status']}: {s['message']}")
-        v = np.asarray(s["final_state"])[dofs:]
-        rebound = float(mass.sum(axis=0) @ v / mass.sum())
         rows.append({"elements": n, "integrator": integrator,
                      "contact_over_2L_c": s["sticking_time"] / CONTACT,
-                     "rebound_over_v0": rebound / V0,
+                     "rebound_over_v0": rebound_over_v0(bar, s["final_state"][dofs:]),
                      "impacts": s["impacts"], "sticking_phases": s["sticking_phases"],
                      "wall_time_s": s["wall_time_s"]})
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "nsmodal/atlas.h"
@@ -16,6 +17,7 @@
 #include "nsmodal/forced_orbit.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate.h"
+#include "nsmodal/truncation.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
@@ -26,6 +28,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // sanitizers. Large systems are the tests' and benchmarks' (bar_test,
     // stability_test, bench_analytic); the parse itself is fuzzed whole.
     if (scene.model.dofs() > 64) return 0;
+    // A modal truncation the scene asks for (simulate.modes, a whole number
+    // as the CLI demands): the reduced model passed Validate inside, and its
+    // maps and bound are finite.
+    if (const std::optional<double> k = scene.simulate.modes; k && *k == std::floor(*k) && std::abs(*k) <= 64) {
+      const nsmodal::ModalTruncation t = nsmodal::TruncateModes(scene.model, static_cast<int>(*k), "simulate.modes");
+      if (!t.to_physical.allFinite() || !t.from_physical.allFinite() || !(t.residual_flexibility >= 0.0) ||
+          !std::isfinite(t.ContactBound(1.0))) {
+        __builtin_trap();
+      }
+    }
     if (!scene.model.Conservative()) {
       const nsmodal::Model& m = scene.model;
       const Eigen::VectorXd periods = nsmodal::MakeModalBasis(m).Periods();

@@ -25,6 +25,7 @@
 #include "nsmodal/response.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate.h"
+#include "nsmodal/truncation.h"
 #include "nsmodal/stability.h"
 #include "nsmodal/tables.h"
 #include "nsmodal/two_impact.h"
@@ -335,6 +336,39 @@ scene's [system] bar): `elements` elements, one node per element end;
 boundary "fixed-free" (node 0 clamped; dofs = nodes 1..n) or "free-free"
 (dofs = nodes 0..n, one rigid-body mode: simulation only); mass
 "consistent" or "lumped". contact_dof is 1-based (default: the last node).)doc");
+
+  py::class_<ModalTruncation>(mod, "ModalTruncation", R"doc(The first k linear modes of a model as a model of k
+dofs (truncation.h): `model` (its dof 1 is x_c), `to_physical` (N x k: x =
+to_physical p), `from_physical` (k x N), `kept`, `dofs`, the frequencies on
+either side of the cut, `residual_flexibility` f_res, and contact_bound(E) =
+sqrt(2 E f_res): the most the neglected modes add to x_c in a state of the
+full model with energy E.)doc")
+      .def_readonly("model", &ModalTruncation::model)
+      .def_readonly("to_physical", &ModalTruncation::to_physical)
+      .def_readonly("from_physical", &ModalTruncation::from_physical)
+      .def_readonly("kept", &ModalTruncation::kept)
+      .def_readonly("dofs", &ModalTruncation::dofs)
+      .def_readonly("highest_kept_frequency", &ModalTruncation::highest_kept_frequency)
+      .def_readonly("lowest_neglected_frequency", &ModalTruncation::lowest_neglected_frequency)
+      .def_readonly("residual_flexibility", &ModalTruncation::residual_flexibility)
+      .def("contact_bound", &ModalTruncation::ContactBound, py::arg("energy"));
+
+  mod.def(
+      "truncate",
+      [](const Model& model, std::optional<int> modes, std::optional<double> contact_tolerance,
+         std::optional<double> energy) {
+        if (modes.has_value() == contact_tolerance.has_value()) {
+          throw InputError("modes", "give modes or contact_tolerance (with energy), one of them");
+        }
+        if (contact_tolerance && !energy) throw InputError("energy", "is needed with contact_tolerance");
+        return modes ? TruncateModes(model, *modes, "modes")
+                     : TruncateForContactBound(model, *energy, *contact_tolerance, "contact_tolerance");
+      },
+      py::arg("model"), py::kw_only(), py::arg("modes") = py::none(), py::arg("contact_tolerance") = py::none(),
+      py::arg("energy") = py::none(),
+      R"doc(Modal truncation: the first `modes` linear modes, or the fewest whose
+contact_bound(energy) is at most contact_tolerance (m). Returns a
+ModalTruncation; simulate its `model` from from_physical @ x0.)doc");
 
   mod.def(
       "load_scene", [](const std::string& path) { return LoadScene(path).model; }, py::arg("path"),

@@ -19,7 +19,7 @@ echo
 echo "== transitions of the 1-ipp family"
 cat out/paper/one-impact/transitions.csv
 echo
-echo "== the paper's figures 2-15 (PNG, SVG, CSV), frequency-energy plots coloured by stability"
+echo "== the paper's figures 2-15 and two of our own (PNG, SVG, PDF, CSV), stability on every branch"
 build/cli/nsmodal figures "$scene" --out out/paper/figures
 echo
 echo "== simulate a non-periodic start with the three integrators"

@@ -80,6 +80,25 @@ done
 expect_error "simulate.initial_position" "$bin" simulate "$sim" --out "$tmp/s" --x0 0 1.5
 expect_error "simulate.initial_position" "$bin" simulate "$sim" --out "$tmp/s" --x0 0 0 0
 expect_error "\-\-integrator" "$bin" simulate "$sim" --out "$tmp/s" --integrator euler
+# Modal truncation: keeping both of the paper's modes is the full run (same
+# impacts, final state within the round-off the impacts amplify); the output
+# is physical (N columns); bad requests name the flag or key.
+if "$bin" simulate "$sim" --out "$tmp/sim-k2" --t-end 20 --modes 2 >"$tmp/k2.txt" 2>&1; then
+  grep -q "modal truncation: 2 of 2 modes kept" "$tmp/k2.txt" && ok || bad "simulate --modes: no truncation line"
+  python3 -c "
+import json; a=json.load(open('$tmp/sim/summary.json')); b=json.load(open('$tmp/sim-k2/summary.json'))
+assert a['impacts'] == b['impacts'] and len(b['final_state']) == 4, (a['impacts'], b['impacts'])
+assert max(abs(p - q) for p, q in zip(a['final_state'], b['final_state'])) < 1e-9
+assert b['truncation']['kept'] == 2 and b['truncation']['contact_bound'] == 0
+" && ok || bad "simulate --modes 2 differs from the full run"
+else
+  bad "simulate --modes 2 failed: $(cat "$tmp/k2.txt")"
+fi
+expect_error "^error: --modes" "$bin" simulate "$sim" --out "$tmp/s" --modes 0
+expect_error "^error: --modes" "$bin" simulate "$sim" --out "$tmp/s" --modes 1.5
+expect_error "^error: --modes" "$bin" simulate "$sim" --out "$tmp/s" --modes 1 --contact-tolerance 1e-3
+expect_error "^error: --contact-tolerance" "$bin" simulate "$sim" --out "$tmp/s" --contact-tolerance -1
+expect_error "^error: simulate.modes" "$bin" simulate "$(scene badmodes '[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\ninitial_position=[0,0]\nmodes=3\n')" --out "$tmp/s"
 # Errors name what the user wrote: the flag when given, else the scene key.
 expect_error "^error: --rtol" "$bin" simulate "$sim" --out "$tmp/s" --rtol -1
 expect_error "^error: simulate.rtol" "$bin" simulate "$(scene badrtol '[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\ninitial_position=[0,0]\nrtol=-1\n')" --out "$tmp/s"
@@ -129,14 +148,19 @@ expect_error "scene" "$bin" bench "$(scene other '[system]\ngap=1\nrestitution=1
 if "$bin" figures "$paper" --out "$tmp/fig" --period 0.05:20:0.05 >"$tmp/fig.txt" 2>"$tmp/fig.err"; then
   for f in fig02_not_admissible fig03_one_impact fig03_transitions fig04_modal_transition fig05_grazing_transition \
     fig06_det_a2 fig06_roots fig07_two_impact fig08_fep fig08_bridges fig09_two_grazes fig10_one_impact_mode \
-    fig11_two_impact_mode fig13_bridge_orbits fig14_bridge_section fig15_bridge_fep fig15_bridge; do
+    fig11_two_impact_mode fig12_two_impact_mode fig13_bridge_orbits fig14_bridge_section fig15_bridge_fep fig15_bridge \
+    fig17_bridges_fep fig17_bridges; do
     [ -s "$tmp/fig/$f.csv" ] && ok || bad "figures: $f.csv missing"
   done
   if command -v gnuplot >/dev/null; then
-    grep -q "^15 figures drawn" "$tmp/fig.txt" && ok || bad "figures: not all drawn: $(tail -1 "$tmp/fig.txt")"
-    for f in fig02_not_admissible fig03_one_impact_energy fig06_det_a2 fig08_fep fig12_two_impact_mode fig15_bridge_fep; do
-      [ -s "$tmp/fig/$f.png" ] && [ -s "$tmp/fig/$f.svg" ] && [ -s "$tmp/fig/$f.pdf" ] && ok || bad "figures: $f chart"
+    grep -q "^16 figures drawn" "$tmp/fig.txt" && ok || bad "figures: not all drawn: $(tail -1 "$tmp/fig.txt")"
+    for f in fig02_not_admissible fig03_one_impact_energy fig06_det_a2 fig08_fep fig12_two_impact_mode fig15_bridge_fep fig17_bridges; do
+      [ -s "$tmp/fig/$f.png" ] && [ -s "$tmp/fig/$f.svg" ] && [ -s "$tmp/fig/$f.pdf" ] && [ -s "$tmp/fig/$f.column.pdf" ] \
+        && ok || bad "figures: $f chart"
     done
+    # Series told apart by colour alone stay apart in greyscale and for a deuteranope.
+    python3 "$src/scripts/check_figure_colours.py" "$tmp/fig" >"$tmp/colours.txt" && ok \
+      || bad "figures: colour check: $(grep FAIL "$tmp/colours.txt" | head -3)"
   fi
   # Paper Fig. 6: roots t2 != T/2 exactly for T in {3, 4, 5, 6, 9}.
   away=$(awk -F, 'NR > 1 && $3 == 0 { print $1 }' "$tmp/fig/fig06_roots.csv" | sort -nu | tr '\n' ' ')

@@ -174,6 +174,22 @@ TEST(TwoImpact, PeriodMultipleOfALinearPeriodHasNoRoots) {
   EXPECT_FALSE(TwoImpactRoots(b, 2.0 * t1 + 1e-6).empty());
 }
 
+// Within 2e-4 of a multiple of T1 (5 T1 = 14.8598, 6 T1, 10 T1) the
+// closed-form kernel divides by sin(w_1 T / 2) ~ 1e-3 and was periodic to
+// 5e-12 only (two of the orbits at T = 14.86, above the engine's target);
+// past the target the orbit is taken from the SVD kernel of A_2 instead.
+TEST(TwoImpact, OrbitsNearAMultipleOfALinearPeriodMeetThePeriodicityTarget) {
+  const AnalysisBasis b(PaperModel());
+  for (double period : {14.86, 17.83, 29.72}) {
+    const std::vector<Orbit> orbits = TwoImpactOrbits(b, period);
+    ASSERT_FALSE(orbits.empty()) << period;
+    for (const Orbit& o : orbits) {
+      EXPECT_LT(o.periodicity_residual, kPeriodicityTarget) << period << " t2 = " << o.times[0];
+      EXPECT_LT(o.nc2_residual, kPeriodicityTarget) << period << " t2 = " << o.times[0];
+    }
+  }
+}
+
 TEST(TwoImpact, SymmetryT2ToTMinusT2) {
   // Starting the same orbit at its second impact swaps the flight times.
   const AnalysisBasis b = testing::PaperBasis();

@@ -24,43 +24,6 @@ struct Candidate {
   Eigen::VectorXd y0;
 };
 
-// The k right singular vectors of A_m(times, T) of smallest singular value
-// (`basis`, 2N x k; the kernel where it exists), the next singular value
-// above them, and c(i, j) = x_c of basis vector j at impact i (i = 0: just
-// after the impact at t = 0; i > 0: just before the impact at t_i).
-struct KernelContacts {
-  Eigen::MatrixXd basis, c;
-  double sigma_k = 0.0;  // the k-th smallest singular value
-};
-// False when the times are not increasing inside (0, T).
-bool KernelAtImpacts(const AnalysisBasis& b, const std::vector<double>& times, double period, int k,
-                     KernelContacts& out) {
-  double prev = 0.0;
-  for (double t : times) {
-    if (!(t > prev)) return false;
-    prev = t;
-  }
-  if (!(prev < period)) return false;
-  const int dim = 2 * b.n, impacts = static_cast<int>(times.size()) + 1;
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, times, period), Eigen::ComputeFullV);
-  out.basis = svd.matrixV().rightCols(k);
-  out.sigma_k = svd.singularValues()[dim - k];
-  out.c.resize(impacts, k);
-  Eigen::MatrixXd y = out.basis;
-  prev = 0.0;
-  // y0 is the state just after the impact at t = 0: record x_c there, then
-  // flow to each t_i, record x_c (NC2) and apply that impact.
-  for (int i = 0; i < impacts; ++i) {
-    for (int j = 0; j < k; ++j) {
-      if (i > 0) Flow(b, times[i - 1] - prev, y.col(j));
-      out.c(i, j) = ContactPosition(b, y.col(j));
-      if (i > 0) ElasticImpact(b, y.col(j));
-    }
-    if (i > 0) prev = times[i - 1];
-  }
-  return true;
-}
-
 // phi(times) and the y0 that realises it (see explore.h).
 Candidate Objective(const AnalysisBasis& b, const std::vector<double>& times, double period, int impacts) {
   const int k = impacts % 2 == 0 ? 2 : 1;

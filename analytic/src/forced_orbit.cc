@@ -41,11 +41,6 @@ Model ScaledModel(const Model& model, double frequency, double amplitude) {
   return m;
 }
 
-double EnergyOf(const Model& m, const Eigen::VectorXd& z) {
-  const int n = m.dofs();
-  return 0.5 * z.tail(n).dot(m.mass * z.tail(n)) + 0.5 * z.head(n).dot(m.stiffness * z.head(n));
-}
-
 // Gauss-Legendre nodes and weights on [-1, 1] (GSL's fixed tables).
 struct Quadrature {
   static constexpr int kNodes = 10;
@@ -323,7 +318,7 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
   for (int i = 0; i < m_; ++i) {
     o.residual = std::max(o.residual, std::abs(pass.before[i][c] - d));
     o.min_impact_velocity = std::min(o.min_impact_velocity, pass.before[i][n + c]);
-    o.impact_loss += EnergyOf(model_, pass.before[i]) - EnergyOf(model_, pass.after[i]);
+    o.impact_loss += MechanicalEnergy(model_, pass.before[i]) - MechanicalEnergy(model_, pass.after[i]);
   }
   // Flights: energy integrals by Gauss-Legendre panels no longer than an
   // eighth of the fastest time scale (the integrands are smooth there: the
@@ -349,7 +344,7 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
         flow_.Advance(t0, s, z);
         const double wt = 0.5 * hp * q.w[k];
         const Eigen::VectorXd v = z.tail(n);
-        energy_integral += wt * EnergyOf(model_, z);
+        energy_integral += wt * MechanicalEnergy(model_, z);
         o.work += wt * v.dot(model_.ConstantForce() + std::cos(w_ * (t0 + s)) * model_.ForceAmplitude());
         o.dissipated += wt * v.dot(model_.DampingMatrix() * v);
       }

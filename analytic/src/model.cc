@@ -291,6 +291,11 @@ int Validate(const Model& model) {
   return rigid;
 }
 
+double MechanicalEnergy(const Model& model, const Eigen::VectorXd& z) {
+  const int n = model.dofs();
+  return 0.5 * z.tail(n).dot(model.mass * z.tail(n)) + 0.5 * z.head(n).dot(model.stiffness * z.head(n));
+}
+
 Eigen::MatrixXd RayleighDamping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& stiffness, double a, double b) {
   if (!(a >= 0.0) || !std::isfinite(a)) {
     throw InputError("system.rayleigh_damping", "coefficient a (of M) must be >= 0 and finite, got " + FormatValue(a));

@@ -25,6 +25,34 @@ Eigen::MatrixXd ReturnMap(const AnalysisBasis& b, const std::vector<double>& tim
   return q;
 }
 
+bool KernelAtImpacts(const AnalysisBasis& b, const std::vector<double>& times, double period, int k,
+                     KernelContacts& out) {
+  double prev = 0.0;
+  for (double t : times) {
+    if (!(t > prev)) return false;
+    prev = t;
+  }
+  if (!(prev < period)) return false;
+  const int dim = 2 * b.n, impacts = static_cast<int>(times.size()) + 1;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, times, period), Eigen::ComputeFullV);
+  out.basis = svd.matrixV().rightCols(k);
+  out.sigma_k = svd.singularValues()[dim - k];
+  out.c.resize(impacts, k);
+  Eigen::MatrixXd y = out.basis;
+  prev = 0.0;
+  // y0 is the state just after the impact at t = 0: record x_c there, then
+  // flow to each t_i, record x_c (NC2) and apply that impact.
+  for (int i = 0; i < impacts; ++i) {
+    for (int j = 0; j < k; ++j) {
+      if (i > 0) Flow(b, times[i - 1] - prev, y.col(j));
+      out.c(i, j) = ContactPosition(b, y.col(j));
+      if (i > 0) ElasticImpact(b, y.col(j));
+    }
+    if (i > 0) prev = times[i - 1];
+  }
+  return true;
+}
+
 double Pfaffian(Eigen::MatrixXd a) {
   const int n = static_cast<int>(a.rows());
   NSMODAL_CHECK(a.cols() == n);

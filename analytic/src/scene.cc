@@ -222,7 +222,8 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
         {"t_end", &SimulateSection::t_end}, {"rtol", &SimulateSection::rtol},
         {"atol", &SimulateSection::atol},   {"step", &SimulateSection::step},
         {"theta", &SimulateSection::theta}, {"root_tol", &SimulateSection::root_tol},
-        {"sample_dt", &SimulateSection::sample_dt}};
+        {"sample_dt", &SimulateSection::sample_dt}, {"modes", &SimulateSection::modes},
+        {"contact_tolerance", &SimulateSection::contact_tolerance}};
     for (auto&& [key, value] : *sim) {
       const std::string k(key.str());
       const std::string field = "simulate." + k;

@@ -4,7 +4,9 @@
 #include <cmath>
 
 #include "nsmodal/admissibility.h"
+#include "nsmodal/check.h"
 #include "nsmodal/one_impact.h"
+#include "nsmodal/two_impact.h"
 
 namespace nsmodal {
 
@@ -34,16 +36,24 @@ int ModeOf(const AnalysisBasis& b, double period) {
   return best;
 }
 
-const Orbit* NotAdmissibleExample(const Atlas& atlas, double gap) {
+std::optional<Orbit> KernelMotionOffTheObstacle(const AnalysisBasis& b, const Orbit& potential, double at_t2) {
+  NSMODAL_CHECK(potential.impacts == 2 && at_t2 != b.gap);
+  // Conditions within 1e-8 of dependent (a bridge, where x_c(0) = d fixes
+  // x_c(t2)) would amplify round-off by 1e8: no figure.
+  std::optional<Orbit> o = TwoImpactKernelOrbit(b, potential.times[0], potential.period, at_t2, 1e-8);
+  if (o && !(o->max_excess > 0.0)) return std::nullopt;
+  return o;
+}
+
+std::optional<Orbit> NotAdmissibleExample(const AnalysisBasis& b, const Atlas& atlas) {
   for (const auto& list : atlas.two.at) {
     for (const OrbitRecord& r : list) {
-      const Orbit& o = r.orbit;
-      if (o.potential && !o.admissible && !IsHalfPeriodRoot(o) && o.max_excess > 0.05 * gap && o.max_excess < gap) {
-        return &o;
-      }
+      if (!r.orbit.potential || IsHalfPeriodRoot(r.orbit)) continue;
+      const std::optional<Orbit> m = KernelMotionOffTheObstacle(b, r.orbit, 0.5 * b.gap);
+      if (m && m->max_excess > 0.05 * b.gap && m->max_excess < b.gap) return m;
     }
   }
-  return nullptr;
+  return std::nullopt;
 }
 
 ModalPick PickModalTransition(const AnalysisBasis& b, const Atlas& atlas) {

@@ -253,3 +253,27 @@ def test_verdict_only_multipliers_of_a_chain():
     np.testing.assert_array_equal(full["stable"], quick["stable"])
     np.testing.assert_allclose(full["max_multiplier"], quick["max_multiplier"], rtol=1e-12)
     assert np.isnan(quick["multipliers"]).any() and not np.isnan(full["multipliers"][full["potential"]]).any()
+
+
+def test_truncation_keeps_the_lowest_modes_and_bounds_the_rest(paper):
+    chain = nsmodal.Model(masses=[1.0] * 20, springs=[1.0] * 20, gap=1.0, restitution=1.0, contact_dof=20)
+    t = nsmodal.truncate(chain, modes=5)
+    assert t.kept == 5 and t.dofs == 20 and t.model.dofs == 5 and t.model.contact_dof == 1
+    # The kept model's periods are the chain's five longest (round-off).
+    np.testing.assert_allclose(t.model.linear_periods, chain.linear_periods[-5:], rtol=1e-12)
+    # p = from_physical x is the kept modes' part of x, its first coordinate
+    # that part's x_c; what the neglected modes carry of x_c is within the
+    # bound at the state's energy.
+    x = np.linspace(0.0, 0.5, 20)
+    p = t.from_physical @ x
+    assert (t.to_physical @ p)[-1] == pytest.approx(p[0], abs=1e-14)
+    assert abs(x[-1] - p[0]) <= t.contact_bound(0.5 * x @ chain.stiffness_matrix @ x)
+    assert t.contact_bound(2.0) == pytest.approx(np.sqrt(2 * 2.0 * t.residual_flexibility))
+    k = nsmodal.truncate(chain, contact_tolerance=0.1, energy=2.0)
+    assert k.contact_bound(2.0) <= 0.1 < nsmodal.truncate(chain, modes=k.kept - 1).contact_bound(2.0)
+    with pytest.raises(ValueError, match="modes"):
+        nsmodal.truncate(chain, modes=0)
+    with pytest.raises(ValueError, match="modes"):
+        nsmodal.truncate(chain)
+    with pytest.raises(ValueError, match="energy"):
+        nsmodal.truncate(chain, contact_tolerance=0.1)

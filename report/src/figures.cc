@@ -74,13 +74,15 @@ std::string DofLabel(const char* symbol, int dof, const char* unit) {
 }
 std::string XcLabel(const Context& c) { return "contact displacement " + DofLabel("x", c.contact, "m"); }
 
-// The data files must be closed (flushed) before this is called.
-void Draw(Context& c, const std::string& name, const std::string& body) {
+// The data files must be closed (flushed) before this is called. Figures
+// carry no titles (captions go with the figure, README "The paper's
+// figures"): `note` is the caption's numbers, printed beside the name.
+void Draw(Context& c, const std::string& name, const std::string& body, const std::string& note = "") {
   // Offsets keep a curve that touches d off the frame of an autoscaled axis.
   const std::string setup = "set datafile separator ','\nset grid\nset offsets graph 0, graph 0, graph 0.05, graph 0.05\n";
   const report::ChartStatus s = report::DrawChart(c.dir, name, setup + body);
   (s.drawn ? c.drawn : c.failed) += 1;
-  c.log << "  " << name << (s.drawn ? "" : ": not drawn: " + s.message) << "\n";
+  c.log << "  " << name << (note.empty() ? "" : ": " + note) << (s.drawn ? "" : ": not drawn: " + s.message) << "\n";
 }
 
 bool IsStable(const std::optional<Stability>& s) { return s && s->stable; }
@@ -93,11 +95,20 @@ void WriteTrajectoryHeader(std::ostream& os, const Context& c) {
   for (int i = 1; i <= c.b.n; ++i) os << ",v" << i;
   os << "\n";
 }
-void WriteTrajectory(std::ostream& os, const std::string& label, double period, const Eigen::MatrixXd& tr) {
+// `flight_rows` > 0: a row of NaN after every flight of that many rows but
+// the last (the two rows of an impact are then not joined: a surface drawn
+// from such scans does not bridge the jump of v_c inside the obstacle plane).
+void WriteTrajectory(std::ostream& os, const std::string& label, double period, const Eigen::MatrixXd& tr,
+                     long flight_rows = 0) {
   for (long r = 0; r < tr.rows(); ++r) {
     os << label << "," << period;
     for (long k = 0; k < tr.cols(); ++k) os << "," << tr(r, k);
     os << "\n";
+    if (flight_rows > 0 && (r + 1) % flight_rows == 0 && r + 1 < tr.rows()) {
+      os << label << "," << period;
+      for (long k = 0; k < tr.cols(); ++k) os << ",NaN";
+      os << "\n";
+    }
   }
   os << "\n";
 }
@@ -105,7 +116,6 @@ void WriteTrajectory(std::ostream& os, const std::string& label, double period, 
 // Columns of a trajectory CSV (1-based for gnuplot): t, x_i, v_i.
 int TCol() { return 3; }
 int XCol(const Context&, int dof) { return 4 + dof; }
-int VCol(const Context& c, int dof) { return 4 + c.b.n + dof; }
 
 
 // Energy range of a frequency-energy plot: from half the lowest potential
@@ -134,35 +144,64 @@ std::string EnergyAxes(const Context& c) {
   return os.str();
 }
 
-// A chart of x_c(t) over one period of one orbit (Figs. 2, 5, 9): the orbit's
-// samples to DIR/NAME.csv, the chart with the obstacle at d. `title` may hold
-// "\\n" (a gnuplot line break); `extra` is gnuplot set-up drawn under it.
-void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const std::string& title,
-                  const std::string& extra = "") {
+// A chart of x_c(t) over one period of one orbit (Figs. 2, 5, 9) in `colour`:
+// the orbit's samples to DIR/NAME.csv, the obstacle at d, the part of x_c
+// above d filled (an NC3 failure is seen, not read off a number). `setup` is
+// gnuplot set-up before the plot, `layers` more plot layers after it.
+void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const char* colour,
+                  const std::string& setup, const std::string& layers, const std::string& note) {
   report::ResultFile out(c.dir, name + ".csv");
   WriteTrajectoryHeader(out.stream(), c);
   WriteTrajectory(out.stream(), "x", o.period, OrbitTrajectory(c.b, o, kSamples));
   out.Commit();
+  const std::string xc = std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact));
   std::ostringstream body;
-  body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset title \"" << title
-       << "\"\n"
-       << extra << "plot '" << name << ".csv' using " << TCol() << ":" << XCol(c, c.contact)
-       << " with lines lw 2 lc rgb '" << kOneStable << "' title 'x_c(t)', " << c.b.gap
-       << " with lines dt 2 lc rgb 'black' title 'obstacle d'";
-  Draw(c, name, body.str());
+  body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset xrange [0:" << o.period
+       << "]\n"
+       << setup << "plot '" << name << ".csv' using " << xc << " with filledcurves above y=" << c.b.gap
+       << " fs solid 0.5 noborder lc rgb '" << kPotential << "' title 'x_c > d', "
+       << "'' using " << xc << " with lines lw 2 lc rgb '" << colour << "' title 'x_c(t)', " << c.b.gap
+       << " with lines dt 2 lc rgb 'black' title 'obstacle d'" << (layers.empty() ? "" : ", " + layers);
+  Draw(c, name, body.str(), note);
 }
 
-// Fig. 2: a potential 2-ipp orbit that is not admissible.
+// A plot layer circling the point (t, x); an empty title: no key entry.
+std::string CircleMark(double t, double x, const std::string& title) {
+  std::ostringstream os;
+  os << "'+' using (" << t << "):(" << x << ") every ::0::0 with points pt 6 ps 2 lw 2 lc rgb 'black' "
+     << (title.empty() ? "notitle" : "title '" + title + "'");
+  return os.str();
+}
+
+// Plot layers circling the points (t, d) where an orbit grazes the obstacle.
+std::string GrazeMarks(const Context& c, const std::vector<double>& times) {
+  std::string layers;
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    layers += (k ? ", " : "") + CircleMark(times[k], c.b.gap, k ? "" : "graze: x_c = d, v_c = 0");
+  }
+  return layers;
+}
+
+// Fig. 2: a motion from ker A_2 that fails NC2 and NC3 (the paper's Fig. 2):
+// t2 dotted, x_c(t2) != d circled, the excess above d filled.
 void Figure2(Context& c) {
-  const Orbit* pick = NotAdmissibleExample(c.atlas, c.b.gap);
+  const std::optional<Orbit> pick = NotAdmissibleExample(c.b, c.atlas);
   if (!pick) {
-    c.log << "  fig02: no potential, non-admissible 2-ipp orbit in the sweep; skipped\n";
+    c.log << "  fig02: no potential 2-ipp root off T/2 whose kernel motion fails NC3 visibly; skipped\n";
     return;
   }
-  std::ostringstream title;
-  title << "Fig. 2: potential, not admissible 2-ipp orbit, T = " << pick->period << ", t_2 = " << pick->times[0]
-        << "\\nNC2 holds at the impacts; NC3 fails: x_c exceeds d by " << pick->max_excess;
-  DrawOneOrbit(c, "fig02_not_admissible", *pick, title.str());
+  const double t2 = pick->times[0];
+  Eigen::VectorXd y = pick->y0;
+  Flow(c.b, t2, y);
+  const double x_t2 = ContactPosition(c.b, y);
+  std::ostringstream setup;
+  setup << "set arrow from " << t2 << ", graph 0 to " << t2 << ", graph 1 nohead dt 3 lc rgb 'gray50'\n"
+        << "set label 't_2' at " << t2 << ", graph 1 offset 0.5, -1\n";
+  std::ostringstream note;
+  note << "T = " << pick->period << ", t2 = " << t2 << ", x_c(t2) = " << x_t2 << ", x_c exceeds d by up to "
+       << pick->max_excess;
+  DrawOneOrbit(c, "fig02_not_admissible", *pick, kNotAdmissible, setup.str(),
+               CircleMark(t2, x_t2, "x_c(t_2) {/Symbol \\271} d: NC2 fails"), note.str());
 }
 
 // Fig. 3: 1-ipp energies, admissible zones coloured by stability, transitions.
@@ -189,12 +228,11 @@ void Figure3(Context& c) {
   }
   std::ostringstream body;
   body << EnergyAxes(c) << arrows.str() << "set key below\n"
-       << "set title 'Fig. 3: energies of the T-periodic 1-ipp orbits'\n"
-       << "plot 'fig03_one_impact.csv' using 1:($3 == 1 ? $2 : 1/0) with points pt 7 ps 0.25 lc rgb '" << kPotential
+       << "plot 'fig03_one_impact.csv' using 1:($3 == 1 ? $2 : 1/0) with lines lw 1 lc rgb '" << kPotential
        << "' title 'potential', "
-       << "'' using 1:($4 == 1 && $5 == 1 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '" << kOneStable
+       << "'' using 1:($4 == 1 && $5 == 1 ? $2 : 1/0) with lines lw 2.5 lc rgb '" << kOneStable
        << "' title 'admissible, stable', "
-       << "'' using 1:($4 == 1 && $5 == 0 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '" << kOneUnstable << "'"
+       << "'' using 1:($4 == 1 && $5 == 0 ? $2 : 1/0) with lines lw 1.5 dt 2 lc rgb '" << kOneUnstable << "'"
        << " title 'admissible, unstable', "
        << "'fig03_transitions.csv' using 1:(strcol(2) eq 'grazing' ? $3 : 1/0) with points pt 6 ps 1.5 lw 2 lc rgb "
           "'black' title 'grazing transition T_G', "
@@ -227,7 +265,6 @@ void Figure4(Context& c, const ModalPick& m) {
   WriteTrajectory(out.stream(), "not_admissible", beyond.period, OrbitTrajectory(c.b, beyond, kSamples));
   std::ostringstream body;
   body << "set xlabel 'normalised time t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
-       << "set title 'Fig. 4: linear modal transition at T = " << m.period << " (1-ipp)'\n"
        << "plot 'fig04_modal_transition.csv' using (strcol(1) eq 'admissible' ? $3/$2 : 1/0):" << XCol(c, c.contact)
        << " with lines lw 2 lc rgb '" << kOneStable << "' title 'T = " << in.period << " (admissible)', "
        << "'' using (strcol(1) eq 'modal' ? $3/$2 : 1/0):" << XCol(c, c.contact)
@@ -235,9 +272,11 @@ void Figure4(Context& c, const ModalPick& m) {
        << "'' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" << XCol(c, c.contact)
        << " with lines lw 2 dt 2 lc rgb '" << kNotAdmissible << "' title 'T = " << beyond.period
        << " (x_c > d: not admissible)', "
-       << c.b.gap << " with lines dt 2 lc rgb 'gray40' title 'd'";
+       << c.b.gap << " with lines dt 3 lc rgb 'black' title 'obstacle d'";
   out.Commit();
-  Draw(c, "fig04_modal_transition", body.str());
+  std::ostringstream note;
+  note << "modal transition T = " << m.period << ", admissible at " << in.period << ", not at " << beyond.period;
+  Draw(c, "fig04_modal_transition", body.str(), note.str());
 }
 
 
@@ -250,9 +289,10 @@ void Figure5(Context& c) {
     return;
   }
   const Bridge& br = *paper;
-  std::ostringstream title;
-  title << "Fig. 5: grazing transition T_G = " << br.period << ": x_c touches d at t = " << br.t2;
-  DrawOneOrbit(c, "fig05_grazing_transition", OneImpactOrbit(c.b, br.period), title.str());
+  std::ostringstream note;
+  note << "T_G = " << br.period << ", graze at t = " << br.t2;
+  DrawOneOrbit(c, "fig05_grazing_transition", OneImpactOrbit(c.b, br.period), kOneStable, "",
+               GrazeMarks(c, {br.t2}), note.str());
 }
 
 // Fig. 6: det A_2(t2, T) against t2 for T = 1..10, with its roots.
@@ -272,7 +312,7 @@ void Figure6(Context& c) {
     }
   }
   std::ostringstream body;
-  body << "set multiplot layout 2,5 title 'Fig. 6: det A_2(t_2, T) against t_2; roots: t_2 = T/2 open, others filled'\n"
+  body << "set multiplot layout 2,5\n"
        << "unset key\nset xlabel 't_2 (s)'\nset ylabel 'det A_2'\n";
   for (int period = 1; period <= 10; ++period) {
     body << "set title 'T = " << period << "'\nset xrange [0:" << period << "]\nset xtics " << 0.5 * period
@@ -302,7 +342,7 @@ void Figure6(Context& c) {
   std::ostringstream plane;
   plane << "set xlabel 'period T (s)'\nset ylabel 'time of the second impact t_2 (s)'\nset key below\n"
         << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:" << c.periods.back() << "]\n"
-        << "plot 'fig06_root_curves.csv' using 1:($3 == 1 ? $2 : 1/0) with points pt 7 ps 0.2 lc rgb '" << kDilated
+        << "plot 'fig06_root_curves.csv' using 1:($3 == 1 ? $2 : 1/0) with points pt 6 ps 0.3 lc rgb '" << kDilated
         << "' title 'trivial root t_2 = T/2 (the dilated 1-ipp)', "
         << "'' using 1:($3 == 0 && $4 == 0 ? $2 : 1/0) with points pt 7 ps 0.2 lc rgb '" << kPotential
         << "' title 'other root, not admissible', "
@@ -332,76 +372,142 @@ void Figure7(Context& c) {
   WriteTwoImpact(c, out.stream());
   const auto [lo, hi] = EnergyRange(c);
   std::ostringstream body;
-  body << "set xlabel 'period T (s)'\nset ylabel 'time of the second impact t_2 (s)'\nset zlabel 'energy E (J)' "
+  // The roots' shadows on the floor (the root curves of fig06_root_curves)
+  // and the line t2 = T/2 there: the t2 <-> T - t2 symmetry is read off the
+  // floor, the energies above it.
+  body << "set xlabel 'period T (s)'\nset ylabel 't_2 (s)'\nset zlabel 'energy E (J)' "
           "rotate\nset logscale z\nset format z '10^{%T}'\nset zrange ["
        << lo << ":" << hi << "]\nset xyplane at " << lo << "\nset view 60,35\nset key top left\n"
-       << "set title 'Fig. 7: energies of the T-periodic 2-ipp orbits over (T, t_2)'\n"
-       << "splot 'fig07_two_impact.csv' using 1:2:3 with points pt 7 ps 0.15 lc rgb '" << kPotential
-       << "' title 'potential', "
-       << "'' using 1:2:($5 == 1 && $6 == 1 ? $3 : 1/0) with points pt 7 ps 0.3 lc rgb '" << kTwoStable
+       << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:" << c.periods.back() << "]\n"
+       << "$half << EOD\n0,0," << lo << "\n" << c.periods.back() << "," << 0.5 * c.periods.back() << "," << lo
+       << "\nEOD\n"
+       << "splot 'fig07_two_impact.csv' using 1:2:(" << lo << ") with points pt 7 ps 0.1 lc rgb '#DDDDDD' notitle, "
+       << "'' using 1:2:($5 == 1 ? " << lo << " : 1/0) with points pt 7 ps 0.15 lc rgb '#F3C9A6' notitle, "
+       << "'' using 1:2:3 with points pt 7 ps 0.15 lc rgb '" << kPotential << "' title 'potential', "
+       << "'' using 1:2:($5 == 1 && $6 == 1 ? $3 : 1/0) with points pt 7 ps 0.4 lc rgb '" << kTwoStable
        << "' title 'admissible, stable', "
-       << "'' using 1:2:($5 == 1 && $6 == 0 ? $3 : 1/0) with points pt 7 ps 0.3 lc rgb '" << kTwoUnstable
-       << "' title 'admissible, unstable'";
+       << "'' using 1:2:($5 == 1 && $6 == 0 ? $3 : 1/0) with points pt 6 ps 0.4 lc rgb '" << kTwoUnstable
+       << "' title 'admissible, unstable', "
+       << "$half using 1:2:3 with lines dt 2 lw 2 lc rgb '" << kDilated
+       << "' title 't_2 = T/2 (on the floor: the roots seen from above)'";
   out.Commit();
   Draw(c, "fig07_two_impact_energy", body.str());
 }
 
-void WriteBridges(const Context& c, std::ostream& out) {
+void WriteBridges(std::ostream& out, const std::vector<Bridge>& bridges) {
   out << "T,t2,energy_min,energy_max,s_begin,s_end,kind\n";
-  for (const Bridge& br : c.bridges) {
+  for (const Bridge& br : bridges) {
     out << br.period << "," << br.t2 << "," << br.energy_min << "," << br.energy_max << "," << br.s_begin << ","
         << br.s_end << "," << (IsGrazing(br) ? "grazing" : "period-doubling") << "\n";
   }
 }
 
 // The layers of a combined frequency-energy plot from a CSV with columns
-// family,T,t2,energy,stable and a bridges CSV.
-std::string FepLayers(const std::string& csv, const std::string& bridges, double point_size) {
+// family,T,t2,energy,stable (FepTable) and a bridges CSV. Families with one
+// orbit per period are lines (solid stable, dashed unstable); the other
+// 2-ipp roots are points (filled stable, open unstable).
+// `index` >= 0 selects that dataset of both files (gnuplot's `index`).
+std::string FepLayers(const std::string& csv, const std::string& bridges, double point_size, int index = -1) {
   std::ostringstream os;
-  const std::string ps = std::to_string(point_size);
-  os << "plot '" << csv << "' using 2:(strcol(1) eq '2-ipp' && $5 == 1 ? $4 : 1/0) with points pt 7 ps " << ps
+  const std::string ps = std::to_string(point_size), ix = index < 0 ? "" : " index " + std::to_string(index);
+  os << "plot '" << csv << "'" << ix << " using 2:(strcol(1) eq '2-ipp' && $5 == 1 ? $4 : 1/0) with points pt 7 ps " << ps
      << " lc rgb '" << kTwoStable << "' title '2-ipp, stable', "
-     << "'' using 2:(strcol(1) eq '2-ipp' && $5 == 0 ? $4 : 1/0) with points pt 7 ps " << ps << " lc rgb '"
+     << "''" << ix << " using 2:(strcol(1) eq '2-ipp' && $5 == 0 ? $4 : 1/0) with points pt 6 ps " << ps << " lc rgb '"
      << kTwoUnstable << "' title '2-ipp, unstable', "
-     << "'' using 2:(strcol(1) eq '1-ipp' && $5 == 1 ? $4 : 1/0) with points pt 7 ps " << ps << " lc rgb '"
-     << kOneStable << "' title '1-ipp, stable', "
-     << "'' using 2:(strcol(1) eq '1-ipp' && $5 == 0 ? $4 : 1/0) with points pt 7 ps " << ps << " lc rgb '"
-     << kOneUnstable << "' title '1-ipp, unstable', "
-     << "'' using 2:(strcol(1) eq '2-ipp-half' ? $4 : 1/0) with points pt 7 ps " << point_size * 0.5
-     << " lc rgb '" << kDilated << "' title '2-ipp with t_2 = T/2 (1-ipp dilated x2)', "
-     << "'" << bridges << "' using 1:3:(0):($4-$3) with vectors nohead lw 3 lc rgb 'black' title 'bridge'";
+     << "''" << ix << " using 2:(strcol(1) eq '1-ipp' && $5 == 1 ? $4 : 1/0) with lines lw 2.5 lc rgb '" << kOneStable
+     << "' title '1-ipp, stable', "
+     << "''" << ix << " using 2:(strcol(1) eq '1-ipp' && $5 == 0 ? $4 : 1/0) with lines lw 1.5 dt 2 lc rgb '" << kOneUnstable
+     << "' title '1-ipp, unstable', "
+     << "''" << ix << " using 2:(strcol(1) eq '2-ipp-half' ? $4 : 1/0) with lines lw 1.5 dt 4 lc rgb '" << kDilated
+     << "' title '2-ipp with t_2 = T/2 (1-ipp dilated x2)', "
+     << "'" << bridges << "'" << ix << " using 1:3:(0):($4-$3) with vectors nohead lw 3 lc rgb 'black' title 'bridge'";
   return os.str();
 }
 
-void WriteFepRow(std::ostream& out, const char* family, const Orbit& o, const std::optional<Stability>& s) {
-  out << family << "," << o.period << "," << (o.times.empty() ? 0.0 : o.times[0]) << "," << o.energy << ","
-      << IsStable(s) << "\n";
+// The rows of a frequency-energy plot's CSV (family,T,t2,energy,stable) of
+// admissible orbits, grouped by family, so that a family with one orbit per
+// period (1-ipp; the 2-ipp root t2 = T/2) is drawn as a line, broken (a
+// blank line) wherever a period of the grid has no admissible orbit of it.
+class FepTable {
+ public:
+  // `step`: the index of the orbit's period on its grid.
+  void Add(int step, const Orbit& o, const std::optional<Stability>& s) {
+    if (!o.admissible) return;
+    const bool one = o.times.empty(), half = !one && o.impacts == 2 && IsHalfPeriodRoot(o);
+    Family& f = one ? one_ : half ? half_ : two_;
+    if ((one || half) && f.last >= 0 && step != f.last + 1) f.rows << "\n";
+    f.last = step;
+    f.rows << (one ? "1-ipp" : half ? "2-ipp-half" : "2-ipp") << "," << o.period << ","
+           << (one ? 0.0 : o.times[0]) << "," << o.energy << "," << IsStable(s) << "\n";
+  }
+  void Write(std::ostream& out) const {
+    // One blank line between the families (two would start a new dataset).
+    out << "family,T,t2,energy,stable\n";
+    bool first = true;
+    for (const Family* f : {&one_, &half_, &two_}) {
+      if (f->last < 0) continue;
+      out << (first ? "" : "\n") << f->rows.str();
+      first = false;
+    }
+  }
+
+ private:
+  struct Family {
+    std::ostringstream rows;
+    int last = -1;
+  };
+  Family one_, half_, two_;
+};
+
+// The admissible 1- and 2-ipp orbits of 401 periods over [t - w, t + w]
+// into `table`; returns the range of their energies.
+std::pair<double, double> AddOrbitsNear(const Context& c, double t, double w, FepTable& table) {
+  double lo = INFINITY, hi = -INFINITY;
+  SweepOptions admissible_only;
+  admissible_only.stability = StabilityPolicy::kAdmissible;
+  for (int j = 0; j <= 400; ++j) {
+    const double p = t - w + 2 * w * j / 400.0;
+    for (int impacts : {1, 2}) {
+      for (const OrbitRecord& r : OrbitsAt(c.b, p, impacts, admissible_only)) {
+        if (!r.orbit.admissible) continue;
+        table.Add(j, r.orbit, r.stability);
+        lo = std::min(lo, r.orbit.energy);
+        hi = std::max(hi, r.orbit.energy);
+      }
+    }
+  }
+  return {lo, hi};
 }
 
 // Fig. 8: the combined frequency-energy plot.
 void Figure8(Context& c) {
   report::ResultFile out(c.dir, "fig08_fep.csv");
-  out << "family,T,t2,energy,stable\n";
-  for (const auto& list : c.atlas.one.at) {
-    const OrbitRecord& r = list.front();
-    if (r.orbit.admissible) WriteFepRow(out.stream(), "1-ipp", r.orbit, r.stability);
+  FepTable table;
+  for (std::size_t k = 0; k < c.atlas.one.at.size(); ++k) {
+    const OrbitRecord& r = c.atlas.one.at[k].front();
+    table.Add(static_cast<int>(k), r.orbit, r.stability);
   }
-  for (const auto& list : c.atlas.two.at) {
-    for (const OrbitRecord& r : list) {
-      const Orbit& o = r.orbit;
-      if (!o.admissible) continue;
-      WriteFepRow(out.stream(), IsHalfPeriodRoot(o) ? "2-ipp-half" : "2-ipp", o, r.stability);
-    }
+  for (std::size_t k = 0; k < c.atlas.two.at.size(); ++k) {
+    for (const OrbitRecord& r : c.atlas.two.at[k]) table.Add(static_cast<int>(k), r.orbit, r.stability);
   }
+  table.Write(out.stream());
   report::ResultFile br(c.dir, "fig08_bridges.csv");
-  WriteBridges(c, br.stream());
+  WriteBridges(br.stream(), c.bridges);
   std::ostringstream body;
-  body << EnergyAxes(c) << "set key below\n"
-       << "set title 'Fig. 8: admissible 1-ipp and 2-ipp orbits (frequency-energy plot)'\n"
-       << FepLayers("fig08_fep.csv", "fig08_bridges.csv", 0.35);
+  body << EnergyAxes(c) << "set key below\n";
+  for (std::size_t k = 0; k < c.bridges.size(); ++k) {
+    const Bridge& b = c.bridges[k];
+    body << "set label 'B" << k + 1 << "' at " << b.period << ", " << b.energy_max << " offset -0.6, 1.1 front\n";
+  }
+  body << FepLayers("fig08_fep.csv", "fig08_bridges.csv", 0.35);
   out.Commit();
   br.Commit();
-  Draw(c, "fig08_fep", body.str());
+  std::ostringstream note;
+  for (std::size_t k = 0; k < c.bridges.size(); ++k) {
+    note << (k ? "; " : "") << "B" << k + 1 << " " << (IsGrazing(c.bridges[k]) ? "grazing" : "period-doubling")
+         << " at T = " << c.bridges[k].period;
+  }
+  Draw(c, "fig08_fep", body.str(), note.str());
 }
 
 // Fig. 9: a 1-ipp orbit with two grazes, admissible as a 3-ipp orbit too.
@@ -412,28 +518,93 @@ void Figure9(Context& c) {
     return;
   }
   const Bridge& br = *g->bridge;
-  std::ostringstream title, arrows;
-  title << "Fig. 9: one impact and two grazes (t = " << br.t2 << ", " << br.period - br.t2 << "), T = " << br.period
-        << "\\nadmissible as a 1-ipp and as a 3-ipp orbit (NC2 residual " << g->three.nc2_residual << ")";
-  for (double t : {br.t2, br.period - br.t2}) {
-    arrows << "set arrow from " << t << ", graph 0 to " << t << ", graph 1 nohead dt 3 lc rgb 'gray50'\n";
-  }
-  DrawOneOrbit(c, "fig09_two_grazes", g->one, title.str(), arrows.str());
+  std::ostringstream note;
+  note << "T = " << br.period << ", grazes at t = " << br.t2 << " and " << br.period - br.t2
+       << ", NC2 residual as a 3-ipp orbit " << g->three.nc2_residual;
+  DrawOneOrbit(c, "fig09_two_grazes", g->one, kOneStable, "", GrazeMarks(c, {br.t2, br.period - br.t2}),
+               note.str());
 }
 
-// The phase section of Figs. 10, 12, 14: (x_other, x_c, v_c), the paper's
+// The phase sections of Figs. 10, 12, 14: (x_other, x_c, v_c), the paper's
 // (x_1, x_2, v_2). A one-dof system has no x_other: time takes its place.
-std::string SectionAxes(const Context& c) {
-  std::ostringstream os;
-  os << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
-     << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s")
-     << "' rotate\nset view 65,40\n";
-  return os.str();
-}
-int SectionXCol(const Context& c) { return c.b.n > 1 ? XCol(c, c.other) : TCol(); }
-std::string SectionUsing(const Context& c) {
-  return std::to_string(SectionXCol(c)) + ":" + std::to_string(XCol(c, c.contact)) + ":" +
-         std::to_string(VCol(c, c.contact));
+// A family of orbits is a surface there (a nonsmooth mode, or a bridge's
+// continuum): each orbit one scan of it, all with the same rows.
+struct SectionFamily {
+  std::string shade_label;  // what the colour bar measures
+  std::vector<std::pair<double, Eigen::MatrixXd>> orbits;  // (shade, OrbitTrajectory)
+};
+struct SectionCurve {
+  std::string title;
+  std::string style;  // gnuplot "with ..." clause
+  std::vector<Eigen::MatrixXd> trajectories;  // OrbitTrajectory of each orbit
+};
+
+// Draws NAME: left, the family as a shaded surface (viridis by shade,
+// depth-sorted, with a colour bar), the curves, the obstacle plane x_c = d
+// (translucent) and the floor on the data, seen so that the surface's two
+// edges on the plane (just before and just after the impact) are apart;
+// right, the (x_c, v_c) projection, where the jump of v_c at x_c = d is a gap
+// between the ends of each orbit. NAME.csv holds the family (curve
+// "family", column 2 the shade; scans separated by a blank line, gnuplot's
+// first dataset), then after two blank lines one block per curve.
+void DrawSection(Context& c, const std::string& name, const SectionFamily& family,
+                 const std::vector<SectionCurve>& curves, const std::string& note) {
+  // The three coordinates' columns in an OrbitTrajectory (t, x, v); in the
+  // CSV each is TCol() further on (WriteTrajectory's label and T first).
+  const int cols[3] = {c.b.n > 1 ? 1 + c.other : 0, 1 + c.contact, 1 + c.b.n + c.contact};
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  double s_lo = INFINITY, s_hi = -INFINITY;
+  auto extend = [&](const Eigen::MatrixXd& tr) {
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], tr.col(cols[k]).minCoeff());
+      hi[k] = std::max(hi[k], tr.col(cols[k]).maxCoeff());
+    }
+  };
+  report::ResultFile out(c.dir, name + ".csv");
+  WriteTrajectoryHeader(out.stream(), c);
+  for (const auto& [shade, tr] : family.orbits) {
+    WriteTrajectory(out.stream(), "family", shade, tr, kSamples + 1);  // OrbitTrajectory's rows per flight
+    extend(tr);
+    s_lo = std::min(s_lo, shade);
+    s_hi = std::max(s_hi, shade);
+  }
+  for (const SectionCurve& curve : curves) {
+    out << "\n";
+    for (const Eigen::MatrixXd& tr : curve.trajectories) {
+      WriteTrajectory(out.stream(), "curve", 0.0, tr);
+      extend(tr);
+    }
+  }
+  out.Commit();
+  if (!(s_hi > s_lo)) s_hi = s_lo + 1.0;
+  const std::string u = std::to_string(TCol() + cols[0]), w = std::to_string(TCol() + cols[1]),
+                    v = std::to_string(TCol() + cols[2]);
+  std::ostringstream body;
+  body << "set multiplot\nset size 0.56, 1\nset origin 0, 0\n" << kViridis << "set cbrange [" << s_lo << ":" << s_hi << "]\nset cblabel '"
+       << family.shade_label << "'\nset colorbox user origin screen 0.565, screen 0.25 size screen 0.02, screen 0.5\n"
+       << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
+       << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate\n"
+       << "set view 62, 35\nset xyplane relative 0\nset key at screen 0.02, screen 0.99 left top\n"
+       << "set pm3d depthorder border lc rgb '#00000030' lw 0.3\n"
+       << "$plane << EOD\n"
+       << lo[0] << "," << c.b.gap << "," << lo[2] << "\n" << lo[0] << "," << c.b.gap << "," << hi[2] << "\n\n"
+       << hi[0] << "," << c.b.gap << "," << lo[2] << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\nEOD\n"
+       << "splot '" << name << ".csv' index 0 using " << u << ":" << w << ":" << v << ":2 with pm3d notitle, "
+       << "$plane using 1:2:3 with pm3d fillcolor rgb '#A0999999' notitle, "
+       << "NaN with lines lw 6 lc rgb '#C0C0C0' title 'obstacle x_c = d'";
+  for (std::size_t k = 0; k < curves.size(); ++k) {
+    body << ", '" << name << ".csv' index " << k + 1 << " using " << u << ":" << w << ":" << v << " " << curves[k].style << " title '"
+         << curves[k].title << "'";
+  }
+  body << "\nset size 0.34, 1\nset origin 0.66, 0\nunset pm3d\nunset colorbox\nunset key\nset xlabel '" << DofLabel("x", c.contact, "m")
+       << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s") << "'\n"
+       << "set arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead dt 2 lc rgb 'black'\n"
+       << "plot '" << name << ".csv' index 0 using " << w << ":" << v << ":2 with lines lw 1 lc palette";
+  for (std::size_t k = 0; k < curves.size(); ++k) {
+    body << ", '' index " << k + 1 << " using " << w << ":" << v << " " << curves[k].style;
+  }
+  body << "\nunset multiplot";
+  Draw(c, name, body.str(), note);
 }
 
 // Fig. 10: the 1-ipp nonsmooth mode next to the modal transition of Fig. 4.
@@ -442,29 +613,21 @@ void Figure10(Context& c, const ModalPick& m) {
     c.log << "  fig10: no modal transition bounds an admissible zone; skipped\n";
     return;
   }
-  report::ResultFile out(c.dir, "fig10_one_impact_mode.csv");
-  WriteTrajectoryHeader(out.stream(), c);
   const Orbit mode = GrazingMode(c.b, ModeOf(c.b, m.period), m.period);
-  WriteTrajectory(out.stream(), "modal", m.period, OrbitTrajectory(c.b, mode, kSamples));
   // Orbits across the zone, stopping where the energy passes 4 times the
   // mode's (towards a singular transition it diverges).
-  int drawn = 0;
+  SectionFamily family{"period T (s)", {}};
   for (int k = 1; k <= 24; ++k) {
     const Orbit o = OneImpactOrbit(c.b, m.period + m.side * m.width * k / 25.0);
     if (!o.admissible || o.energy > 4.0 * mode.energy) break;
-    WriteTrajectory(out.stream(), "orbit", o.period, OrbitTrajectory(c.b, o, kSamples));
-    ++drawn;
+    family.orbits.emplace_back(o.period, OrbitTrajectory(c.b, o, kSamples));
   }
-  std::ostringstream body;
-  body << SectionAxes(c) << "set key top left\n"
-       << "set title 'Fig. 10: " << drawn << " 1-ipp orbits of the nonsmooth mode next to T = " << m.period
-       << "'\nsplot 'fig10_one_impact_mode.csv' using (strcol(1) eq 'orbit' ? $" << SectionXCol(c)
-       << " : 1/0):" << XCol(c, c.contact) << ":" << VCol(c, c.contact) << " with lines lw 1 lc rgb '" << kOneStable
-       << "' title '1-ipp orbits', '' using (strcol(1) eq 'modal' ? $" << SectionXCol(c)
-       << " : 1/0):" << XCol(c, c.contact) << ":" << VCol(c, c.contact)
-       << " with lines lw 3 lc rgb 'black' title 'grazing linear mode'";
-  out.Commit();
-  Draw(c, "fig10_one_impact_mode", body.str());
+  std::ostringstream note;
+  note << family.orbits.size() << " 1-ipp orbits, T from " << m.period << " to "
+       << (family.orbits.empty() ? m.period : family.orbits.back().first);
+  DrawSection(c, "fig10_one_impact_mode", family,
+              {{"grazing linear mode", "with lines lw 3 lc rgb 'black'", {OrbitTrajectory(c.b, mode, kSamples)}}},
+              note.str());
 }
 
 // Figs. 11-12: the 2-ipp nonsmooth mode through the grazing linear mode of
@@ -512,18 +675,23 @@ void Figures11And12(Context& c) {
   std::ostringstream body;
   body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
        << kViridis << "set cbrange [0:" << curves << "]\nset cblabel 'orbit along the branch (0: the grazing mode)'\n"
-       << "set title \"Fig. 11: 2-ipp orbits along the branch from the grazing linear mode, T = 3 T_i = " << period
-       << " (dark),\\nto " << summary.str() << " (yellow); T spans [" << tmin << ", " << tmax << "]\"\n"
        << "plot 'fig11_two_impact_mode.csv' using " << TCol() << ":" << XCol(c, c.contact)
        << ":1 with lines lw 1.5 lc palette notitle, " << c.b.gap << " with lines dt 2 lc rgb 'black' title 'd'";
   out.Commit();
-  Draw(c, "fig11_two_impact_orbits", body.str());
-  std::ostringstream body12;
-  body12 << SectionAxes(c) << kViridis << "set cbrange [0:" << curves
-         << "]\nset cblabel 'orbit along the branch (0: the grazing mode)'\nset title 'Fig. 12: the same 2-ipp orbits in the phase section: a "
-            "nonsmooth mode'\n"
-         << "splot 'fig11_two_impact_mode.csv' using " << SectionUsing(c) << ":1 with lines lw 1.5 lc palette notitle";
-  Draw(c, "fig12_two_impact_mode", body12.str());
+  std::ostringstream note;
+  note << "from the grazing mode at T = 3 T_i = " << period << " (T_i = " << c.b.Periods()[mode]
+       << ", the shortest linear period) to " << summary.str()
+       << "; T spans [" << tmin << ", " << tmax << "]";
+  Draw(c, "fig11_two_impact_orbits", body.str(), note.str());
+  // Fig. 12: the branch's orbits as a surface, finer than Fig. 11's curves.
+  SectionFamily family{"arclength s along the root curve (0: the grazing mode)", {}};
+  const int scans = 40;
+  for (int j = 1; j <= scans; ++j) {
+    const BranchPoint& p = branch[run[(run.size() - 1) * j / scans]];
+    family.orbits.emplace_back(std::abs(p.arclength), OrbitTrajectory(c.b, TwoImpactOrbitAt(c.b, p.t2, p.period), kSamples));
+  }
+  DrawSection(c, "fig12_two_impact_mode", family,
+              {{"grazing linear mode", "with lines lw 3 lc rgb 'black'", {OrbitTrajectory(c.b, linear, kSamples)}}}, "");
 }
 
 // Figs. 13-15: the bridge.
@@ -546,87 +714,101 @@ void Figures13To15(Context& c) {
       WriteTrajectory(out.stream(), label, t, OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, f * br->s_end), kSamples));
     }
     std::ostringstream body;
-    body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
-         << "set title \"Fig. 13: the continuum of 2-ipp orbits of period T_G = " << t
-         << "\\nbetween the grazing 1-ipp orbit and its shift by " << t - br->t2 << "\"\n"
+    // The ends of the bridge (the grazing orbit and its shift) black, as in
+    // Fig. 14; the 2-ipp orbits between shaded by s / s_end on its colour bar.
+    body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n" << kViridis
+         << "set cbrange [0:1]\nset cblabel 's / s_{end} along the bridge (2-ipp, T = T_G)'\n"
          << "plot 'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" << XCol(c, c.contact)
-         << " with lines lw 3 lc rgb '" << kOneStable << "' title '1-ipp (s = 0)', "
+         << " with lines lw 3 lc rgb 'black' title 'grazing 1-ipp orbit (s = 0)', "
          << "'' using (strcol(1) eq 'one_shifted' ? $3 : 1/0):" << XCol(c, c.contact)
-         << " with lines lw 3 dt 2 lc rgb '" << kOneStable << "' title '1-ipp shifted (s = s_{end})'";
-    const char* colours[] = {"#E69F00", "#D55E00", "#8C3A00"};  // the 2-ipp hue, light to dark along s
-    int k = 0;
+         << " with lines lw 3 dt 2 lc rgb 'black' title 'the same, shifted (s = s_{end})'";
     for (int pct : {20, 50, 80}) {
-      body << ", '' using (strcol(1) eq 's" << pct << "' ? $3 : 1/0):" << XCol(c, c.contact)
-           << " with lines lw 1.5 lc rgb '" << colours[k++] << "' title '2-ipp, s = 0." << pct / 10 << " s_{end}'";
+      body << ", '' using (strcol(1) eq 's" << pct << "' ? $3 : 1/0):" << XCol(c, c.contact) << ":(" << pct / 100.0
+           << ") with lines lw 1.5 lc palette " << (pct == 20 ? "title '2-ipp, s = 0.2, 0.5, 0.8 s_{end}'" : "notitle");
     }
     body << ", " << c.b.gap << " with lines dt 3 lc rgb 'black' title 'd'";
     out.Commit();
-    Draw(c, "fig13_bridge_orbits", body.str());
+    std::ostringstream note;
+    note << "T_G = " << t << ", the shift " << t - br->t2;
+    Draw(c, "fig13_bridge_orbits", body.str(), note.str());
   }
   // Fig. 14: the same in the phase section, with neighbouring 1-ipp orbits.
   {
-    report::ResultFile out(c.dir, "fig14_bridge_section.csv");
-    WriteTrajectoryHeader(out.stream(), c);
+    SectionCurve one{"1-ipp orbits, T near T_G", "with lines lw 1 lc rgb '" + std::string(kOneStable) + "'", {}};
     const double eps = 1e-4 * t;
     const int side = OneImpactOrbit(c.b, t - eps).admissible ? -1 : 1;
     for (int k = 1; k <= 8; ++k) {
       const Orbit o = OneImpactOrbit(c.b, t + side * 0.004 * t * k);
       if (!o.admissible) break;
-      WriteTrajectory(out.stream(), "one", o.period, OrbitTrajectory(c.b, o, kSamples));
+      one.trajectories.push_back(OrbitTrajectory(c.b, o, kSamples));
     }
-    for (int k = 1; k < 10; ++k) {
-      WriteTrajectory(out.stream(), "two", t, OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, br->s_end * k / 10.0), kSamples));
+    SectionFamily family{"s / s_{end} along the bridge (2-ipp, T = T_G)", {}};
+    for (int k = 0; k <= 20; ++k) {
+      family.orbits.emplace_back(k / 20.0, OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, br->s_end * k / 20.0), kSamples));
     }
-    WriteTrajectory(out.stream(), "grazing", t, OrbitTrajectory(c.b, OneImpactOrbit(c.b, t), kSamples));
-    const int u = SectionXCol(c);
-    std::ostringstream body;
-    body << SectionAxes(c) << "set key top left\n"
-         << "set title 'Fig. 14: the bridge at T_G = " << t << " in the phase section'\n"
-         << "splot 'fig14_bridge_section.csv' using (strcol(1) eq 'one' ? $" << u << " : 1/0):" << XCol(c, c.contact)
-         << ":" << VCol(c, c.contact) << " with lines lw 1 lc rgb '" << kOneStable << "' title '1-ipp, T near T_G', "
-         << "'' using (strcol(1) eq 'two' ? $" << u << " : 1/0):" << XCol(c, c.contact) << ":" << VCol(c, c.contact)
-         << " with lines lw 1 lc rgb '" << kTwoStable << "' title '2-ipp, T = T_G (bridge)', "
-         << "'' using (strcol(1) eq 'grazing' ? $" << u << " : 1/0):" << XCol(c, c.contact) << ":"
-         << VCol(c, c.contact) << " with lines lw 3 lc rgb 'black' title 'grazing 1-ipp orbit'";
-    out.Commit();
-    Draw(c, "fig14_bridge_section", body.str());
+    DrawSection(c, "fig14_bridge_section", family,
+                {one, {"grazing 1-ipp orbit (s = 0)", "with lines lw 3 lc rgb 'black'",
+                       {OrbitTrajectory(c.b, OneImpactOrbit(c.b, t), kSamples)}}},
+                "");
   }
   // Fig. 15: zoom of the frequency-energy plot on the bridge.
   {
     const double w = 0.01 * t;
     report::ResultFile out(c.dir, "fig15_bridge_fep.csv");
-    out << "family,T,t2,energy,stable\n";
-    double lo = br->energy_min, hi = br->energy_max;
-    SweepOptions admissible_only;
-    admissible_only.stability = StabilityPolicy::kAdmissible;
-    for (int j = 0; j <= 400; ++j) {
-      const double p = t - w + 2 * w * j / 400.0;
-      for (int impacts : {1, 2}) {
-        for (const OrbitRecord& r : OrbitsAt(c.b, p, impacts, admissible_only)) {
-          const Orbit& o = r.orbit;
-          if (!o.admissible) continue;
-          WriteFepRow(out.stream(), impacts == 1 ? "1-ipp" : IsHalfPeriodRoot(o) ? "2-ipp-half" : "2-ipp", o,
-                      r.stability);
-          lo = std::min(lo, o.energy);
-          hi = std::max(hi, o.energy);
-        }
-      }
-    }
+    FepTable table;
+    const auto [lo, hi] = AddOrbitsNear(c, t, w, table);
+    table.Write(out.stream());
     report::ResultFile bo(c.dir, "fig15_bridge.csv");
-    bo << "T,t2,energy_min,energy_max,s_begin,s_end,kind\n"
-       << t << "," << br->t2 << "," << br->energy_min << "," << br->energy_max << "," << br->s_begin << ","
-       << br->s_end << ",grazing\n";
-    const double pad = 0.1 * (hi - lo);
+    WriteBridges(bo.stream(), {*br});
+    const double e_lo = std::min(lo, br->energy_min), e_hi = std::max(hi, br->energy_max);
+    const double pad = 0.1 * (e_hi - e_lo);
     std::ostringstream body;
     body << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key below\n"
-         << "set xrange [" << t - w << ":" << t + w << "]\nset yrange [" << lo - pad << ":" << hi + pad << "]\n"
-         << "set title 'Fig. 15: the bridge at T_G = " << t << ": E from " << br->energy_min << " to "
-         << br->energy_max << "'\n"
+         << "set xrange [" << t - w << ":" << t + w << "]\nset yrange [" << e_lo - pad << ":" << e_hi + pad << "]\n"
          << FepLayers("fig15_bridge_fep.csv", "fig15_bridge.csv", 0.6);
     out.Commit();
     bo.Commit();
-    Draw(c, "fig15_bridge_fep", body.str());
+    std::ostringstream note;
+    note << "T_G = " << t << ", E from " << br->energy_min << " to " << br->energy_max;
+    Draw(c, "fig15_bridge_fep", body.str(), note.str());
   }
+}
+
+// Fig. 17 (beyond the paper): every bridge of the atlas, one zoomed panel
+// each, labelled B1, B2, ... as in Fig. 8 with its kind: the branches within
+// 1 % of its period (recomputed on 401 periods) and the bridge's vertical
+// segment, the energy axis from half the bridge's height below it to half
+// above.
+void Figure17(Context& c) {
+  if (c.bridges.empty()) {
+    c.log << "  fig17: no bridge in the atlas; skipped\n";
+    return;
+  }
+  report::ResultFile out(c.dir, "fig17_bridges_fep.csv");
+  report::ResultFile bo(c.dir, "fig17_bridges.csv");
+  const int n = static_cast<int>(c.bridges.size());
+  const int cols = n <= 2 ? n : 2, rows = (n + cols - 1) / cols;
+  std::ostringstream body;
+  body << "set multiplot layout " << rows << "," << cols << "\nunset key\nset xlabel 'period T (s)'\nset ylabel 'energy E (J)'\n";
+  for (int k = 0; k < n; ++k) {
+    const Bridge& br = c.bridges[k];
+    const double w = 0.01 * br.period, height = br.energy_max - br.energy_min;
+    FepTable table;
+    AddOrbitsNear(c, br.period, w, table);
+    table.Write(out.stream());
+    out << "\n\n";
+    WriteBridges(bo.stream(), {br});
+    bo << "\n\n";
+    body << "set xrange [" << br.period - w << ":" << br.period + w << "]\nset yrange ["
+         << br.energy_min - 0.5 * height << ":" << br.energy_max + 0.5 * height << "]\n"
+         << "set label 1 'B" << k + 1 << ": " << (IsGrazing(br) ? "grazing" : "period doubling") << ", T = "
+         << std::setprecision(6) << br.period << "' at graph 0.03, graph 0.93 front\n"
+         << FepLayers("fig17_bridges_fep.csv", "fig17_bridges.csv", 0.5, k) << "\n";
+  }
+  body << "unset multiplot";
+  out.Commit();
+  bo.Commit();
+  Draw(c, "fig17_bridges", body.str());
 }
 
 }  // namespace
@@ -655,24 +837,22 @@ void Figure16(Context& c) {
     out << "\n";
   }
   report::ResultFile one(c.dir, "fig16_one_impact.csv");
-  one << "T,energy,stable\n";
+  one << "T,energy,admissible,stable\n";
   const double width = pick.admissible_to - pick.admissible_from;
   const double t_lo = pick.admissible_from - 0.5 * width, t_hi = pick.admissible_to + 0.5 * width;
   for (const auto& list : c.atlas.one.at) {
     const OrbitRecord& r = list.front();
-    if (r.orbit.admissible && r.orbit.period >= t_lo && r.orbit.period <= t_hi) {
-      one << r.orbit.period << "," << r.orbit.energy << "," << IsStable(r.stability) << "\n";
+    if (r.orbit.period >= t_lo && r.orbit.period <= t_hi) {
+      one << r.orbit.period << "," << r.orbit.energy << "," << r.orbit.admissible << "," << IsStable(r.stability)
+          << "\n";
     }
   }
   report::ResultFile orbit(c.dir, "fig16_orbit.csv");
   WriteTrajectoryHeader(orbit.stream(), c);
   WriteTrajectory(orbit.stream(), "x", pick.start.period, OrbitTrajectory(c.b, pick.start, kSamples));
-  double e_lo = INFINITY, e_hi = 0.0;
+  double e_hi = 0.0;
   for (const Orbit& o : pick.family) {
-    if (o.admissible) {
-      e_lo = std::min(e_lo, o.energy);
-      e_hi = std::max(e_hi, o.energy);
-    }
+    if (o.admissible) e_hi = std::max(e_hi, o.energy);
   }
   std::ostringstream body, period_label;
   period_label << std::setprecision(4) << pick.start.period;
@@ -682,17 +862,17 @@ void Figure16(Context& c) {
     body << "set arrow from " << t << ", graph 0 to " << t << ", graph 1 nohead dt 3 lc rgb 'black'\n";
   }
   body
-       << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset logscale y\nset key below\n"
-       << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << 0.5 * e_lo << ":" << 3.0 * e_hi << "]\n"
-       << "plot 'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0) with lines lw 1 lc rgb '" << kPotential
+       << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key below\n"
+       << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [0:" << 1.5 * e_hi << "]\n"
+       << "plot 'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0) with lines lw 1.5 dt 3 lc rgb '" << kNotAdmissible
        << "' title '3-ipp, not admissible', "
-       << "'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0) with lines lw 2 dt 2 lc rgb '" << kThree << "' title '3-ipp, unstable', "
+       << "'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0) with lines lw 2 dt 5 lc rgb '" << kThree << "' title '3-ipp, unstable', "
        << "'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0) with lines lw 3 lc rgb '" << kThree << "' title '3-ipp, stable', "
-       << "'fig16_one_impact.csv' using 1:($3 == 1 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '" << kOneStable
+       << "'fig16_one_impact.csv' using 1:($3 == 1 && $4 == 1 ? $2 : 1/0) with lines lw 2.5 lc rgb '" << kOneStable
        << "' title '1-ipp, stable', "
-       << "'' using 1:($3 == 0 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '" << kOneUnstable
+       << "'' using 1:($3 == 1 && $4 == 0 ? $2 : 1/0) with lines lw 1.5 dt 2 lc rgb '" << kOneUnstable
        << "' title '1-ipp, unstable'\n"
-       << "unset arrow\nunset logscale y\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
+       << "unset arrow\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
        << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n"
        << "plot 'fig16_orbit.csv' using " << TCol() << ":" << XCol(c, c.contact)
        << " with lines lw 2 lc rgb '" << kThree << "' title 'x_c(t), T = " << period_label.str() << "', " << c.b.gap << " with lines dt 2 lc rgb 'black' title 'obstacle d'\n"
@@ -700,7 +880,10 @@ void Figure16(Context& c) {
   out.Commit();
   one.Commit();
   orbit.Commit();
-  Draw(c, "fig16_three_impact_family", body.str());
+  std::ostringstream note;
+  note << "admissible for T in [" << std::setprecision(9) << pick.admissible_from << ", " << pick.admissible_to
+       << "], the orbit drawn at T = " << pick.start.period;
+  Draw(c, "fig16_three_impact_family", body.str(), note.str());
 }
 
 FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas& atlas, const OutputDir& dir,
@@ -725,6 +908,7 @@ FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas&
   Figures11And12(c);
   Figures13To15(c);
   Figure16(c);
+  Figure17(c);
   return {c.drawn, c.failed};
 }
 
@@ -756,7 +940,7 @@ int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisio
     // impacts 6, steps 7, expected_impacts 8.
     body << "set datafile separator ','\nset logscale xy\nset format y '10^{%T}'\nset format x '10^{%T}'\n"
          << "set xlabel 'CPU time per run (s)'\nset ylabel 'relative error of the final state (vs exact, root\\_tol 1e-14)'\n"
-         << "set title 'work-precision: " << name << "'\nset key outside right\nset grid\n"
+         << "set key outside right\nset grid\n"
          << "floor = " << floor << "\n"
          << "set arrow from graph 0, first floor to graph 1, first floor nohead dt 3 lc rgb '#999999'\n"
          << "set label 'error 0 (drawn at this floor)' at graph 0.02, first floor offset 0, 0.7 font ',8'\n"

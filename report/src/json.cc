@@ -61,6 +61,16 @@ nlohmann::json SimulationJson(const SimulationSummary& s, const SimulateOptions&
   return j;
 }
 
+nlohmann::json TruncationJson(const ModalTruncation& t, double energy) {
+  return {{"kept", t.kept},
+          {"dofs", t.dofs},
+          {"highest_kept_frequency", t.highest_kept_frequency},
+          {"lowest_neglected_frequency", OrNull(std::isfinite(t.lowest_neglected_frequency), t.lowest_neglected_frequency)},
+          {"residual_flexibility", t.residual_flexibility},
+          {"initial_energy", energy},
+          {"contact_bound", t.ContactBound(energy)}};
+}
+
 nlohmann::json ValidationJson(const ValidationReport& report, const std::vector<OrbitValidation>& results) {
   auto describe = [&](std::size_t i) {
     const OrbitValidation& v = results[i];

@@ -51,6 +51,9 @@ struct Model {
   bool Conservative() const { return !HasDamping() && !forcing.HasConstant() && !forcing.HasHarmonic(); }
 };
 
+// E = v' M v / 2 + x' K x / 2 of the physical state z = (x, v).
+double MechanicalEnergy(const Model& model, const Eigen::VectorXd& z);
+
 // Damping matrices from the usual engineering forms (scene keys in scene.h).
 // Rayleigh: C = a M + b K, a, b >= 0 (field "system.rayleigh_damping").
 Eigen::MatrixXd RayleighDamping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& stiffness, double a, double b);

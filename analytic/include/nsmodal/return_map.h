@@ -30,6 +30,19 @@ double Pfaffian(Eigen::MatrixXd a);
 // (a root of det A_2) or -1 (rejected afterwards by checking det(Q + I)).
 double TwoImpactIndicator(const AnalysisBasis& b, double t2, double period);
 
+// The k right singular vectors of A_m(times, T) of smallest singular value
+// (`basis`, 2N x k: the kernel where it exists, NC1), the k-th smallest
+// singular value, and c(i, j) = x_c of basis vector j at impact i (i = 0: just
+// after the impact at t = 0; i > 0: just before the impact at t_i), so that
+// NC2 for y0 = basis * alpha reads c * alpha = d. False (out untouched) when
+// the times are not increasing inside (0, T).
+struct KernelContacts {
+  Eigen::MatrixXd basis, c;
+  double sigma_k = 0.0;
+};
+bool KernelAtImpacts(const AnalysisBasis& b, const std::vector<double>& times, double period, int k,
+                     KernelContacts& out);
+
 // Dimension of ker A: singular values of A below tol (A is O(1) for e = 1).
 int KernelDimension(const Eigen::MatrixXd& a, double tol);
 

@@ -49,6 +49,10 @@ struct SimulateSection {
   std::optional<std::vector<double>> initial_position, initial_velocity;
   std::optional<double> t_end, rtol, atol, step, theta, root_tol, sample_dt;
   std::optional<std::string> integrator, method;
+  // Modal truncation (truncation.h): keep this many modes, or the fewest
+  // whose bound on the neglected share of x_c is at most contact_tolerance
+  // (m) at the initial energy.
+  std::optional<double> modes, contact_tolerance;
 };
 
 struct ValidateSection {

@@ -22,6 +22,7 @@
 // conditions coincide (the "bridge", paper section 4), where the orbit is
 // flagged degenerate. T a multiple of a linear period (S(T) - I singular) has
 // no orbit here, as for 1 impact.
+#include <optional>
 #include <vector>
 
 #include "nsmodal/admissibility.h"
@@ -52,6 +53,17 @@ std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const 
 
 // The potential orbit at a root (t2, T).
 Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const TwoImpactOptions& options = {});
+
+// The member of the kernel of the computed A_2 at (t2, T) (its two smallest
+// singular vectors, return_map.h KernelAtImpacts) with x_c(0) = d and
+// x_c(t2-) = at_t2, evaluated; nullopt when the times are not in (0, T) or
+// the two conditions are not independent (the smaller singular value of
+// their 2 x 2 matrix at most rank_tol times the larger: a bridge). at_t2 = d
+// gives the potential orbit from the SVD kernel, which TwoImpactOrbitAt takes
+// where the closed form's rounding leaves it less periodic; another at_t2 a
+// motion that satisfies NC1 but not NC2 (the paper's Fig. 2).
+std::optional<Orbit> TwoImpactKernelOrbit(const AnalysisBasis& b, double t2, double period, double at_t2,
+                                          double rank_tol, const AdmissibilityOptions& admissibility = {});
 
 // Every potential 2-ipp orbit of period T (one per root t2).
 std::vector<Orbit> TwoImpactOrbits(const AnalysisBasis& b, double period, const TwoImpactOptions& options = {});

@@ -25,9 +25,18 @@ Orbit GrazingMode(const AnalysisBasis& b, int mode, double period);
 // The mode whose multiple is the modal period T (T = k T_i).
 int ModeOf(const AnalysisBasis& b, double period);
 
-// Fig. 2: the first potential 2-ipp orbit off T/2 that is not admissible,
-// with an NC3 excess between 5 % of d and d (visible, not absurd).
-const Orbit* NotAdmissibleExample(const Atlas& atlas, double gap);
+// Fig. 2 as the paper draws it: a motion from ker A_2 (NC1) that fails NC2
+// and NC3. At the root (t2, T) of a potential 2-ipp orbit the kernel has
+// dimension 2 (eq. 28); its element with x_c(0) = d and x_c(t2) = `at_t2`
+// flips v_c at t2 away from the obstacle. Returned evaluated (EvaluateOrbit:
+// nc2_residual = |at_t2 - d| / d, max_excess the NC3 excess), or nullopt when
+// the two conditions do not fix one element (a bridge) or it exceeds d
+// nowhere. `at_t2` must not be d.
+std::optional<Orbit> KernelMotionOffTheObstacle(const AnalysisBasis& b, const Orbit& potential, double at_t2);
+// The subject of Fig. 2: the kernel motion with x_c(t2) = d / 2 at the first
+// potential 2-ipp root off T/2 of the sweep where it exceeds d by 5 % to
+// 100 % of d (visible, not absurd); nullopt when there is none.
+std::optional<Orbit> NotAdmissibleExample(const AnalysisBasis& b, const Atlas& atlas);
 
 // Figs. 4 and 10: a modal transition T = k T_i that bounds an admissible zone,
 // and the side of it where the 1-ipp orbits are admissible (+1 right, -1 left,

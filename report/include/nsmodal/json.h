@@ -6,6 +6,7 @@
 
 #include "nsmodal/atlas.h"
 #include "nsmodal/simulate.h"
+#include "nsmodal/truncation.h"
 #include "nsmodal/validate.h"
 
 namespace nsmodal::report {
@@ -20,6 +21,12 @@ nlohmann::json OrbitJson(const OrbitRecord& record);
 // sticking_phases, sticking_time, energies, energy_drift, wall_time_s, steps,
 // settings.
 nlohmann::json SimulationJson(const SimulationSummary& s, const SimulateOptions& options);
+
+// summary.json's "truncation" of a simulation on the kept modes: kept, dofs,
+// highest_kept_frequency, lowest_neglected_frequency (null: none neglected),
+// residual_flexibility, initial_energy (J, of the full initial state) and
+// contact_bound (ModalTruncation::ContactBound of that energy, m).
+nlohmann::json TruncationJson(const ModalTruncation& t, double energy);
 
 // summary.json of `validate`.
 nlohmann::json ValidationJson(const ValidationReport& report, const std::vector<OrbitValidation>& results);
