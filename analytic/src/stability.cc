@@ -106,13 +106,16 @@ inline Complex Reciprocal(Complex w) {
   return {w.real() * d, -w.imag() * d};
 }
 
-// Gt and Gt' at a complex point.
+// Gt and Gt' at a point; with pole_sum, also sum_i 1 / (x - z_i) (the
+// log-derivative of prod (x - z_i), for Newton on the polynomial Gt prod (x - z_i))
+// from the same reciprocals.
 template <typename T>
-void SecularAt(const OneImpactSecular& s, T x, T* value, T* slope) {
-  T sa = 0.0, sb = 0.0, sc = 0.0, da = 0.0, db = 0.0, dc = 0.0;
+void SecularAt(const OneImpactSecular& s, T x, T* value, T* slope, T* pole_sum = nullptr) {
+  T sa = 0.0, sb = 0.0, sc = 0.0, da = 0.0, db = 0.0, dc = 0.0, se = 0.0;
   for (int i = 0; i < s.z.size(); ++i) {
     const T e = Reciprocal(x - s.z[i]);
     const T e2 = e * e;
+    se += e;
     sa += s.a[i] * e;
     sb += s.b[i] * e;
     sc += s.c[i] * e;
@@ -122,6 +125,7 @@ void SecularAt(const OneImpactSecular& s, T x, T* value, T* slope) {
   }
   *value = (x + 2.0) * sa * sa - 2.0 * sb * sc;
   if (slope != nullptr) *slope = sa * sa + 2.0 * (x + 2.0) * sa * da - 2.0 * (db * sc + sb * dc);
+  if (pole_sum != nullptr) *pole_sum = se;
 }
 
 // The multipliers lambda, 1/lambda of a root z = lambda + 1/lambda.
@@ -346,19 +350,27 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
   // at most kMaxNewton steps; a root of Gt itself (the plain Newton step
   // there at round-off), or nothing.
   constexpr int kMaxNewton = 60;
+  // Q'/Q at z; and whether z is a root of Gt itself (the Newton step there at
+  // round-off: |Gt| <= 1e-8 |z| |Gt'|).
+  auto deflated_log_slope = [&](Complex z) {
+    Complex v, dv, poles;
+    SecularAt<Complex>(s, z, &v, &dv, &poles);
+    Complex log_slope = dv * Reciprocal(v) + poles;
+    for (Complex r : known) log_slope -= Reciprocal(z - r);
+    return log_slope;
+  };
+  auto is_root = [&](Complex z) {
+    Complex v, dv;
+    SecularAt<Complex>(s, z, &v, &dv);
+    return std::abs(v) <= 1e-8 * std::max(1.0, std::abs(z)) * std::abs(dv);
+  };
   auto newton = [&](Complex z) -> std::optional<Complex> {
     for (int it = 0; it < kMaxNewton; ++it) {
-      Complex v, dv;
-      SecularAt<Complex>(s, z, &v, &dv);
-      Complex log_slope = dv * Reciprocal(v);
-      for (int i = 0; i < k; ++i) log_slope += Reciprocal(z - s.z[i]);
-      for (Complex r : known) log_slope -= Reciprocal(z - r);
-      const Complex dz = Reciprocal(log_slope);
+      const Complex dz = Reciprocal(deflated_log_slope(z));
       if (!std::isfinite(dz.real()) || !std::isfinite(dz.imag())) return std::nullopt;
       z -= dz;
       if (std::abs(dz) <= 1e-14 * std::max(1.0, std::abs(z))) {
-        SecularAt<Complex>(s, z, &v, &dv);
-        if (!(std::abs(v) <= 1e-8 * std::max(1.0, std::abs(z)) * std::abs(dv))) return std::nullopt;
+        if (!is_root(z)) return std::nullopt;
         return z;
       }
     }
