@@ -6,7 +6,7 @@
 # hang (an input over 30 s) or a memory blow-up (over 2 GB) fails the run and
 # leaves the input in build-fuzz/artifacts/. 30 s: the costliest scene the
 # format honours, a one-line bar of kMaxDofs = 2,000 elements, takes 13.6 s
-# to parse and validate under these sanitizers (1 s in a release build); the
+# to parse and validate under these sanitizers (under 1.1 s in a release build); the
 # fuzzer found it, and 10 s failed on it. It is not in the corpus: its
 # mutations, as slow, cut a 60 s run from ~180,000 inputs to 6,807.
 # Usage: bash scripts/fuzz.sh
