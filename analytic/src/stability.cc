@@ -350,27 +350,18 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
   // at most kMaxNewton steps; a root of Gt itself (the plain Newton step
   // there at round-off), or nothing.
   constexpr int kMaxNewton = 60;
-  // Q'/Q at z; and whether z is a root of Gt itself (the Newton step there at
-  // round-off: |Gt| <= 1e-8 |z| |Gt'|).
-  auto deflated_log_slope = [&](Complex z) {
-    Complex v, dv, poles;
-    SecularAt<Complex>(s, z, &v, &dv, &poles);
-    Complex log_slope = dv * Reciprocal(v) + poles;
-    for (Complex r : known) log_slope -= Reciprocal(z - r);
-    return log_slope;
-  };
-  auto is_root = [&](Complex z) {
-    Complex v, dv;
-    SecularAt<Complex>(s, z, &v, &dv);
-    return std::abs(v) <= 1e-8 * std::max(1.0, std::abs(z)) * std::abs(dv);
-  };
   auto newton = [&](Complex z) -> std::optional<Complex> {
     for (int it = 0; it < kMaxNewton; ++it) {
-      const Complex dz = Reciprocal(deflated_log_slope(z));
+      Complex v, dv, poles;
+      SecularAt<Complex>(s, z, &v, &dv, &poles);
+      Complex log_slope = dv * Reciprocal(v) + poles;
+      for (Complex r : known) log_slope -= Reciprocal(z - r);
+      const Complex dz = Reciprocal(log_slope);
       if (!std::isfinite(dz.real()) || !std::isfinite(dz.imag())) return std::nullopt;
       z -= dz;
       if (std::abs(dz) <= 1e-14 * std::max(1.0, std::abs(z))) {
-        if (!is_root(z)) return std::nullopt;
+        SecularAt<Complex>(s, z, &v, &dv);
+        if (!(std::abs(v) <= 1e-8 * std::max(1.0, std::abs(z)) * std::abs(dv))) return std::nullopt;
         return z;
       }
     }
