@@ -89,6 +89,43 @@ TEST(Stability, VerdictOnlyAgreesWithTheFullSpectrum) {
   }
 }
 
+// A larger chain, where most roots of Gt crowd among the poles: many complex
+// pairs just off the axis, segments holding three real roots, pairs the
+// sampling misses (the search must find and count each once). Against the
+// dense monodromy: every multiplier off the circle is there, none twice, and
+// no fallback. Tolerance 1e-8: the dense solver's accuracy on these simple
+// eigenvalues (as above); 1 + 1e-6 is the verdict's own threshold, and a
+// multiplier within 1e-4 of it on either side is not counted (the dense
+// solver's error there is not the structured one's).
+TEST(Stability, VerdictOnlyFindsEveryMultiplierOffTheCircleOfALargeChain) {
+  const AnalysisBasis b = UnitChain(200);
+  StabilityOptions verdict;
+  verdict.all_multipliers = false;
+  int checked = 0;
+  for (double period : {5.3, 11.7, 23.9, 29.74, 37.1}) {  // 29.74: a root the signs miss, found by the search
+    const Orbit o = OneImpactOrbit(b, period);
+    if (!o.potential) continue;
+    const Stability quick = OrbitStability(b, o, verdict);
+    ASSERT_TRUE(quick.defined) << "T = " << period;
+    EXPECT_FALSE(quick.dense_fallback) << "T = " << period;
+    const Eigen::VectorXcd dense = Monodromy(b, o).eigenvalues();
+    auto off = [](std::complex<double> mu) { return std::abs(mu) > 1.0 + 1e-6; };
+    auto clear = [](std::complex<double> mu) { return std::abs(std::abs(mu) - 1.0 - 1e-6) > 1e-4; };
+    int dense_off = 0, quick_off = 0;
+    for (const std::complex<double>& mu : dense) dense_off += off(mu) && clear(mu);
+    for (const std::complex<double>& mu : quick.multipliers) {
+      if (!off(mu) || !clear(mu)) continue;
+      ++quick_off;
+      EXPECT_LT(NearestDense(dense, mu), 1e-8) << "T = " << period << " mu = " << mu;
+    }
+    EXPECT_EQ(quick_off, dense_off) << "T = " << period;
+    EXPECT_GT(dense_off, 10) << "T = " << period;  // the case this test is for
+    EXPECT_NEAR(quick.max_modulus, dense.cwiseAbs().maxCoeff(), 1e-8 * quick.max_modulus) << "T = " << period;
+    ++checked;
+  }
+  EXPECT_GE(checked, 3);
+}
+
 // A mode that does not move the contact keeps its rotation: e^(+-i w3 T) are
 // multipliers, and the others are the 2-dof system's.
 TEST(Stability, UncoupledModeKeepsItsRotation) {
