@@ -18,6 +18,8 @@ CommandLine::CommandLine() {
   c_orbits->add_option("--period", orbits.period, "Period grid FROM:TO:STEP")->required();
   c_orbits->add_option("--out", orbits.out, "Output directory")->required();
   c_orbits->add_option("--threads", orbits.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
+  c_orbits->add_option("--modes", orbits.modes,
+                       "Analyse the first K linear modes only (modal truncation; a column bounds what the others carry)");
 
   c_orbit = app.add_subcommand("orbit", "Every potential orbit at one period");
   c_orbit->add_option("scene", orbit.scene, "Scene file (TOML)")->required();

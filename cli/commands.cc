@@ -42,6 +42,24 @@ void CheckImpacts(int impacts) {
 }
 
 
+
+// The modal truncation asked for by `field` (a whole number of modes).
+ModalTruncation TruncationOf(const Model& m, double modes, const std::string& field) {
+  if (modes != std::floor(modes) || !(std::abs(modes) <= kMaxDofs)) {
+    throw InputError(field, "must be a whole number of modes, got " + FormatValue(modes));
+  }
+  return TruncateModes(m, static_cast<int>(modes), field);
+}
+
+// "modal truncation: k of N modes kept (...); residual flexibility f m/N"
+void PrintTruncation(const ModalTruncation& t) {
+  std::cout << "modal truncation: " << t.kept << " of " << t.dofs << " modes kept (up to "
+            << t.highest_kept_frequency << " rad/s; "
+            << (t.kept < t.dofs ? "the first neglected " : "none neglected");
+  if (t.kept < t.dofs) std::cout << t.lowest_neglected_frequency << " rad/s";
+  std::cout << "); residual flexibility " << t.residual_flexibility << " m/N";
+}
+
 }  // namespace
 
 std::function<void(long, long)> ProgressBar(const std::string& label) {
@@ -74,14 +92,29 @@ std::function<void(long, long)> ProgressBar(const std::string& label) {
 int RunOrbits(const OrbitsArgs& a) {
   CheckImpacts(a.impacts);
   const PeriodGrid grid = PeriodGrid::Parse(a.period);
-  const AnalysisBasis b(LoadScene(a.scene).model);
+  const Scene scene = LoadScene(a.scene);
+  // --modes K: the sweep runs on the first K modes (a model of K dofs whose
+  // dof 0 is x_c); orbits.csv gives the physical state of the N dofs, and a
+  // column the most the neglected modes can carry of x_c at each orbit's energy.
+  std::optional<ModalTruncation> truncation;
+  if (a.modes) {
+    truncation = TruncationOf(scene.model, *a.modes, "--modes");
+    PrintTruncation(*truncation);
+    std::cout << ": the neglected modes carry at most sqrt(2 E f_res) of x_c at energy E (orbits.csv, neglected_xc_bound)\n";
+  }
+  const AnalysisBasis b(truncation ? truncation->model : scene.model);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"orbits.csv", "transitions.csv"});
   SweepOptions opt;
   opt.stability = StabilityPolicy::kPotential;
   opt.threads = a.threads;
   opt.progress = ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
   report::ResultFile out(dir, "orbits.csv");
-  const auto columns = report::OrbitColumns(b.n);
+  auto columns = report::OrbitColumns(scene.model.dofs());
+  if (truncation) {
+    columns.push_back({"neglected_xc_bound", report::ColumnKind::kReal, [&truncation](const OrbitRecord& r) -> report::Cell {
+                         return truncation->ContactBound(r.orbit.energy);
+                       }});
+  }
   report::WriteCsvHeader(out.stream(), columns);
   // Streamed: one block of periods in memory at a time; the transitions need
   // only the 1-ipp admissibility of each period.
@@ -89,7 +122,8 @@ int RunOrbits(const OrbitsArgs& a) {
   std::vector<double> periods;
   std::vector<bool> one_admissible;
   StreamSweep(b, grid, a.impacts, opt, [&](double period, std::vector<OrbitRecord>& list) {
-    for (const OrbitRecord& r : list) {
+    for (OrbitRecord& r : list) {
+      if (truncation) r.orbit.z0 = truncation->PhysicalState(r.orbit.z0);
       report::WriteCsvRow(out.stream(), columns, r);
       ++orbits;
       admissible += r.orbit.admissible;
@@ -253,19 +287,10 @@ std::optional<ModalTruncation> SimulationTruncation(const SimulateArgs& a, const
   if (!modes && !tol) return std::nullopt;
   if (modes && tol) throw InputError(modes_field, "and " + tol_field + " are both given: give one of them");
   const Model& m = scene.model;
-  if (modes && (*modes != std::floor(*modes) || !(std::abs(*modes) <= kMaxDofs))) {
-    throw InputError(modes_field, "must be a whole number of modes, got " + FormatValue(*modes));
-  }
-  ModalTruncation t = modes ? TruncateModes(m, static_cast<int>(*modes), modes_field)
-                            : TruncateForContactBound(m, energy, *tol, tol_field);
+  ModalTruncation t = modes ? TruncationOf(m, *modes, modes_field) : TruncateForContactBound(m, energy, *tol, tol_field);
   const double xc_kept = (t.from_physical * x0)[0];
-  std::cout << "modal truncation: " << t.kept << " of " << t.dofs << " modes kept (up to "
-            << t.highest_kept_frequency << " rad/s; "
-            << (t.kept < t.dofs ? "the first neglected " : "none neglected");
-  if (t.kept < t.dofs) std::cout << t.lowest_neglected_frequency << " rad/s";
-  std::cout
-            << "); residual flexibility " << t.residual_flexibility << " m/N: at the initial energy " << energy
-            << " J the neglected modes carry at most " << t.ContactBound(energy)
+  PrintTruncation(t);
+  std::cout << ": at the initial energy " << energy << " J the neglected modes carry at most " << t.ContactBound(energy)
             << " m of x_c in the full model (for as long as the energy does not grow: unforced, e <= 1); "
             << "the run starts from the kept modes' part of the initial state (x_c " << xc_kept << " of "
             << x0[m.contact] << ")\n";
@@ -312,11 +337,7 @@ int RunSimulate(const SimulateArgs& a) {
   // On a truncated model the run's states are its modal coordinates p:
   // every output is the physical state to_physical p of the kept modes.
   auto physical = [&](const Eigen::VectorXd& z) -> Eigen::VectorXd {
-    if (!truncation) return z;
-    const int k = truncation->kept;
-    Eigen::VectorXd out(2 * n);
-    out << truncation->to_physical * z.head(k), truncation->to_physical * z.tail(k);
-    return out;
+    return truncation ? truncation->PhysicalState(z) : z;
   };
   SimulationObserver obs;
   obs.on_sample = [&](double t, const Eigen::VectorXd& z) {

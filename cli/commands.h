@@ -10,6 +10,7 @@ struct OrbitsArgs {
   std::string scene, out, period;
   int impacts = 1;
   int threads = 0;
+  std::optional<double> modes;  // analyse the first K linear modes only
 };
 struct OrbitArgs {
   std::string scene;

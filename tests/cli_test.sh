@@ -99,6 +99,33 @@ expect_error "^error: --modes" "$bin" simulate "$sim" --out "$tmp/s" --modes 1.5
 expect_error "^error: --modes" "$bin" simulate "$sim" --out "$tmp/s" --modes 1 --contact-tolerance 1e-3
 expect_error "^error: --contact-tolerance" "$bin" simulate "$sim" --out "$tmp/s" --contact-tolerance -1
 expect_error "^error: simulate.modes" "$bin" simulate "$(scene badmodes '[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\ninitial_position=[0,0]\nmodes=3\n')" --out "$tmp/s"
+# orbits --modes: a 6-mass chain analysed on all its modes is the full
+# analysis (same orbits, the state mapped back to 6 dofs, bound 0: 1e-9
+# relative is far above the round-off of the two bases, far below any
+# difference a wrong mapping makes); on 3 modes the bound column is positive.
+chain6="$(scene chain6 '[system]\ngap=1\nrestitution=1\nmasses=[1,1,1,1,1,1]\nsprings=[1,1,1,1,1,1]\n')"
+if "$bin" orbits "$chain6" --period 5:9:0.5 --out "$tmp/o6" >/dev/null 2>&1 &&
+   "$bin" orbits "$chain6" --period 5:9:0.5 --out "$tmp/o6k6" --modes 6 >"$tmp/o6k6.txt" 2>&1 &&
+   "$bin" orbits "$chain6" --period 5:9:0.5 --out "$tmp/o6k3" --modes 3 >/dev/null 2>&1; then
+  grep -q "modal truncation: 6 of 6 modes kept" "$tmp/o6k6.txt" && ok || bad "orbits --modes: no truncation line"
+  python3 -c "
+import csv
+full = list(csv.DictReader(open('$tmp/o6/orbits.csv')))
+all6 = list(csv.DictReader(open('$tmp/o6k6/orbits.csv')))
+k3 = list(csv.DictReader(open('$tmp/o6k3/orbits.csv')))
+assert len(full) == len(all6) == len(k3) > 0
+for a, b in zip(full, all6):
+    assert a['admissible'] == b['admissible'] and float(b['neglected_xc_bound']) == 0.0
+    for key in ['energy', 'x1', 'x6', 'v1', 'v6']:
+        assert abs(float(a[key]) - float(b[key])) <= 1e-9 * max(1.0, abs(float(a[key]))), (key, a[key], b[key])
+assert all(float(r['neglected_xc_bound']) > 0 for r in k3 if r['energy'])
+" && ok || bad "orbits --modes 6 differs from the full analysis"
+else
+  bad "orbits --modes failed: $(cat "$tmp/o6k6.txt")"
+fi
+expect_error "^error: --modes" "$bin" orbits "$chain6" --period 5:9:0.5 --out "$tmp/o" --modes 0
+expect_error "^error: --modes" "$bin" orbits "$chain6" --period 5:9:0.5 --out "$tmp/o" --modes 2.5
+expect_error "^error: --modes" "$bin" orbits "$chain6" --period 5:9:0.5 --out "$tmp/o" --modes 7
 # Errors name what the user wrote: the flag when given, else the scene key.
 expect_error "^error: --rtol" "$bin" simulate "$sim" --out "$tmp/s" --rtol -1
 expect_error "^error: simulate.rtol" "$bin" simulate "$(scene badrtol '[system]\ngap=1\nrestitution=1\nmasses=[1,1]\nsprings=[1,1]\n[simulate]\ninitial_position=[0,0]\nrtol=-1\n')" --out "$tmp/s"

@@ -36,6 +36,12 @@ void CheckModes(const ModalBasis& b, int modes, const std::string& field) {
 
 }  // namespace
 
+Eigen::VectorXd ModalTruncation::PhysicalState(const Eigen::VectorXd& z) const {
+  Eigen::VectorXd out(2 * dofs);
+  out << to_physical * z.head(kept), to_physical * z.tail(kept);
+  return out;
+}
+
 double ModalTruncation::ContactBound(double energy) const {
   return std::sqrt(2.0 * std::max(energy, 0.0) * residual_flexibility);
 }

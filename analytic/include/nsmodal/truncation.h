@@ -44,6 +44,8 @@ struct ModalTruncation {
   // sqrt(2 E f_res): the most the neglected modes can add to x_c in a state
   // of the full model with energy E (J).
   double ContactBound(double energy) const;
+  // The full model's state (x, v), 2N, of a state (p, p') of the truncated one, 2k.
+  Eigen::VectorXd PhysicalState(const Eigen::VectorXd& z) const;
 };
 
 // The first `modes` modes (the rigid-body modes and at least one elastic
