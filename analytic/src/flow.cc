@@ -143,44 +143,39 @@ void ContactSignal::Reset(const ModalBasis& basis, const Eigen::Ref<const Eigen:
   UpdateBounds();
 }
 
+// The sums over a block are reassociated (omp simd) so that they vectorise.
 double SinusoidSum::Position(double t) const {
   double f = offset + slope * t;
   ForEachBlock(omega, t, [&](int first, int count, const double* c, const double* s) {
-    for (int j = 0; j < count; ++j) f += a[first + j] * c[j] + b[first + j] * s[j];
+    const double *pa = a.data() + first, *pb = b.data() + first;
+    double sum = 0.0;
+#pragma omp simd reduction(+ : sum)
+    for (int j = 0; j < count; ++j) sum += pa[j] * c[j] + pb[j] * s[j];
+    f += sum;
   });
   return f;
 }
 
 double SinusoidSum::Velocity(double t) const {
-  double f = slope;
-  ForEachBlock(omega, t, [&](int first, int count, const double* c, const double* s) {
-    for (int j = 0; j < count; ++j) {
-      const int i = first + j;
-      f += omega[i] * (b[i] * c[j] - a[i] * s[j]);
-    }
-  });
-  return f;
+  return VelocityAcceleration(t).first;
 }
 
 double SinusoidSum::Acceleration(double t) const {
-  double f = 0.0;
-  ForEachBlock(omega, t, [&](int first, int count, const double* c, const double* s) {
-    for (int j = 0; j < count; ++j) {
-      const int i = first + j;
-      f -= omega[i] * omega[i] * (a[i] * c[j] + b[i] * s[j]);
-    }
-  });
-  return f;
+  return VelocityAcceleration(t).second;
 }
 
 std::pair<double, double> SinusoidSum::VelocityAcceleration(double t) const {
   double v = slope, acc = 0.0;
   ForEachBlock(omega, t, [&](int first, int count, const double* c, const double* s) {
+    const double *pa = a.data() + first, *pb = b.data() + first, *pw = omega.data() + first;
+    double sv = 0.0, sacc = 0.0;
+#pragma omp simd reduction(+ : sv, sacc)
     for (int j = 0; j < count; ++j) {
-      const int i = first + j;
-      v += omega[i] * (b[i] * c[j] - a[i] * s[j]);
-      acc -= omega[i] * omega[i] * (a[i] * c[j] + b[i] * s[j]);
+      sv += pw[j] * (pb[j] * c[j] - pa[j] * s[j]);
+      sacc -= pw[j] * pw[j] * (pa[j] * c[j] + pb[j] * s[j]);
     }
+    v += sv;
+    acc += sacc;
   });
   return {v, acc};
 }
@@ -190,16 +185,22 @@ void SinusoidSum::Derivatives(double t, double out[4]) const {
   out[1] = slope;
   out[2] = out[3] = 0.0;
   ForEachBlock(omega, t, [&](int first, int count, const double* c, const double* s) {
+    const double *pa = a.data() + first, *pb = b.data() + first, *pw = omega.data() + first;
+    double d0 = 0.0, d1 = 0.0, d2 = 0.0, d3 = 0.0;
+#pragma omp simd reduction(+ : d0, d1, d2, d3)
     for (int j = 0; j < count; ++j) {
-      const int i = first + j;
-      const double w = omega[i];
-      const double p = a[i] * c[j] + b[i] * s[j];  // the term itself
-      const double q = b[i] * c[j] - a[i] * s[j];  // its derivative divided by w
-      out[0] += p;
-      out[1] += w * q;
-      out[2] -= w * w * p;
-      out[3] -= w * w * w * q;
+      const double w = pw[j];
+      const double p = pa[j] * c[j] + pb[j] * s[j];  // the term itself
+      const double q = pb[j] * c[j] - pa[j] * s[j];  // its derivative divided by w
+      d0 += p;
+      d1 += w * q;
+      d2 -= w * w * p;
+      d3 -= w * w * w * q;
     }
+    out[0] += d0;
+    out[1] += d1;
+    out[2] += d2;
+    out[3] += d3;
   });
 }
 
