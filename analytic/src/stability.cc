@@ -410,7 +410,7 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
     if (split) continue;
     // The parabola through the best sample and its neighbours: a vertex below
     // zero calls for the golden section; above, its complex roots
-    // x0 +- i sqrt(2 H0 / H'') are where a pair left the axis, the start for Newton.
+    // x0 +- i sqrt(2 H0 / H'') are where a pair left the axis, the start for the search.
     const double hstep = (g.hi - g.lo) / kSamples;
     const double curvature = (v[best - 1] - 2.0 * v[best] + v[best + 1]) / (hstep * hstep);
     const double slope = (v[best + 1] - v[best - 1]) / (2.0 * hstep);

@@ -34,8 +34,9 @@
 // whose ends differ in sign holds a root; an interval without a sign change
 // holds two where its extremum crosses zero, else none. If roots are still
 // missing (a complex pair left the axis, |lambda| != 1), the real ones are
-// polished and the rest found by Newton on the deflated polynomial
-// P / prod(z - known) (Newton-Maehly), from the rootless intervals' extrema.
+// polished and the rest found by Laguerre's iteration on the deflated
+// polynomial P / prod(z - known), from the rootless intervals' extrema (a real
+// root it finds there, one the signs did not show, is counted once).
 // When the roots so accounted for number N_coupled - 1, the spectrum is
 // known; otherwise the dense path is used (dense_fallback).
 #include <Eigen/Dense>
