@@ -41,8 +41,6 @@ void CheckImpacts(int impacts) {
   }
 }
 
-
-
 // The modal truncation asked for by `field` (a whole number of modes).
 ModalTruncation TruncationOf(const Model& m, double modes, const std::string& field) {
   if (modes != std::floor(modes) || !(std::abs(modes) <= kMaxDofs)) {

@@ -429,10 +429,9 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
   std::vector<Complex> mu;
   double max_modulus = 1.0;
   bool complete = true;
-  std::vector<Complex> known;  // roots located, for the deflation
-  std::vector<double> known_re, known_im;  // the same, split for InverseSum
+  // The roots located, for the deflation: real and imaginary parts apart (RootSums).
+  std::vector<double> known_re, known_im;
   auto remember = [&](Complex r) {
-    known.push_back(r);
     known_re.push_back(r.real());
     known_im.push_back(r.imag());
   };
@@ -451,7 +450,10 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
   // exactly: round-off), to the search's own accuracy.
   auto is_known = [&](Complex z) {
     const double tol2 = 1e-16 * std::max(1.0, std::norm(z));  // (1e-8 max(1, |z|))^2, without hypot
-    return std::any_of(known.begin(), known.end(), [&](Complex c) { return std::norm(c - z) <= tol2; });
+    for (std::size_t j = 0; j < known_re.size(); ++j) {
+      if (std::norm(Complex(known_re[j], known_im[j]) - z) <= tol2) return true;
+    }
+    return false;
   };
   auto add_complex_root = [&](Complex z) {
     if (z.imag() < 0.0) z = std::conj(z);
@@ -531,7 +533,7 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
       const Complex l1 = d1 / v, l2 = d2 / v;
       const Complex g = l1 + p.e1 - q.q1;
       const Complex h = l1 * l1 - l2 + p.e2 - q.q2;
-      const double n = std::max(1, k - 1 - static_cast<int>(known.size()));
+      const double n = std::max(1, k - 1 - static_cast<int>(known_re.size()));
       const Complex root = std::sqrt((n - 1.0) * (n * h - g * g));
       const Complex denominator = std::abs(g + root) >= std::abs(g - root) ? g + root : g - root;
       const Complex dz = n / denominator;
@@ -545,7 +547,14 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
     }
     return std::nullopt;
   };
-  auto is_real = [](Complex z) { return std::abs(z.imag()) <= 1e-10 * std::max(1.0, std::abs(z)); };
+  // A root the search found: real (within 1e-10 of the axis) or a complex pair.
+  auto add_found = [&](Complex z) {
+    if (std::abs(z.imag()) <= 1e-10 * std::max(1.0, std::abs(z))) {
+      add_real_found(z.real());
+    } else {
+      add_complex_root(z);
+    }
+  };
   // Roots missing after the signs: polish the real ones now, so that the
   // search, deflating them, does not find them again (it did, thousands of
   // times an orbit of the N = 1,000 chain).
@@ -554,13 +563,7 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
   // real roots met and left the axis, at the quadratic estimate).
   for (const Start& start : starts) {
     if (found >= k - 1) break;
-    const std::optional<Complex> z = laguerre(start.z);
-    if (!z) continue;
-    if (is_real(*z)) {
-      add_real_found(z->real());
-    } else {
-      add_complex_root(*z);
-    }
+    if (const std::optional<Complex> z = laguerre(start.z)) add_found(*z);
   }
   polish_real(found < k - 1);
   // Stage 4: Laguerre from the extrema again (the deflation now holds more
@@ -571,13 +574,7 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
     const Complex start = attempt < static_cast<int>(starts.size())
                               ? starts[attempt].z
                               : std::polar(1.0 + 0.5 * (attempt % 3), 2.0 * M_PI * (attempt + 0.5) / 7.0);
-    const std::optional<Complex> z = laguerre(start);
-    if (!z) continue;
-    if (is_real(*z)) {
-      add_real_found(z->real());
-    } else {
-      add_complex_root(*z);
-    }
+    if (const std::optional<Complex> z = laguerre(start)) add_found(*z);
   }
   if (found != k - 1) return false;
   for (double z : s.uncoupled) add_real_root(z);  // on the circle: |z_j| <= 2
