@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "nsmodal/first_rise.h"
 
@@ -96,6 +97,83 @@ TEST(FirstRise, TheNewtonFinishDoesNotJumpOverASlowTangency) {
   ASSERT_TRUE(r.found);
   EXPECT_GE(g.Position(r.s), -tol);
   EXPECT_LE(r.s, M_PI);
+}
+
+// The sweep (first_rise.h) against the conservative search alone, on sums
+// of 200 sinusoids at a chain's frequencies with random amplitudes and
+// phases, the level put among the signal's highest values so that crossings come at
+// all sorts of times (some none within the horizon). Both must stop at the
+// same first crossing: a transversal one is finished by a Newton step to
+// round-off (1e-13 here), a near-tangent one is located to about
+// sqrt(tol / L2) ~ 1e-7, hence the 1e-6.
+TEST(FirstRise, TheSweepStopsAtTheCrossingTheConservativeSearchFinds) {
+  constexpr int kModes = 200;
+  constexpr double kHorizon = 300.0, kAgreement = 1e-6;
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Eigen::VectorXd w(kModes);
+  for (int i = 0; i < kModes; ++i) w[i] = 2.0 * std::sin((i + 1) * M_PI / (2.0 * (2 * kModes + 1)));
+  SinusoidSweep sweep(w);
+  long plain_steps = 0, swept_steps = 0, grid_steps = 0;
+  int found = 0;
+  for (int trial = 0; trial < 100; ++trial) {
+    Eigen::VectorXd a(kModes), b(kModes);
+    for (int i = 0; i < kModes; ++i) {
+      const double amp = std::pow(unit(rng), 2), phase = 2.0 * M_PI * unit(rng);
+      a[i] = amp * std::cos(phase);
+      b[i] = amp * std::sin(phase);
+    }
+    SinusoidSum g(0.0, a, b, w);
+    // The level 1.5 to 4 standard deviations of the signal above its mean.
+    g.offset = -(1.5 + 2.5 * unit(rng)) * std::sqrt(0.5 * (a.squaredNorm() + b.squaredNorm()));
+    const double tol = 1e-14 * g.bound[0];
+    const FirstRiseResult plain = FirstRise(g, kHorizon, tol);
+    const FirstRiseResult swept = FirstRise(g, kHorizon, tol, sweep);
+    ASSERT_EQ(plain.found, swept.found) << "trial " << trial;
+    EXPECT_NEAR(plain.s, swept.s, kAgreement) << "trial " << trial;
+    if (swept.found) {
+      EXPECT_GE(g.Position(swept.s), -tol) << "trial " << trial;
+    }
+    found += swept.found;
+    plain_steps += plain.steps;
+    swept_steps += swept.steps;
+    grid_steps += swept.sweep_steps;
+  }
+  EXPECT_GT(found, 20);
+  EXPECT_LT(found, 100);
+  // The grid did the work: fewer conservative steps (each with 200 sin and cos).
+  EXPECT_GT(grid_steps, 0);
+  EXPECT_LT(swept_steps, plain_steps / 4);
+}
+
+// A peak narrower than any grid step: a Fejer-like sum of 64 cosines
+// (1 / 64) cos(k w0 (t - t*)), which is 1 at t* and small elsewhere, with the
+// level 1e-9 below the peak: g is above it for about 1e-4 around t*. The grid
+// steps are about 1 there; the Hermite interpolant of the ends alone would
+// pass over the peak (its error reaches 1e-2): the L4 h^4 / 384 term must
+// stop the sweep. Peaks placed at 40 points across a grid step or more.
+TEST(FirstRise, TheSweepCannotStepOverANarrowPeak) {
+  constexpr int kTerms = 64;
+  const double w0 = 2.0 / kTerms, excess = 1e-9, tol = 1e-14;
+  Eigen::VectorXd w(kTerms);
+  for (int k = 0; k < kTerms; ++k) w[k] = (k + 1) * w0;
+  SinusoidSweep sweep(w);
+  long grid_steps = 0;
+  for (int j = 0; j < 40; ++j) {
+    const double peak_at = 20.0 + 0.05 * j;
+    Eigen::VectorXd a(kTerms), b(kTerms);
+    for (int k = 0; k < kTerms; ++k) {
+      a[k] = std::cos(w[k] * peak_at) / kTerms;  // cos(w (t - t*)) = cos w t* cos w t + sin w t* sin w t
+      b[k] = std::sin(w[k] * peak_at) / kTerms;
+    }
+    const SinusoidSum g(-1.0 + excess, a, b, w);
+    ASSERT_LT(g.Position(0.0), -0.5);
+    const FirstRiseResult r = FirstRise(g, 60.0, tol, sweep);
+    ASSERT_TRUE(r.found) << "peak at " << peak_at;
+    EXPECT_NEAR(r.s, peak_at, 1e-3) << "peak at " << peak_at;  // inside the excursion (~1e-4 wide)
+    grid_steps += r.sweep_steps;
+  }
+  EXPECT_GT(grid_steps, 0);
 }
 
 }  // namespace

@@ -25,4 +25,8 @@ inline bool HasAvx2() {
 #endif
 }
 
+// c_i = cos(w_i t), s_i = sin(w_i t), i < n (flow.cc): libmvec's AVX2 sin and
+// cos where there are, libm's otherwise.
+void CosSin(const double* w, double t, int n, double* c, double* s);
+
 }  // namespace nsmodal::internal

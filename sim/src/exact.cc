@@ -23,10 +23,14 @@ struct ConservativeFlight {
   std::optional<StickingFlow> stick;
   ContactSignal gap;
   SinusoidSum release;
+  SinusoidSweep sweep;  // the flights' impact search, over the modes' frequencies
 
   explicit ConservativeFlight(const ContactModel& c)
-      : cm(c), b(c.basis), gap(c.basis, Eigen::VectorXd::Zero(2 * c.basis.n)) {
+      : cm(c), b(c.basis), gap(c.basis, Eigen::VectorXd::Zero(2 * c.basis.n)), sweep(c.basis.omega) {
     gap.offset = -c.model.gap;
+  }
+  FirstRiseResult Search(const ContactSignal& g, double horizon, double tol) {
+    return FirstRise(g, horizon, tol, sweep);
   }
   double FastestRate() const { return b.omega.maxCoeff(); }
   State FromPhysical(const Eigen::VectorXd& z) const { return ToModal(b, z.head(b.n), z.tail(b.n)); }
@@ -36,6 +40,11 @@ struct ConservativeFlight {
     return gap;
   }
   void Fly(double, double s, State& y) const { Flow(b, s, y); }
+  // x_c'' at the end of a flight, from the state there: -sum r_i w_i u_i
+  // (no sin or cos; a rigid-body mode has w_i = 0).
+  double Acceleration(const ContactSignal&, double, const State& y) const {
+    return -(b.r.array() * b.omega.array() * y.head(b.n).array()).sum();
+  }
   void Impact(double e, State& y) const { nsmodal::Impact(b, e, y); }
   double ContactVelocity(const State& y) const { return nsmodal::ContactVelocity(b, y); }
   Held Hold(double, const State& y) {
@@ -68,6 +77,7 @@ struct ForcedFlight {
     gap_row = Eigen::RowVectorXd::Zero(2 * n);
     gap_row[c.model.contact] = 1.0;
   }
+  FirstRiseResult Search(const DampedSignal& g, double horizon, double tol) const { return FirstRise(g, horizon, tol); }
   double FastestRate() const { return cm.basis.omega.maxCoeff(); }
   State FromPhysical(const Eigen::VectorXd& z) const { return z; }
   Eigen::VectorXd Physical(const State& z) const { return z; }
@@ -76,6 +86,7 @@ struct ForcedFlight {
     return gap;
   }
   void Fly(double t, double s, State& z) const { flow.Advance(t, s, z); }
+  double Acceleration(const DampedSignal& g, double s, const State&) const { return g.Acceleration(s); }
   void Impact(double e, State& z) const {
     const int n = cm.model.dofs();
     cm.ApplyImpact(e, z.tail(n));
@@ -175,8 +186,9 @@ SimulationSummary Run(Flight& f, const ContactModel& cm, const Eigen::VectorXd& 
         if (sticking) continue;
         g = &f.Gap(t, y);
       }
-      const FirstRiseResult r = FirstRise(*g, horizon, tol);
+      const FirstRiseResult r = f.Search(*g, horizon, tol);
       sum.steps += r.steps;
+      sum.sweep_steps += r.sweep_steps;
       if (sampler.active()) {
         const State y_start = y;
         const double t_start = t;
@@ -193,7 +205,7 @@ SimulationSummary Run(Flight& f, const ContactModel& cm, const Eigen::VectorXd& 
         sum.message = "impact search stalled at a degenerate tangency at t = " + std::to_string(t);
         break;
       }
-      if (r.found) handle_contact(tol, vtol, g->Acceleration(r.s));
+      if (r.found) handle_contact(tol, vtol, f.Acceleration(*g, r.s, y));
     } else {
       const auto& g = f.Release(t, yr);  // -a_c: released when it rises to 0
       const double tol = opt.root_tol * std::max(std::abs(g.offset), g.bound[0]);

@@ -49,6 +49,8 @@ struct SinusoidSum {
   std::pair<double, double> VelocityAcceleration(double t) const;
   // The value and the first three derivatives at t.
   void Derivatives(double t, double out[4]) const;
+  // The same from the cosines and sines of w_i t, computed by the caller.
+  void Derivatives(double t, const double* cos_wt, const double* sin_wt, double out[4]) const;
   // Recomputes `bound` after a, b, omega or slope changed.
   void UpdateBounds();
 };

@@ -102,7 +102,8 @@ struct SimulationSummary {
   double final_energy = 0.0;
   double energy_drift = 0.0;  // |E(t_end) - E(0)| / E(0)
   double wall_time_s = 0.0;
-  long steps = 0;
+  long steps = 0;        // search steps (exact: conservative steps, N sin and cos each)
+  long sweep_steps = 0;  // exact: grid steps of the impact search's sweep (first_rise.h)
 };
 
 // Throws InputError for a bad model, bad options, or an initial state beyond
