@@ -28,10 +28,11 @@
 // g'(s) = p - sum w_i Im P_i, and a grid step is a rotation
 // P_i <- P_i e^{i w_i h} (e^{i w_i h} computed once per step length): 6 N
 // flops in single precision and no sin or cos, where a conservative step
-// costs N of each. On an interval, g <= H + L4 h^4 / 384 (H: the cubic
-// Hermite interpolant of g, g' at its ends) and
-// g <= max(g(s), g(s + h)) + L2 h^2 / 8, plus a bound on the round-off of the
-// rotated phasors and of the sums; an interval is accepted when that
+// costs N of each. On an interval, g <= H3 + L4 h^4 / 384 (H3: the cubic
+// Hermite interpolant of g, g' at its ends), g <= H5 + L6 h^6 / 46080 (H5:
+// the quintic one of g, g', g'') and g <= max(g(s), g(s + h)) + L2 h^2 / 8,
+// plus a bound on the round-off of the rotated phasors and of the sums; an
+// interval is accepted when the least of those
 // bound is below -tol (the armed search's stop level), so the sweep never
 // passes a point where the search would stop. Where it cannot prove an
 // interval (h halved down to its shortest), the conservative steps take over
@@ -59,15 +60,15 @@ class SinusoidSweep {
  public:
   explicit SinusoidSweep(const Eigen::VectorXd& omega);
 
-  // How far from s (armed, with g(s) = g0 and g'(s) = g1, exact) the grid
-  // proves g < level, up to the horizon.
+  // How far from s (armed, with d = g(s) and its first three derivatives,
+  // exact) the grid proves g < level, up to the horizon.
   struct Reach {
     double s = 0.0;         // the end of the last interval proven (s: none)
     double blocked = 0.0;   // the length of the interval it could not prove (0: none)
     double declined = 0.0;  // level - g where it declined to step on (0: it did not)
     long steps = 0;
   };
-  Reach Advance(const SinusoidSum& g, double s, double g0, double g1, double level, double horizon);
+  Reach Advance(const SinusoidSum& g, double s, const double d[4], double level, double horizon);
   // g.Derivatives(s, d), keeping the sin and cos of w_i s for an Advance
   // from s (the search's step before it: one evaluation of N of each saved).
   void Derivatives(const SinusoidSum& g, double s, double d[4]);

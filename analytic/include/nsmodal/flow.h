@@ -37,8 +37,8 @@ struct SinusoidSum {
   double offset = 0.0;
   double slope = 0.0;  // p
   Eigen::VectorXd a, b, omega;
-  // bound[k] >= sup |f^(k)| for k = 1..4; bound[0] = sum of the amplitudes.
-  double bound[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+  // bound[k] >= sup |f^(k)| for k = 1..6; bound[0] = sum of the amplitudes.
+  double bound[7] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
 
   SinusoidSum() = default;
   SinusoidSum(double c, Eigen::VectorXd a_in, Eigen::VectorXd b_in, Eigen::VectorXd omega_in);
