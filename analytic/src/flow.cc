@@ -128,7 +128,7 @@ void SinusoidSum::UpdateBounds() {
   // a 1,000-mode signal spent more in it than in its whole sweep); hypot
   // only where the squares could underflow or overflow.
   const int n = static_cast<int>(omega.size());
-  double b0 = 0.0, b1 = 0.0, b2 = 0.0, b3 = 0.0, b4 = 0.0, b6 = 0.0;
+  double b0 = 0.0, b1 = 0.0, b2 = 0.0, b3 = 0.0, b4 = 0.0, b5 = 0.0, b6 = 0.0;
   for (int i = 0; i < n; ++i) {
     double amp = std::sqrt(a[i] * a[i] + b[i] * b[i]);
     if (!(amp > 1e-150 && amp < 1e150)) amp = std::hypot(a[i], b[i]);
@@ -138,6 +138,7 @@ void SinusoidSum::UpdateBounds() {
     b2 += w2 * amp;
     b3 += w2 * w * amp;
     b4 += w2 * w2 * amp;
+    b5 += w2 * w2 * w * amp;
     b6 += w2 * w2 * w2 * amp;
   }
   bound[0] = b0;
@@ -145,7 +146,7 @@ void SinusoidSum::UpdateBounds() {
   bound[2] = b2;
   bound[3] = b3;
   bound[4] = b4;
-  bound[5] = 0.0;  // not kept (nothing uses it)
+  bound[5] = b5;
   bound[6] = b6;
 }
 
