@@ -266,7 +266,10 @@ FirstRiseResult Search(const Signal& g, double horizon, double tol, SinusoidSwee
       // is 0 to round-off, and the search stalled short of a contact.
       const double root = std::sqrt(d[1] * d[1] - 2.0 * l2 * g0);
       sigma = d[1] > 0.0 ? -2.0 * g0 / (d[1] + root) : (root - d[1]) / l2;
-      if (l4 > 0.0 && std::abs(d[2]) < 0.5 * l2) sigma = std::max(sigma, MajorantStep(g0, d, l4));
+      // (With a sweep only: a signal of many terms, where a step's N sin and
+      // cos outweigh the majorant's polynomial evaluations; on the paper's
+      // 2 modes they did not.)
+      if (sweep != nullptr && l4 > 0.0 && std::abs(d[2]) < 0.5 * l2) sigma = std::max(sigma, MajorantStep(g0, d, l4));
       if (sigma * w_max < 1e-3 && l4 > 0.0 && d[1] * d[1] < -2.0 * l2 * g0) {
         // Near a tangency (the slope does not dominate the curvature bound) the
         // quadratic bound is too pessimistic: the quartic one uses the actual

@@ -23,14 +23,20 @@ struct ConservativeFlight {
   std::optional<StickingFlow> stick;
   ContactSignal gap;
   SinusoidSum release;
-  SinusoidSweep sweep;  // the flights' impact search, over the modes' frequencies
+  // The flights' impact search sweeps (first_rise.h) from this many modes
+  // on: measured, a run with it against one without, 0.55 times as fast for
+  // N = 2 (the grid's scalar work outweighs its saving on 2 sinusoids),
+  // 1.2 times for N = 10, 2 times for N = 100.
+  static constexpr int kSweepFromModes = 8;
+  std::optional<SinusoidSweep> sweep;
 
   explicit ConservativeFlight(const ContactModel& c)
-      : cm(c), b(c.basis), gap(c.basis, Eigen::VectorXd::Zero(2 * c.basis.n)), sweep(c.basis.omega) {
+      : cm(c), b(c.basis), gap(c.basis, Eigen::VectorXd::Zero(2 * c.basis.n)) {
     gap.offset = -c.model.gap;
+    if (b.n >= kSweepFromModes) sweep.emplace(b.omega);
   }
   FirstRiseResult Search(const ContactSignal& g, double horizon, double tol) {
-    return FirstRise(g, horizon, tol, sweep);
+    return sweep ? FirstRise(g, horizon, tol, *sweep) : FirstRise(g, horizon, tol);
   }
   double FastestRate() const { return b.omega.maxCoeff(); }
   State FromPhysical(const Eigen::VectorXd& z) const { return ToModal(b, z.head(b.n), z.tail(b.n)); }

@@ -87,7 +87,10 @@ class SinusoidSweep {
 };
 
 FirstRiseResult FirstRise(const SinusoidSum& g, double horizon, double tol);
-// With the sweep where armed (sweep.omega must be g's frequencies).
+// With the sweep where armed (sweep.omega must be g's frequencies), and the
+// conservative steps also bounded by the majorant of the quartic Taylor bound
+// (|g''|, |g'''|, L4): for sums of many sinusoids, whose steps cost N sin and
+// cos each (the exact integrator takes it from 8 modes on).
 FirstRiseResult FirstRise(const SinusoidSum& g, double horizon, double tol, SinusoidSweep& sweep);
 // The same search; the bounds hold for s >= 0 because every term decays.
 FirstRiseResult FirstRise(const DampedSignal& g, double horizon, double tol);
