@@ -437,7 +437,16 @@ SinusoidSweep::Reach SinusoidSweep::Advance(const SinusoidSum& g, double s, cons
       p0 = p1;
       d0 = d1;
       e0 = e1;
-      if (rotations >= kResync && out.s < horizon) start_at(out.s);
+      if (rotations >= kResync && out.s < horizon) {
+        // Afresh, and the left end's values with them (the margin counts
+        // rotations since this start for both ends of a step).
+        start_at(out.s);
+        double exact[4];
+        g.Derivatives(out.s, cos_.data(), sin_.data(), exact);
+        p0 = exact[0];
+        d0 = exact[1];
+        e0 = exact[2];
+      }
       k = first_level(p0, d0, out.s, rotations, k);
       if (k >= kLevels) {
         out.declined = level - p0;
