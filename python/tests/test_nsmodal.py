@@ -109,7 +109,7 @@ def test_atlas_bridges(paper):
 def test_simulate_returns_the_summary_and_arrays(paper):
     s = nsmodal.simulate(paper, x0=[0.5, 0.0], v0=[0.5, 1.2], t_end=20.0, integrator="exact")
     for key in ("status", "final_time", "final_state", "impacts", "grazes", "zeno_events", "sticking_time",
-                "energy_drift", "wall_time_s", "steps", "settings"):
+                "energy_drift", "wall_time_s", "steps", "sweep_steps", "settings"):
         assert key in s, key
     assert s["status"] == "finished" and s["final_time"] == 20.0 and s["impacts"] > 0
     tr = s["trajectory"]

@@ -56,6 +56,7 @@ nlohmann::json SimulationJson(const SimulationSummary& s, const SimulateOptions&
   j["energy_drift"] = s.energy_drift;
   j["wall_time_s"] = s.wall_time_s;
   j["steps"] = s.steps;
+  j["sweep_steps"] = s.sweep_steps;  // exact, from 8 modes on: the impact search's grid steps
   j["settings"] = {{"t_end", opt.t_end}, {"rtol", opt.rtol}, {"atol", opt.atol}, {"method", opt.cvode_method},
                    {"step", opt.step}, {"theta", opt.theta}, {"root_tol", opt.root_tol}, {"sample_dt", opt.sample_dt}};
   return j;
