@@ -66,6 +66,20 @@ TEST(Flow, ContactSignalMatchesFlowAndItsBounds) {
   }
 }
 
+// The derivative bounds sum_i w_i^k sqrt(a_i^2 + b_i^2) come from a square
+// root of a_i^2 + b_i^2, vectorised; amplitudes whose squares would underflow
+// (1e-200) or overflow (1e200) must still come out right (std::hypot then).
+// Expected values exact to a few ulps: 4e-16 relative.
+TEST(Flow, SinusoidBoundsSurviveTinyAndHugeAmplitudes) {
+  for (const double scale : {1.0, 1e-200, 1e200}) {
+    const SinusoidSum f(0.0, Eigen::Vector2d(3.0 * scale, 0.0), Eigen::Vector2d(4.0 * scale, 2.0 * scale),
+                        Eigen::Vector2d(1.0, 2.0));
+    EXPECT_NEAR(f.bound[0], 7.0 * scale, 4e-16 * 7.0 * scale) << scale;   // 5 + 2
+    EXPECT_NEAR(f.bound[2], 13.0 * scale, 4e-16 * 13.0 * scale) << scale;  // 5 + 4 * 2
+    EXPECT_NEAR(f.bound[6], 133.0 * scale, 4e-16 * 133.0 * scale) << scale;  // 5 + 64 * 2
+  }
+}
+
 // Issue 14: every searching loop has a bound and says when it hit it. The
 // root isolation of NC3 stops at its cell budget and reports it; with the
 // budget the caller derives from the scales it completes.

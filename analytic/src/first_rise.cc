@@ -318,6 +318,7 @@ SinusoidSweep::SinusoidSweep(const Eigen::VectorXd& omega)
       sin_(omega.size()) {
   const double w_max = omega.size() > 0 ? omega.maxCoeff() : 0.0;
   h0_ = w_max > 0.0 ? kLongestStep / w_max : 0.0;
+  for (int k = 0; k < kLevels; ++k) h_.push_back(std::ldexp(h0_, -k));
 }
 
 const float* SinusoidSweep::Rotation(int k) {
@@ -325,7 +326,7 @@ const float* SinusoidSweep::Rotation(int k) {
   if (r.empty()) {
     const int n = static_cast<int>(omega_.size());
     std::vector<double> c(n), sn(n);
-    internal::CosSin(omega_.data(), std::ldexp(h0_, -k), n, c.data(), sn.data());
+    internal::CosSin(omega_.data(), h_[k], n, c.data(), sn.data());
     r.resize(2 * n);
     for (int i = 0; i < n; ++i) {
       r[i] = static_cast<float>(c[i]);
@@ -381,17 +382,14 @@ SinusoidSweep::Reach SinusoidSweep::Advance(const SinusoidSum& g, double s, cons
   // accepted, within 0.13 level of the longest step that would have been;
   // limiting the slope's rise to half the distance took 20% more steps.)
   auto first_level = [&](double p, double slope, double t, int m, int from) {
-    int k = std::max(0, from - 2);
-    // The margin at the longest step considered bounds those of the others.
-    const double room = level - p - margin_of(m + 1, std::ldexp(h0_, -k), t).quintic;
-    if (!(room > 0.0)) return kLevels;
-    constexpr double kNone = std::numeric_limits<double>::infinity();  // a zero bound limits nothing
-    const double x4 = l4 > 0.0 ? 192.0 * room / l4 : kNone, x6 = l6 > 0.0 ? 23040.0 * room / l6 : kNone;
-    const double x2 = l2 > 0.0 ? 4.0 * room / l2 : kNone;
-    for (; k < kLevels; ++k) {
-      const double h = std::ldexp(h0_, -k), h2 = h * h;
-      const bool curvature = h2 * h2 <= x4 || h2 * h2 * h2 <= x6 || h2 <= x2;
-      if (curvature && !(slope * h > room)) return k;
+    for (int k = std::max(0, from - 2); k < kLevels; ++k) {
+      const double h = h_[k], h2 = h * h;
+      const double room = level - p - margin_of(m + 1, h, t).quintic;
+      if (!(room > 0.0) || slope * h > room) continue;
+      if ((l4 > 0.0 && l4 * h2 * h2 <= 192.0 * room) || (l6 > 0.0 && l6 * h2 * h2 * h2 <= 23040.0 * room) ||
+          (l2 > 0.0 && l2 * h2 <= 4.0 * room) || (l2 <= 0.0 && l4 <= 0.0 && l6 <= 0.0)) {
+        return k;
+      }
     }
     return kLevels;
   };
@@ -415,7 +413,7 @@ SinusoidSweep::Reach SinusoidSweep::Advance(const SinusoidSum& g, double s, cons
   start_at(s);
   double p0 = g0, d0 = g1, e0 = d[2];
   while (out.s < horizon) {
-    const double h = std::ldexp(h0_, -k);
+    const double h = h_[k];
     const float* rot = Rotation(k);
     const Sums sums = Rotate(n, w_.data(), rot, rot + n, re_.data(), im_.data(), next_re_.data(), next_im_.data());
     ++out.steps;

@@ -78,6 +78,7 @@ class SinusoidSweep {
 
   Eigen::VectorXd omega_;
   double h0_ = 0.0;
+  std::vector<double> h_;  // the step lengths h_0 / 2^k
   std::vector<std::vector<float>> rotation_;
   // Single precision (first_rise.cc says why, and how its round-off is bounded).
   std::vector<float> w_, re_, im_, next_re_, next_im_;  // w; phasors / l0 at s, at s + h
