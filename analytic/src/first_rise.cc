@@ -393,6 +393,16 @@ SinusoidSweep::Reach SinusoidSweep::Advance(const SinusoidSum& g, double s, cons
     }
     return kLevels;
   };
+  // Far enough below the level, the conservative step (the first root of
+  // the quadratic bound) is longer than the longest grid step: the sweep
+  // leaves it those stretches (a wall never reached would otherwise be swept
+  // to the horizon in steps of h_0).
+  auto conservative_longer = [&](double p, double slope) {
+    if (!(l2 > 0.0)) return true;
+    const double room = level - p;
+    return (std::sqrt(slope * slope + 2.0 * l2 * room) - slope) / l2 > h0_;
+  };
+  if (conservative_longer(g0, g1)) return out;
   int k = first_level(g0, g1, s, 0, 0);
   if (k >= kLevels) {
     out.declined = level - g0;
@@ -418,6 +428,7 @@ SinusoidSweep::Reach SinusoidSweep::Advance(const SinusoidSum& g, double s, cons
     const Sums sums = Rotate(n, w_.data(), rot, rot + n, re_.data(), im_.data(), next_re_.data(), next_im_.data());
     ++out.steps;
     const double t1 = out.s + h;
+    if (!(t1 > out.s)) break;  // h below the resolution of s: the conservative search says it stalled
     const double p1 = g.offset + g.slope * t1 + l0 * static_cast<double>(sums.x);
     const double d1 = g.slope - l0 * static_cast<double>(sums.wy);
     const double e1 = -l0 * static_cast<double>(sums.w2x);
@@ -450,6 +461,7 @@ SinusoidSweep::Reach SinusoidSweep::Advance(const SinusoidSum& g, double s, cons
         d0 = exact[1];
         e0 = exact[2];
       }
+      if (conservative_longer(p0, d0)) break;
       k = first_level(p0, d0, out.s, rotations, k);
       if (k >= kLevels) {
         out.declined = level - p0;

@@ -172,7 +172,7 @@ SimulationSummary Run(Flight& f, const ContactModel& cm, const Eigen::VectorXd& 
       sum.status = SimulationStatus::kStopped;
       break;
     }
-    if (sum.steps >= opt.max_steps) {
+    if (sum.steps + sum.sweep_steps >= opt.max_steps) {
       sum.status = SimulationStatus::kStepLimit;
       sum.message = "step limit reached at t = " + std::to_string(t);
       break;

@@ -62,6 +62,8 @@ struct SimulateOptions {
   double theta = 0.5;
   // Zeno truncation threshold, relative to the shortest linear period.
   double zeno_flight = 1e-9;
+  // The integrator's steps (exact: conservative and grid steps together,
+  // checked between flights).
   long max_steps = 2000000000;
 
   // Throws InputError naming the field: names("t_end"), "simulate.t_end"
