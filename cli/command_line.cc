@@ -1,10 +1,12 @@
 #include "command_line.h"
 
+#include <csignal>
 #include <iostream>
 #include <new>
 
 #include "nsmodal/error.h"
 #include "nsmodal/output.h"
+#include "nsmodal/stop.h"
 
 namespace nsmodal::cli {
 
@@ -103,6 +105,11 @@ int CommandLine::Run() const {
     if (*c_fig) status = RunFigures(figures);
     report::CheckStdout();
     return status;
+  } catch (const Stopped& e) {
+    // The results this run had written were removed as the work unwound
+    // (output.h); 128 + the signal, as a shell reports a process it killed.
+    std::cerr << "error: " << e.what() << ": stopped, no result written\n";
+    return 128 + e.signal();
   } catch (const InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;
@@ -119,7 +126,25 @@ int CommandLine::Run() const {
   }
 }
 
+namespace {
+
+void OnStopSignal(int signal) { RequestStop(signal); }
+
+// SIGINT and SIGTERM ask the work to stop at its next poll (stop.h); the
+// handler is reset by its first call, so a second signal ends the process at
+// once (a stuck run can still be killed with a second Ctrl-C).
+void InstallStopHandlers() {
+  struct sigaction action {};
+  action.sa_handler = OnStopSignal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND | SA_RESTART;
+  for (int signal : {SIGINT, SIGTERM}) sigaction(signal, &action, nullptr);
+}
+
+}  // namespace
+
 int Main(int argc, char** argv) {
+  InstallStopHandlers();
   CommandLine cl;
   try {
     cl.app.parse(argc, argv);

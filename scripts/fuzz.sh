@@ -2,7 +2,8 @@
 # The clang build of CI: the whole test suite built by clang with
 # AddressSanitizer and UndefinedBehaviorSanitizer (clang's UBSan sees what
 # GCC's does not, e.g. float-to-integer overflow), then each libFuzzer target
-# run for FUZZ_SECONDS (default 60) from the corpus in fuzz/corpus. A crash, a
+# run for FUZZ_SECONDS (default 60) from the corpus in fuzz/corpus (fuzz_faults:
+# a full disk and a signal at a point the input chooses, in real commands). A crash, a
 # hang (an input over 30 s) or a memory blow-up (over 2 GB) fails the run and
 # leaves the input in build-fuzz/artifacts/. 30 s: the costliest scene the
 # format honours, a one-line bar of kMaxDofs = 2,000 elements, takes 13.6 s
@@ -28,7 +29,7 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
   ctest --test-dir build-fuzz --output-on-failure -j2
 mkdir -p build-fuzz/artifacts
 total=0
-for target in fuzz_scene fuzz_cli; do
+for target in fuzz_scene fuzz_cli fuzz_faults; do
   corpus=$(mktemp -d)
   cp fuzz/corpus/"${target#fuzz_}"/* "$corpus"/
   log=build-fuzz/$target.log
@@ -46,4 +47,4 @@ for target in fuzz_scene fuzz_cli; do
   rm -rf "$corpus"
 done
 echo "fuzzing $total inputs in all:"
-echo "fuzzing: 2 passed, 0 failed"
+echo "fuzzing: 3 passed, 0 failed"

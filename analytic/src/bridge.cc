@@ -12,6 +12,7 @@
 #include "nsmodal/return_map.h"
 #include "nsmodal/roots.h"
 #include "nsmodal/stability.h"
+#include "nsmodal/stop.h"
 
 namespace nsmodal {
 namespace {
@@ -139,6 +140,7 @@ std::vector<double> OneImpactPeriodDoublings(const AnalysisBasis& b, double from
   std::vector<double> periods;
   std::vector<bool> admissible;
   for (long k = 0; from + k * step <= to + 1e-12 * to; ++k) {
+    ThrowIfStopRequested();
     periods.push_back(from + k * step);
     admissible.push_back(OneImpactOrbit(b, periods.back()).admissible);
   }

@@ -15,6 +15,7 @@
 #include "nsmodal/error.h"
 #include "nsmodal/flow.h"
 #include "nsmodal/return_map.h"
+#include "nsmodal/stop.h"
 
 namespace nsmodal {
 namespace {
@@ -313,6 +314,7 @@ Family FollowOddImpactFamily(const AnalysisBasis& b, const Orbit& start, double 
   double h = options.step;
   int halvings = 0;
   while (true) {
+    ThrowIfStopRequested();
     const Orbit& cur = f.orbits.back();
     if (std::abs(to - cur.period) <= 1e-12 * std::abs(to)) {
       f.stop = "reached T = " + FormatValue(to);

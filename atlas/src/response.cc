@@ -9,6 +9,7 @@
 #include "nsmodal/error.h"
 #include "nsmodal/one_impact.h"
 #include "nsmodal/roots.h"
+#include "nsmodal/stop.h"
 
 namespace nsmodal {
 
@@ -208,6 +209,7 @@ class Responder {
       return curve_;
     }
     for (std::size_t g = 0; g < grid.size(); ++g) {
+      ThrowIfStopRequested();
       if (opt_.progress) opt_.progress(static_cast<long>(g), static_cast<long>(grid.size()));
       const std::unique_ptr<ForcedProblem> p = tr_.Problem(grid[g]);
       for (const Vec& u : p->FindAll()) {
@@ -287,6 +289,7 @@ class Responder {
     }
     double h = h_max;
     for (long step = 0;; ++step) {
+      ThrowIfStopRequested();
       if (step >= opt_.max_steps) {
         *end = "step limit (" + std::to_string(opt_.max_steps) + ") reached";
         curve_.notes.push_back("branch " + std::to_string(curve_.branches.size() + 1) + ": " + *end);

@@ -4,13 +4,16 @@
 #include <spawn.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <fstream>
 #include <system_error>
 #include <utility>
 #include <vector>
 
 #include "nsmodal/check.h"
+#include "nsmodal/stop.h"
 
 extern char** environ;
 
@@ -59,10 +62,37 @@ std::string Run(const std::vector<std::string>& argv, const std::filesystem::pat
   return argv[0] + " failed (see " + log.string() + ")";
 }
 
+// Whether the image gnuplot wrote ends as its format ends: gnuplot exits 0
+// when cairo's writes fail on a full disk, leaving a truncated file. PNG: the
+// IEND chunk (its length, type and CRC, 12 fixed bytes); PDF: "%%EOF"; SVG:
+// "</svg>" (each followed at most by line ends).
+std::string IncompleteImage(const std::filesystem::path& path, const std::string& ext) {
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) return "gnuplot wrote no " + path.filename().string() + ": " + ec.message();
+  static const std::string kPngEnd("\0\0\0\0IEND\xae\x42\x60\x82", 12);
+  const std::string end = ext == "png" ? kPngEnd : ext == "svg" ? "</svg>" : "%%EOF";
+  std::ifstream in(path, std::ios::binary);
+  const std::uintmax_t tail = std::min<std::uintmax_t>(size, 64);
+  in.seekg(static_cast<std::streamoff>(size - tail));
+  std::string last(tail, '\0');
+  in.read(last.data(), static_cast<std::streamsize>(tail));
+  if (!in) return "cannot read back " + path.string();
+  if (ext != "png") {
+    while (!last.empty() && (last.back() == '\n' || last.back() == '\r')) last.pop_back();
+  }
+  if (last.size() < end.size() || last.compare(last.size() - end.size(), end.size(), end) != 0) {
+    return "gnuplot's " + ext + " image is incomplete (" + std::to_string(size) +
+           " bytes, no end marker): was the disk full?";
+  }
+  return "";
+}
+
 }  // namespace
 
 ChartStatus DrawChart(const OutputDir& dir, const std::string& name, const std::string& body) {
   NSMODAL_CHECK(IsPlainName(name));
+  ThrowIfStopRequested();  // between charts: a signal ends the set here (stop.h)
   // PNG and SVG for the screen; PDF for print, vector, at the final size
   // (the PNG's aspect) of a 17 cm page width with 9 pt text and of an 8.5 cm
   // journal column with 7 pt text (NAME.column.pdf).
@@ -78,14 +108,26 @@ ChartStatus DrawChart(const OutputDir& dir, const std::string& name, const std::
                     "'\nset output nsmodal_output\n" + body + "\n");
     const std::string log = script + ".log";
     std::string error = Run({"gnuplot", "-e", "nsmodal_output='" + temp + "'", script}, dir.path(), log);
+    // A signal that reached gnuplot too (Ctrl-C reaches the whole process
+    // group) is the user's stop, not gnuplot's failure.
     std::error_code ec;
-    if (error.empty()) {
-      std::filesystem::rename(dir.path() / temp, dir.path() / image, ec);
-      if (ec) error = "cannot rename the drawn " + dir.Describe(image) + ": " + ec.message();
+    if (StopRequested()) {
+      std::filesystem::remove(dir.path() / temp, ec);
+      std::filesystem::remove(dir.path() / log, ec);
     }
+    ThrowIfStopRequested();
+    const std::string format = ext == "column.pdf" ? "pdf" : ext;
+    if (error.empty()) error = IncompleteImage(dir.path() / temp, format);
     if (!error.empty()) {
       std::filesystem::remove(dir.path() / temp, ec);
+      // The log is kept for the reader of the message, unless it is empty.
+      if (std::filesystem::is_empty(dir.path() / log, ec) && !ec) std::filesystem::remove(dir.path() / log, ec);
       return {false, error};
+    }
+    try {
+      dir.Publish(temp, image);
+    } catch (const OutputError& e) {
+      return {false, e.what()};
     }
     std::filesystem::remove(dir.path() / log, ec);
   }

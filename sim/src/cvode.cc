@@ -20,6 +20,7 @@
 
 #include "integrators.h"
 #include "nsmodal/roots.h"
+#include "nsmodal/stop.h"
 
 namespace nsmodal::internal {
 namespace {
@@ -265,6 +266,7 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
       handle_contact();
     }
     while (t < opt.t_end) {
+      ThrowIfStopRequested();  // a signal (stop.h): the run unwinds
       if (observer.stop_requested && observer.stop_requested()) {
         sum.status = SimulationStatus::kStopped;
         break;
@@ -322,6 +324,8 @@ SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x
         handle_contact();  // a maximum of x_c in the contact band: a graze (or held)
       }
     }
+  } catch (const Stopped&) {
+    throw;  // a signal: not the solver's failure
   } catch (const std::exception& ex) {
     sum.status = SimulationStatus::kSolverError;
     sum.message = ex.what();

@@ -9,6 +9,7 @@
 
 #include "integrators.h"
 #include "nsmodal/first_rise.h"
+#include "nsmodal/stop.h"
 
 namespace nsmodal::internal {
 namespace {
@@ -168,6 +169,7 @@ SimulationSummary Run(Flight& f, const ContactModel& cm, const Eigen::VectorXd& 
   };
 
   while (t < opt.t_end) {
+    ThrowIfStopRequested();  // a signal (stop.h): the run unwinds
     if (observer.stop_requested && observer.stop_requested()) {
       sum.status = SimulationStatus::kStopped;
       break;

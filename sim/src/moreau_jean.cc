@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "integrators.h"
+#include "nsmodal/stop.h"
 
 namespace nsmodal::internal {
 
@@ -58,6 +59,7 @@ SimulationSummary SimulateMoreauJean(const ContactModel& cm, const Eigen::Vector
       break;
     }
     if (observer.on_progress && k % 1000000 == 0) observer.on_progress(t);
+    if (k % 1024 == 0) ThrowIfStopRequested();  // a signal (stop.h): the run unwinds
     if (k % 1024 == 0 && observer.stop_requested && observer.stop_requested()) {
       sum.status = SimulationStatus::kStopped;
       break;

@@ -2,7 +2,8 @@
 // Runs body(i) for i in [0, count) on `threads` worker threads (0: all cores),
 // calling progress(done, count) from the calling thread about ten times a second.
 // The first exception thrown by body stops the remaining work and is rethrown
-// on the calling thread.
+// on the calling thread; a stop request (stop.h) is polled before each item
+// and ends the work the same way (Stopped).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -11,6 +12,8 @@
 #include <mutex>
 #include <thread>
 #include <vector>
+
+#include "nsmodal/stop.h"
 
 namespace nsmodal {
 
@@ -27,6 +30,7 @@ inline void ParallelFor(long count, int threads, const std::function<void(long)>
   auto worker = [&] {
     for (long i = next++; i < count; i = next++) {
       try {
+        ThrowIfStopRequested();
         body(i);
       } catch (...) {
         std::lock_guard<std::mutex> lock(error_mutex);

@@ -6,8 +6,11 @@
 // posix_spawnp with an argument vector: no path, name or title ever passes
 // through a shell. Scripts name their data files relative to DIR, so
 // `gnuplot NAME.png.gp` run by hand from DIR redraws the chart. Each image is
-// drawn under a temporary name and renamed when gnuplot succeeds; gnuplot's
-// messages go to DIR/NAME.EXT.gp.log, kept only when it fails.
+// drawn under a temporary name and renamed when gnuplot succeeds and the
+// image ends with its format's end marker (gnuplot exits 0 on a full disk,
+// leaving a truncated image); gnuplot's messages go to DIR/NAME.EXT.gp.log,
+// kept only when it fails and has said something. A stop request (stop.h)
+// is polled before each chart and after each gnuplot run.
 #include <string>
 
 #include "nsmodal/output.h"
