@@ -18,9 +18,9 @@
 #include <memory>
 #include <stdexcept>
 
+#include "event_loop.h"
 #include "integrators.h"
 #include "nsmodal/roots.h"
-#include "nsmodal/stop.h"
 
 namespace nsmodal::internal {
 namespace {
@@ -102,7 +102,7 @@ void ProjectOnEnergy(const ContactModel& cm, double e0, Eigen::Ref<Eigen::Vector
 constexpr double kProjectionBand = 100.0;
 
 void Check(int flag, const char* call) {
-  if (flag < 0) throw std::runtime_error(std::string(call) + " failed with flag " + std::to_string(flag));
+  if (flag < 0) throw SolverError(std::string(call) + " failed with flag " + std::to_string(flag));
 }
 
 // Owns the CVODE memory block and its vectors, matrix and linear solver.
@@ -112,16 +112,16 @@ class Cvode {
     ud_.cm = &cm;
     Check(SUNContext_Create(nullptr, &ctx_), "SUNContext_Create");
     y_ = N_VNew_Serial(2 * n_, ctx_);
-    if (y_ == nullptr) throw std::runtime_error("N_VNew_Serial failed");
+    if (y_ == nullptr) throw SolverError("N_VNew_Serial failed");
     State() = z0;
     mem_ = CVodeCreate(opt.cvode_method == "adams" ? CV_ADAMS : CV_BDF, ctx_);
-    if (mem_ == nullptr) throw std::runtime_error("CVodeCreate failed");
+    if (mem_ == nullptr) throw SolverError("CVodeCreate failed");
     Check(CVodeInit(mem_, Rhs, 0.0, y_), "CVodeInit");
     Check(CVodeSStolerances(mem_, opt.rtol, opt.atol), "CVodeSStolerances");
     Check(CVodeSetUserData(mem_, &ud_), "CVodeSetUserData");
     a_ = SUNDenseMatrix(2 * n_, 2 * n_, ctx_);
     ls_ = SUNLinSol_Dense(y_, a_, ctx_);
-    if (a_ == nullptr || ls_ == nullptr) throw std::runtime_error("dense linear solver allocation failed");
+    if (a_ == nullptr || ls_ == nullptr) throw SolverError("dense linear solver allocation failed");
     Check(CVodeSetLinearSolver(mem_, ls_, a_), "CVodeSetLinearSolver");
     Check(CVodeSetJacFn(mem_, Jac), "CVodeSetJacFn");
     Check(CVodeSetMaxNumSteps(mem_, -1), "CVodeSetMaxNumSteps");  // no limit per call; we count
@@ -194,147 +194,135 @@ class Cvode {
 
 }  // namespace
 
-SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
-                                const SimulateOptions& opt, const SimulationObserver& observer) {
-  const Model& m = cm.model;
-  const int n = m.dofs(), c = m.contact;
-  const double e = m.restitution, d = m.gap;
-  const double zeno_flight = opt.zeno_flight * 2.0 * M_PI / cm.basis.omega.maxCoeff();
-  Eigen::VectorXd z0(2 * n);
-  z0 << x0, v0;
-  Cvode solver(cm, z0, opt);
-  SimulationSummary sum;
-  Sampler sampler(opt, observer);
-  sampler.Emit(0.0, [&](double) { return z0; });
-  // The contact band: CVODE's error control keeps x_c within ~atol + rtol d of
-  // its true value, so contact decisions use that scale.
-  const double xtol = 10.0 * (opt.atol + opt.rtol * d);
-  const double vscale = std::sqrt(cm.EnergyScale(x0, v0) * 2.0 * cm.w_cc) + 1e-300;
-  const double vtol_floor = 10.0 * (opt.atol + opt.rtol * vscale);
-  bool sticking = false;
-  // e = 1 without damping or forcing: the energy of the start is an invariant; each restart is put back
-  // on it (simulate.h, cvode_energy_projection).
-  const double e0 = cm.EnergyOf(x0, v0);
-  const bool project = opt.cvode_energy_projection && e == 1.0 && m.Conservative();
-  double t = 0.0, stick_start = 0.0;
-  long base_steps = 0, next_progress = 0;
-  auto z = solver.State();
-  auto restart = [&] {
-    base_steps += solver.Steps();  // CVodeReInit resets the counters
-    solver.Restart(t, sticking);
-  };
+// CVODE's advance (event_loop.h's Stepper): one internal step towards the
+// next sample time or the end, checked for a crossing CVODE did not report.
+class CvodeStepper {
+ public:
+  CvodeStepper(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0, const SimulateOptions& opt)
+      : cm_(cm),
+        n_(cm.model.dofs()),
+        c_(cm.model.contact),
+        d_(cm.model.gap),
+        t_end_(opt.t_end),
+        zeno_flight_(opt.zeno_flight * 2.0 * M_PI / cm.basis.omega.maxCoeff()),
+        // The contact band: CVODE's error control keeps x_c within ~atol + rtol d of
+        // its true value, so contact decisions use that scale.
+        xtol_(10.0 * (opt.atol + opt.rtol * d_)),
+        vtol_floor_(10.0 * (opt.atol + opt.rtol * (std::sqrt(cm.EnergyScale(x0, v0) * 2.0 * cm.w_cc) + 1e-300))),
+        // e = 1 without damping or forcing: the energy of the start is an
+        // invariant; each restart is put back on it (simulate.h, cvode_energy_projection).
+        e0_(cm.EnergyOf(x0, v0)),
+        project_(opt.cvode_energy_projection && cm.model.restitution == 1.0 && cm.model.Conservative()),
+        band_(kProjectionBand * opt.rtol * e0_),
+        solver_(cm, Start(x0, v0), opt),
+        z_(solver_.State()) {}
 
-  auto enter_sticking = [&] {
-    z[n + c] = 0.0;  // plastic: the held contact has no velocity
-    cm.ApplyImpact(0.0, z.tail(n));
-    sticking = true;
-    stick_start = t;
-    ++sum.sticking_phases;
-  };
+  bool Finished() const { return t_ >= t_end_; }
+  double Time() const { return t_; }
+  long Steps() { return base_steps_ + solver_.Steps(); }
+
+  std::optional<int> InitialContact() {
+    if (z_[c_] >= d_ - xtol_ && (z_[n_ + c_] > vtol_floor_ || (std::abs(z_[n_ + c_]) <= vtol_floor_ &&
+                                                               Acceleration() > 0.0))) {
+      return 0;
+    }
+    return std::nullopt;
+  }
+
+  Advance Step(Sampler& sampler) {
+    Advance a;
+    const double t0 = t_;
+    // Samples within round-off of t take the current state; then return at
+    // the next sample time (CVODE interpolates there) or at a root.
+    sampler.Emit(t_ + 1e-12 * std::max(1.0, t_), [&](double) { return Eigen::VectorXd(z_); });
+    double tout = t_end_;
+    if (sampler.active()) tout = std::min(t_end_, sampler.NextTime());
+    const int flag = solver_.Step(tout, &t_);
+    if (held_) a.held = t_ - t0;
+    if (!held_ && z_[c_] > d_ + xtol_) {
+      // Beyond the obstacle with no root reported (two crossings in one
+      // step): locate the rising crossing on the dense output of the step.
+      // A step that starts at or beyond the wall is a restart there: after
+      // an impact, which CVODE's root location leaves up to
+      // (|t| + |h|) 100 uround |v_c| beyond d (1e-11 at t = 4e4, above the
+      // band at rtol 1e-13), the mass moves away; after an impact with
+      // e = 0 where nothing pushed yet (g0 = 0, inactive by CVODE's rule)
+      // it is pushed in later. It penetrates only if x_c rises a band above
+      // where the step started, and the contact is half a band above that.
+      const double lo = solver_.LastStepStart();
+      const double start = solver_.Interpolate(lo)[c_] - d_;
+      if (start < 0.0 || z_[c_] - d_ > start + xtol_) {
+        const double level = start < 0.0 ? 0.0 : start + 0.5 * xtol_;
+        auto gap = [&](double ts) { return solver_.Interpolate(ts)[c_] - d_ - level; };
+        t_ = PolishRoot(gap, lo, t_);
+        z_ = solver_.Interpolate(t_);
+        sampler.Emit(t_, [&](double ts) { return solver_.Interpolate(ts); });
+        a.event = Advance::Event::kWitness;
+        return a;
+      }
+    }
+    sampler.Emit(t_, [&](double ts) {
+      return std::abs(ts - t_) <= 1e-12 * std::max(1.0, t_) ? Eigen::VectorXd(z_) : solver_.Interpolate(ts);
+    });
+    if (flag != CV_ROOT_RETURN) return a;
+    // Held: the contact force's root releases. Open: the gap's root, or a
+    // maximum of x_c in the contact band (a graze, or held).
+    if (held_ || solver_.RootInfo(0) != 0 || (solver_.RootInfo(1) != 0 && z_[c_] >= d_ - xtol_)) {
+      a.event = Advance::Event::kWitness;
+    }
+    return a;
+  }
+
   // contact.h's logic with CVODE's resolution: x_c is known to ~xtol, so a
   // crossing slower than sqrt(2 |a_c| xtol) cannot be told from a graze, and a
   // rebound lower than xtol would never move the root function away from zero
   // after the restart.
-  auto handle_contact = [&] {
-    const double ac = cm.FreeContactAcceleration(t, z.head(n), z.tail(n));
-    const double vtol = std::max(vtol_floor, std::sqrt(2.0 * std::abs(ac) * xtol));
-    const ContactDecision dec = DecideContact(z[n + c], ac, e, {vtol, xtol, zeno_flight});
-    if (dec.outcome == ContactOutcome::kGraze) {
-      ++sum.grazes;
-    } else if (dec.outcome != ContactOutcome::kHold) {
-      ContactEvent ev{t, z, {}};
-      cm.ApplyImpact(e, z.tail(n));
-      if (project && std::abs(cm.EnergyOf(z.head(n), z.tail(n)) - e0) > kProjectionBand * opt.rtol * e0) {
-        ProjectOnEnergy(cm, e0, z);
-      }
-      ev.after = z;
-      ++sum.impacts;
-      if (observer.on_impact) observer.on_impact(ev);
-    }
-    if (dec.outcome != ContactOutcome::kGraze && dec.outcome != ContactOutcome::kImpact) enter_sticking();
-    if (dec.outcome == ContactOutcome::kImpactZeno) {
-      ++sum.zeno_events;
-      if (sum.first_zeno_time < 0.0) sum.first_zeno_time = t + dec.accumulation;
-      stick_start = t + dec.accumulation;  // held from the accumulation time on
-    }
-    restart();
-  };
-
-  try {
-    if (z[c] >= d - xtol && (z[n + c] > vtol_floor || (std::abs(z[n + c]) <= vtol_floor &&
-                                                       cm.FreeContactAcceleration(t, z.head(n), z.tail(n)) > 0.0))) {
-      handle_contact();
-    }
-    while (t < opt.t_end) {
-      ThrowIfStopRequested();  // a signal (stop.h): the run unwinds
-      if (observer.stop_requested && observer.stop_requested()) {
-        sum.status = SimulationStatus::kStopped;
-        break;
-      }
-      if (base_steps + solver.Steps() >= opt.max_steps) {
-        sum.status = SimulationStatus::kStepLimit;
-        sum.message = "step limit reached at t = " + std::to_string(t);
-        break;
-      }
-      if (observer.on_progress && sum.impacts >= next_progress) {
-        observer.on_progress(t);
-        next_progress = sum.impacts + 10000;
-      }
-      // Samples within round-off of t take the current state; then return at
-      // the next sample time (CVODE interpolates there) or at a root.
-      sampler.Emit(t + 1e-12 * std::max(1.0, t), [&](double) { return Eigen::VectorXd(z); });
-      double tout = opt.t_end;
-      if (sampler.active()) tout = std::min(opt.t_end, sampler.NextTime());
-      const int flag = solver.Step(tout, &t);
-      if (!sticking && z[c] > d + xtol) {
-        // Beyond the obstacle with no root reported (two crossings in one
-        // step): locate the rising crossing on the dense output of the step.
-        // A step that starts at or beyond the wall is a restart there: after
-        // an impact, which CVODE's root location leaves up to
-        // (|t| + |h|) 100 uround |v_c| beyond d (1e-11 at t = 4e4, above the
-        // band at rtol 1e-13), the mass moves away; after an impact with
-        // e = 0 where nothing pushed yet (g0 = 0, inactive by CVODE's rule)
-        // it is pushed in later. It penetrates only if x_c rises a band above
-        // where the step started, and the contact is half a band above that.
-        const double lo = solver.LastStepStart();
-        const double start = solver.Interpolate(lo)[c] - d;
-        if (start < 0.0 || z[c] - d > start + xtol) {
-          const double level = start < 0.0 ? 0.0 : start + 0.5 * xtol;
-          auto gap = [&](double ts) { return solver.Interpolate(ts)[c] - d - level; };
-          t = PolishRoot(gap, lo, t);
-          z = solver.Interpolate(t);
-          sampler.Emit(t, [&](double ts) { return solver.Interpolate(ts); });
-          handle_contact();
-          continue;
-        }
-      }
-      sampler.Emit(t, [&](double ts) {
-        return std::abs(ts - t) <= 1e-12 * std::max(1.0, t) ? Eigen::VectorXd(z) : solver.Interpolate(ts);
-      });
-      if (flag != CV_ROOT_RETURN) continue;
-      if (sticking) {
-        sum.sticking_time += t - stick_start;
-        sticking = false;
-        restart();
-        continue;
-      }
-      if (solver.RootInfo(0) != 0) {
-        handle_contact();
-      } else if (solver.RootInfo(1) != 0 && z[c] >= d - xtol) {
-        handle_contact();  // a maximum of x_c in the contact band: a graze (or held)
-      }
-    }
-  } catch (const Stopped&) {
-    throw;  // a signal: not the solver's failure
-  } catch (const std::exception& ex) {
-    sum.status = SimulationStatus::kSolverError;
-    sum.message = ex.what();
+  ContactKinematics Contact(int) const {
+    const double ac = Acceleration();
+    return {z_[n_ + c_], ac, {std::max(vtol_floor_, std::sqrt(2.0 * std::abs(ac) * xtol_)), xtol_, zeno_flight_}};
   }
-  if (sticking) sum.sticking_time += t - stick_start;
-  sum.steps = base_steps + solver.Steps();
-  sum.final_time = t;
-  sum.final_state = z;
-  return sum;
-}
+  Eigen::VectorXd Physical() const { return z_; }
+  void Impact(int, double e) {
+    cm_.ApplyImpact(e, z_.tail(n_));
+    if (project_ && std::abs(cm_.EnergyOf(z_.head(n_), z_.tail(n_)) - e0_) > band_) ProjectOnEnergy(cm_, e0_, z_);
+  }
+  void Hold(int) {
+    z_[n_ + c_] = 0.0;  // plastic: the held contact has no velocity
+    cm_.ApplyImpact(0.0, z_.tail(n_));
+    held_ = true;
+  }
+  void Release(int) { held_ = false; }
+  void Restart() {
+    base_steps_ += solver_.Steps();  // CVodeReInit resets the counters
+    solver_.Restart(t_, held_);
+  }
+  void Finish(SimulationSummary& sum) {
+    sum.steps = Steps();
+    sum.final_time = t_;
+    sum.final_state = z_;
+  }
+
+ private:
+  static Eigen::VectorXd Start(const Eigen::VectorXd& x0, const Eigen::VectorXd& v0) {
+    Eigen::VectorXd z0(x0.size() + v0.size());
+    z0 << x0, v0;
+    return z0;
+  }
+  double Acceleration() const { return cm_.FreeContactAcceleration(t_, z_.head(n_), z_.tail(n_)); }
+
+  const ContactModel& cm_;
+  const int n_, c_;
+  const double d_, t_end_, zeno_flight_, xtol_, vtol_floor_, e0_;
+  const bool project_;
+  const double band_;  // the energy error below which no projection is made
+  Cvode solver_;
+  Eigen::Map<Eigen::VectorXd> z_;
+  bool held_ = false;
+  double t_ = 0.0;
+  long base_steps_ = 0;
+};
+
+template SimulationSummary RunIntegrator<CvodeStepper>(const ContactModel&, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                                                  const SimulateOptions&, const SimulationObserver&);
 
 }  // namespace nsmodal::internal

@@ -1,18 +1,18 @@
 // The exact event-driven integrator: closed-form flight, impacts found by
 // conservative advancement (first_rise.h), the sticking phase in closed form
-// (contact.h), Zeno sequences summed. One event loop over two flights:
+// (contact.h), Zeno sequences summed. One stepper (event_loop.h) over two
+// flights:
 //   ConservativeFlight  the paper's model: scaled modal state, rotations;
 //   ForcedFlight        damping and forces: physical state, forced_flow.h.
 #include <algorithm>
 #include <cmath>
 #include <optional>
 
+#include "event_loop.h"
 #include "integrators.h"
 #include "nsmodal/first_rise.h"
-#include "nsmodal/stop.h"
 
 namespace nsmodal::internal {
-namespace {
 
 struct ConservativeFlight {
   using State = Eigen::VectorXd;  // scaled modal y
@@ -112,149 +112,149 @@ struct ForcedFlight {
   Eigen::VectorXd PhysicalHeld(const Held& zr) const { return stick->Physical(zr); }
 };
 
+// The exact integrator's advance (event_loop.h's Stepper): one flight to the
+// first crossing of the gap's witness (the search's band is its resolution,
+// witness.h), or one held stretch to the release, in closed form; samples by
+// flying the stretch's start state to each sample time.
 template <typename Flight>
-SimulationSummary Run(Flight& f, const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
-                      const SimulateOptions& opt, const SimulationObserver& observer) {
+class ExactStepper {
+ public:
   using State = typename Flight::State;
   using Held = typename Flight::Held;
-  const int n = cm.model.dofs();
-  const double e = cm.model.restitution, d = cm.model.gap;
-  const double zeno_flight = opt.zeno_flight * 2.0 * M_PI / f.FastestRate();
-  Sampler sampler(opt, observer);
-  SimulationSummary sum;
 
-  Eigen::VectorXd z0(2 * n);
-  z0 << x0, v0;
-  State y = f.FromPhysical(z0);  // free-flight state
-  Held yr;                       // sticking state
-  bool sticking = false;
-  double t = 0.0;
-  sampler.Emit(0.0, [&](double) { return f.Physical(y); });
-  long next_progress = 0;
+  ExactStepper(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
+               const SimulateOptions& opt)
+      : f_(cm),
+        t_end_(opt.t_end),
+        root_tol_(opt.root_tol),
+        d_(cm.model.gap),
+        zeno_flight_(opt.zeno_flight * 2.0 * M_PI / f_.FastestRate()) {
+    Eigen::VectorXd z0(2 * cm.model.dofs());
+    z0 << x0, v0;
+    y_ = f_.FromPhysical(z0);
+  }
 
-  auto enter_sticking = [&] {
-    f.Impact(0.0, y);  // v_c -> 0
-    yr = f.Hold(t, y);
-    sticking = true;
-    ++sum.sticking_phases;
-  };
-  // At a contact (x_c within the band of half-width tol): contact.h's logic.
-  // ac is the free acceleration of x_c there (the signal's second derivative).
-  auto handle_contact = [&](double tol, double vtol, double ac) {
-    // A rebound lower than 2 tol can never arm the next search (it arms below
-    // -2 tol, first_rise.h): such a sequence is summed as Zeno, not flown as
-    // unarmed micro-flights that each end tol further out (4 tol: margin for
-    // the acceleration's change over the rebound).
-    const ContactDecision dec = DecideContact(f.ContactVelocity(y), ac, e, {vtol, 4.0 * tol, zeno_flight});
-    if (dec.outcome == ContactOutcome::kGraze) {
-      ++sum.grazes;
-      return;
-    }
-    if (dec.outcome != ContactOutcome::kHold) {
-      ContactEvent ev;
-      if (observer.on_impact) ev = ContactEvent{t, f.Physical(y), {}};
-      f.Impact(e, y);
-      ++sum.impacts;
-      if (observer.on_impact) {
-        ev.after = f.Physical(y);
-        observer.on_impact(ev);
-      }
-    }
-    if (dec.outcome == ContactOutcome::kImpactZeno) {
-      ++sum.zeno_events;
-      if (sum.first_zeno_time < 0.0) sum.first_zeno_time = t + dec.accumulation;
-      sum.sticking_time -= dec.accumulation;  // held from the accumulation time on
-    }
-    if (dec.outcome != ContactOutcome::kImpact) enter_sticking();
-  };
+  bool Finished() const { return t_ >= t_end_; }
+  double Time() const { return t_; }
+  long Steps() const { return steps_ + sweep_steps_; }
 
-  while (t < opt.t_end) {
-    ThrowIfStopRequested();  // a signal (stop.h): the run unwinds
-    if (observer.stop_requested && observer.stop_requested()) {
-      sum.status = SimulationStatus::kStopped;
-      break;
+  // In the contact band, moving in (or at rest and pushed in).
+  std::optional<int> InitialContact() {
+    const auto& g = Band(f_.Gap(t_, y_));
+    const double v = g.Velocity(0.0), a = g.Acceleration(0.0);
+    if (g.Position(0.0) >= -tol_ && (v > vtol_ || (std::abs(v) <= vtol_ && a > 0.0))) {
+      ac_ = a;
+      return 0;
     }
-    if (sum.steps + sum.sweep_steps >= opt.max_steps) {
-      sum.status = SimulationStatus::kStepLimit;
-      sum.message = "step limit reached at t = " + std::to_string(t);
-      break;
-    }
-    if (observer.on_progress && sum.steps >= next_progress) {
-      observer.on_progress(t);
-      next_progress = sum.steps + 100000;
-    }
-    const double horizon = opt.t_end - t;
-    if (!sticking) {
-      const auto* g = &f.Gap(t, y);  // x_c - d on this flight
-      const double tol = opt.root_tol * std::max({d, std::abs(g->offset), g->bound[0]});
-      const double vtol = std::sqrt(2.0 * g->bound[2] * tol);
-      if (t == 0.0 && g->Position(0.0) >= -tol && (g->Velocity(0.0) > vtol || (std::abs(g->Velocity(0.0)) <= vtol &&
-                                                                              g->Acceleration(0.0) > 0.0))) {
-        handle_contact(tol, vtol, g->Acceleration(0.0));  // the initial state is a contact
-        if (sticking) continue;
-        g = &f.Gap(t, y);
-      }
-      const FirstRiseResult r = f.Search(*g, horizon, tol);
-      sum.steps += r.steps;
-      sum.sweep_steps += r.sweep_steps;
-      if (sampler.active()) {
-        const State y_start = y;
-        const double t_start = t;
-        sampler.Emit(t + r.s, [&](double ts) {
-          State yy = y_start;
-          f.Fly(t_start, ts - t_start, yy);
-          return f.Physical(yy);
-        });
-      }
-      f.Fly(t, r.s, y);
-      t = r.found ? t + r.s : (r.s >= horizon ? opt.t_end : t + r.s);
-      if (r.stalled) {
-        sum.status = SimulationStatus::kSolverError;
-        sum.message = "impact search stalled at a degenerate tangency at t = " + std::to_string(t);
-        break;
-      }
-      if (r.found) handle_contact(tol, vtol, f.Acceleration(*g, r.s, y));
-    } else {
-      const auto& g = f.Release(t, yr);  // -a_c: released when it rises to 0
-      const double tol = opt.root_tol * std::max(std::abs(g.offset), g.bound[0]);
-      const FirstRiseResult r = FirstRise(g, horizon, tol);
-      sum.steps += r.steps;
-      const Held yr_start = yr;
-      const double t_start = t;
-      sampler.Emit(t + r.s, [&](double ts) {
-        Held yy = yr_start;
-        f.FlyHeld(t_start, ts - t_start, yy);
-        return f.PhysicalHeld(yy);
-      });
-      f.FlyHeld(t, r.s, yr);
-      sum.sticking_time += r.s;
-      t = r.found ? t + r.s : opt.t_end;
-      if (r.stalled) {
-        sum.status = SimulationStatus::kSolverError;
-        sum.message = "release search stalled at t = " + std::to_string(t);
-        break;
-      }
+    return std::nullopt;
+  }
+
+  Advance Step(Sampler& sampler) {
+    const double horizon = t_end_ - t_;
+    Advance a;
+    if (!held_) {
+      const auto& g = Band(f_.Gap(t_, y_));  // x_c - d on this flight
+      const FirstRiseResult r = f_.Search(g, horizon, tol_);
+      steps_ += r.steps;
+      sweep_steps_ += r.sweep_steps;
+      EmitAlong(sampler, t_ + r.s, y_, [&](double s, State& y) { f_.Fly(t_, s, y); },
+                [&](const State& y) { return f_.Physical(y); });
+      f_.Fly(t_, r.s, y_);
+      t_ = r.found ? t_ + r.s : (r.s >= horizon ? t_end_ : t_ + r.s);
+      if (r.stalled) return Failed("impact search stalled at a degenerate tangency at t = ");
       if (r.found) {
-        y = f.FromPhysical(f.PhysicalHeld(yr));
-        sticking = false;
+        ac_ = f_.Acceleration(g, r.s, y_);
+        a.event = Advance::Event::kWitness;
       }
+      return a;
     }
+    const auto& g = f_.Release(t_, yr_);  // -a_c: released when it rises to 0
+    const double tol = root_tol_ * std::max(std::abs(g.offset), g.bound[0]);
+    const FirstRiseResult r = FirstRise(g, horizon, tol);
+    steps_ += r.steps;
+    EmitAlong(sampler, t_ + r.s, yr_, [&](double s, Held& y) { f_.FlyHeld(t_, s, y); },
+              [&](const Held& y) { return f_.PhysicalHeld(y); });
+    f_.FlyHeld(t_, r.s, yr_);
+    a.held = r.s;
+    t_ = r.found ? t_ + r.s : t_end_;
+    if (r.stalled) {
+      Advance failed = Failed("release search stalled at t = ");
+      failed.held = r.s;
+      return failed;
+    }
+    if (r.found) a.event = Advance::Event::kWitness;
+    return a;
   }
-  sum.final_time = t;
-  sum.final_state = sticking ? f.PhysicalHeld(yr) : f.Physical(y);
-  return sum;
-}
 
-}  // namespace
-
-SimulationSummary SimulateExact(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
-                                const SimulateOptions& opt, const SimulationObserver& observer) {
-  if (cm.model.Conservative()) {
-    ConservativeFlight flight(cm);
-    return Run(flight, cm, x0, v0, opt, observer);
+  // A rebound lower than 2 tol can never arm the next search (it arms below
+  // -2 tol, first_rise.h): such a sequence is summed as Zeno, not flown as
+  // unarmed micro-flights that each end tol further out (4 tol: margin for
+  // the acceleration's change over the rebound).
+  ContactKinematics Contact(int) const {
+    return {f_.ContactVelocity(y_), ac_, {vtol_, 4.0 * tol_, zeno_flight_}};
   }
-  ForcedFlight flight(cm);
-  return Run(flight, cm, x0, v0, opt, observer);
-}
+  Eigen::VectorXd Physical() const { return held_ ? f_.PhysicalHeld(yr_) : f_.Physical(y_); }
+  void Impact(int, double e) { f_.Impact(e, y_); }
+  void Hold(int) {
+    f_.Impact(0.0, y_);  // v_c -> 0
+    yr_ = f_.Hold(t_, y_);
+    held_ = true;
+  }
+  void Release(int) {
+    y_ = f_.FromPhysical(f_.PhysicalHeld(yr_));
+    held_ = false;
+  }
+  void Restart() {}
+  void Finish(SimulationSummary& sum) const {
+    sum.steps = steps_;
+    sum.sweep_steps = sweep_steps_;
+    sum.final_time = t_;
+    sum.final_state = Physical();
+  }
+
+ private:
+  // The contact band of the flight of g: its half-width tol (relative to the
+  // signal's scale) and the speed below which a contact is a graze or a hold.
+  template <typename Signal>
+  const Signal& Band(const Signal& g) {
+    tol_ = root_tol_ * std::max({d_, std::abs(g.offset), g.bound[0]});
+    vtol_ = std::sqrt(2.0 * g.bound[2] * tol_);
+    return g;
+  }
+  // The samples of the stretch about to be flown from (t_, start), before it
+  // is: each flies the start to its time.
+  template <typename S, typename Fly, typename ToPhysical>
+  void EmitAlong(Sampler& sampler, double to, const S& start, Fly fly, ToPhysical physical) const {
+    sampler.Emit(to, [&](double ts) {
+      S y = start;
+      fly(ts - t_, y);
+      return physical(y);
+    });
+  }
+  Advance Failed(const std::string& what) const {
+    Advance a;
+    a.event = Advance::Event::kFailed;
+    a.message = what + std::to_string(t_);
+    return a;
+  }
+
+  Flight f_;
+  const double t_end_, root_tol_, d_, zeno_flight_;
+  State y_;   // free-flight state
+  Held yr_;   // sticking state
+  bool held_ = false;
+  double t_ = 0.0;
+  double tol_ = 0.0, vtol_ = 0.0, ac_ = 0.0;  // the band and x_c'' at the contact found
+  long steps_ = 0, sweep_steps_ = 0;
+};
+
+template SimulationSummary RunIntegrator<ExactStepper<ConservativeFlight>>(const ContactModel&,
+                                                                            const Eigen::VectorXd&,
+                                                                            const Eigen::VectorXd&,
+                                                                            const SimulateOptions&,
+                                                                            const SimulationObserver&);
+template SimulationSummary RunIntegrator<ExactStepper<ForcedFlight>>(const ContactModel&, const Eigen::VectorXd&,
+                                                                      const Eigen::VectorXd&, const SimulateOptions&,
+                                                                      const SimulationObserver&);
 
 }  // namespace nsmodal::internal

@@ -32,11 +32,33 @@ class Sampler {
   long next_ = 0;
 };
 
-SimulationSummary SimulateExact(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
+// The integrators' advances (event_loop.h's Stepper), each defined and
+// instantiated in its own file: exact.cc (its two flights), cvode.cc,
+// moreau_jean.cc.
+struct ConservativeFlight;
+struct ForcedFlight;
+template <typename Flight>
+class ExactStepper;
+class CvodeStepper;
+class MoreauJeanStepper;
+
+// Builds the Stepper from (cm, x0, v0, options) and runs the event loop.
+template <typename Stepper>
+SimulationSummary RunIntegrator(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
                                 const SimulateOptions& options, const SimulationObserver& observer);
-SimulationSummary SimulateCvode(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
-                                const SimulateOptions& options, const SimulationObserver& observer);
-SimulationSummary SimulateMoreauJean(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
-                                     const SimulateOptions& options, const SimulationObserver& observer);
+extern template SimulationSummary RunIntegrator<ExactStepper<ConservativeFlight>>(
+    const ContactModel&, const Eigen::VectorXd&, const Eigen::VectorXd&, const SimulateOptions&,
+    const SimulationObserver&);
+extern template SimulationSummary RunIntegrator<ExactStepper<ForcedFlight>>(const ContactModel&,
+                                                                             const Eigen::VectorXd&,
+                                                                             const Eigen::VectorXd&,
+                                                                             const SimulateOptions&,
+                                                                             const SimulationObserver&);
+extern template SimulationSummary RunIntegrator<CvodeStepper>(const ContactModel&, const Eigen::VectorXd&,
+                                                              const Eigen::VectorXd&, const SimulateOptions&,
+                                                              const SimulationObserver&);
+extern template SimulationSummary RunIntegrator<MoreauJeanStepper>(const ContactModel&, const Eigen::VectorXd&,
+                                                                   const Eigen::VectorXd&, const SimulateOptions&,
+                                                                   const SimulationObserver&);
 
 }  // namespace nsmodal::internal

@@ -96,10 +96,15 @@ SimulationSummary Simulate(const Model& model, const Eigen::VectorXd& x0, const 
   }
   const auto start = std::chrono::steady_clock::now();
   SimulationSummary s;
+  using internal::RunIntegrator;
   switch (options.integrator) {
-    case Integrator::kExact: s = internal::SimulateExact(cm, x0, v0, options, observer); break;
-    case Integrator::kCvode: s = internal::SimulateCvode(cm, x0, v0, options, observer); break;
-    case Integrator::kMoreauJean: s = internal::SimulateMoreauJean(cm, x0, v0, options, observer); break;
+    case Integrator::kExact:
+      s = model.Conservative()
+              ? RunIntegrator<internal::ExactStepper<internal::ConservativeFlight>>(cm, x0, v0, options, observer)
+              : RunIntegrator<internal::ExactStepper<internal::ForcedFlight>>(cm, x0, v0, options, observer);
+      break;
+    case Integrator::kCvode: s = RunIntegrator<internal::CvodeStepper>(cm, x0, v0, options, observer); break;
+    case Integrator::kMoreauJean: s = RunIntegrator<internal::MoreauJeanStepper>(cm, x0, v0, options, observer); break;
   }
   s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   s.initial_energy = cm.EnergyOf(x0, v0);
