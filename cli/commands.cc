@@ -101,6 +101,7 @@ int RunOrbits(const OrbitsArgs& a) {
     std::cout << ": the neglected modes carry at most sqrt(2 E f_res) of x_c at energy E (orbits.csv, neglected_xc_bound)\n";
   }
   const AnalysisBasis b(truncation ? truncation->model : scene.model);
+  CheckSweepWork(b, grid, {a.impacts}, "--period", a.impacts == 1);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"orbits.csv", "transitions.csv"});
   SweepOptions opt;
   opt.stability = StabilityPolicy::kPotential;
@@ -220,6 +221,7 @@ int RunValidate(const ValidateArgs& a) {
   opt.simulate.root_tol = Pick(a.root_tol, "--root-tol", none, "", opt.simulate.root_tol, "root_tol", names);
   opt.threads = a.threads;
   opt.Validate(names);
+  CheckSweepWork(b, grid, impacts, "--period");
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"validation.csv", "summary.json"});
 
   // The potential orbits of the grid, admissible or not, period by period.
@@ -375,6 +377,7 @@ int RunOrbit(const OrbitArgs& a) {
   }
   const AnalysisBasis b(LoadScene(a.scene).model);
   b.CheckPeriod(a.period, "--period");
+  CheckSweepWork(b, a.period, 0.0, 1, {a.impacts}, "--period");
   SweepOptions opt;
   opt.stability = StabilityPolicy::kPotential;
   const std::vector<OrbitRecord> orbits = OrbitsAt(b, a.period, a.impacts, opt);
@@ -518,6 +521,7 @@ int RunFigures(const FiguresArgs& a) {
                                            FormatValue(default_step);
   const PeriodGrid grid = PeriodGrid::Parse(range);
   if (grid.Count() < 2) throw InputError("--period", "needs at least two periods, got '" + range + "'");
+  CheckSweepWork(b, grid, {1, 2}, "--period", true);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"fig[01][0-9]_*"});
   AtlasOptions opt;
   opt.sweep.threads = a.threads;

@@ -1,11 +1,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "fixtures.h"
 #include "nsmodal/atlas.h"
 #include "nsmodal/error.h"
 #include "nsmodal/figure_subjects.h"
+#include "nsmodal/one_impact.h"
 
 namespace nsmodal {
 namespace {
@@ -108,6 +111,63 @@ TEST(PeriodGrid, ParsesAndRefusesNamingTheField) {
       EXPECT_EQ(e.field(), "--period") << bad;
     }
   }
+}
+
+// Issue 29 item 4: the work of an analysis is estimated before it starts
+// (work.h), and one beyond kMaxSweepWork is refused at once.
+TEST(WorkLimit, TwoImpactPeriodJustBelowTheLimitIsAcceptedJustAboveRefused) {
+  const AnalysisBasis b(PaperModel());
+  // The period where one 2-ipp period's estimate reaches the limit (the
+  // estimate grows with T): bisection.
+  double lo = 1.0, hi = 1e5;
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (SweepWork(b, mid, 0.0, 1, 2) <= kMaxSweepWork ? lo : hi) = mid;
+  }
+  EXPECT_GT(lo, 5000.0);  // T = 5,000 (about 30 s on one core) is accepted
+  EXPECT_NO_THROW(CheckSweepWork(b, PeriodGrid{0.99 * lo, 0.99 * lo, 1.0}, {2}));
+  try {
+    CheckSweepWork(b, PeriodGrid{1.01 * lo, 1.01 * lo, 1.0}, {2}, "--period");
+    ADD_FAILURE() << "T = " << 1.01 * lo << " accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "--period");
+    EXPECT_NE(std::string(e.what()).find("the limit is"), std::string::npos) << e.what();
+  }
+}
+
+TEST(WorkLimit, TheIssuesSweepIsRefusedBeforeAnyWork) {
+  const AnalysisBasis b(PaperModel());
+  // T = 10,000 ran for minutes (4.5e7 roots); refused now in microseconds.
+  EXPECT_THROW(ComputeSweep(b, PeriodGrid{10000.0, 10000.0, 1.0}, 2), InputError);
+  EXPECT_THROW(OrbitsAt(b, 10000.0, 2), InputError);
+  // The 1-ipp orbit of that period is cheap (one flight: 6.7e3 roots).
+  EXPECT_NO_THROW(OrbitsAt(b, 10000.0, 1));
+}
+
+TEST(WorkLimit, TheEstimateBoundsTheRootsFound) {
+  const AnalysisBasis b(PaperModel());
+  for (double period : {40.0, 400.0, 1000.0}) {
+    EXPECT_LE(static_cast<double>(TwoImpactRoots(b, period).size()), HalfOscillations(b, period)) << period;
+  }
+}
+
+// validate's manifold check takes the family's state alone (no NC3 search):
+// the same state as the evaluated orbit's.
+TEST(WorkLimit, OneImpactStateIsTheOrbitsState) {
+  const AnalysisBasis b(PaperModel());
+  for (double period : {2.0, 7.5, 33.3}) EXPECT_EQ(OneImpactState(b, period), OneImpactOrbit(b, period).y0) << period;
+}
+
+TEST(WorkLimit, TheDocumentedRunsStayWithinIt) {
+  const AnalysisBasis paper(PaperModel());
+  // scripts/quickstart.sh and `nsmodal figures` (both sweeps and the transitions).
+  EXPECT_NO_THROW(CheckSweepWork(paper, PeriodGrid{0.05, 40.0, 0.001}, {1}, "period", true));
+  EXPECT_NO_THROW(CheckSweepWork(paper, PeriodGrid{0.05, 40.0, 0.01}, {2}));
+  EXPECT_NO_THROW(CheckSweepWork(paper, PeriodGrid{0.01, 41.0, 0.01}, {1, 2}, "period", true));
+  // bench_analytic: the 1-ipp sweep of a chain of 1,000 unit masses.
+  const int n = 1000;
+  const AnalysisBasis chain(MakeChain(std::vector<double>(n, 1.0), std::vector<double>(n, 1.0), n - 1, 1.0, 1.0));
+  EXPECT_NO_THROW(CheckSweepWork(chain, PeriodGrid{0.5, 60.0, 0.01}, {1}));
 }
 
 }  // namespace

@@ -88,6 +88,43 @@ x0=$(seq 1 1500 | tr '\n' ' ')
 # shellcheck disable=SC2086
 expect_error "initial_position" t "$bin" simulate "$sim" --x0 $x0 --out "$tmp/x0"
 
+# 6. Issue 29 item 4: analyses within the documented limits that never ended.
+#    Each now answers within `timeout 20`: a result (exit 0, the result file)
+#    or a refusal (exit 2) naming the option, with the work estimate.
+#    answers PATTERN FILE CMD...: exit 0 with FILE written, or exit 2 with
+#    PATTERN and the estimate on stderr; a timeout (124) fails.
+answers() {
+  local pattern=$1 file=$2
+  shift 2
+  timeout -k 5 20 "$@" >"$tmp/out" 2>"$tmp/err"
+  local rc=$?
+  if [ "$rc" -eq 0 ] && [ -s "$file" ]; then
+    ok
+  elif [ "$rc" -eq 2 ] && grep -q -- "$pattern" "$tmp/err" && grep -q "mode-root evaluations; the limit is" "$tmp/err"; then
+    ok
+  else
+    bad "no answer within 20 s (exit $rc) for: $* -> $(cat "$tmp/err")"
+  fi
+}
+# The 2-ipp sweep is quadratic in w_max T (each of its ~w_max T / pi orbits is
+# checked over the whole period): T = 10,000 on the paper's system, refused.
+answers "\-\-period" "$tmp/w1/orbits.csv" "$bin" orbits "$paper" --impacts 2 --period 10000:10000:1 --out "$tmp/w1"
+# A 20-element bar, one mode kept: 6.6e3 oscillations per period, refused.
+bar20=$(sed 's/elements = 100/elements = 20/' "$src/configs/bar.toml" >"$tmp/bar20.toml"; echo "$tmp/bar20.toml")
+answers "\-\-period" "$tmp/w2/orbits.csv" "$bin" orbits "$bar20" --modes 1 --impacts 2 --period 5:5.1:0.1 --out "$tmp/w2"
+# A chain with a stiff spring (w_max = 6.6e4): validate ends (its manifold
+# check built a whole orbit, NC3 search included, 320 times an impact), and
+# the 2-ipp sweep is refused.
+stiff=$(scene stiff '[system]\nmasses=[1.0,1.0]\nsprings=[0.85,2147483647]\ncontact_dof=2\ngap=1.0\nrestitution=1.0\n')
+answers "\-\-period" "$tmp/w3/validation.csv" "$bin" validate "$stiff" --period 2:2:1 --impacts 1 --out "$tmp/w3"
+answers "\-\-period" "$tmp/w4/orbits.csv" "$bin" orbits "$stiff" --impacts 2 --period 2:6:0.5 --out "$tmp/w4"
+# Its 1-ipp sweep is cheap, but the transitions search probes 8e4 modal and
+# singular periods: refused with that estimate.
+answers "transitions search" "$tmp/w5/orbits.csv" "$bin" orbits "$stiff" --impacts 1 --period 2:6:0.5 --out "$tmp/w5"
+# Below the limits the same commands answer: the paper's T = 1,000 (0.14 s).
+answers "\-\-period" "$tmp/w6/orbits.csv" "$bin" orbits "$paper" --impacts 2 --period 1000:1000:1 --out "$tmp/w6"
+[ -s "$tmp/w6/orbits.csv" ] && ok || bad "2-ipp orbits at T = 1000 were refused: $(cat "$tmp/err")"
+
 # 5. Command-line errors exit 2 as documented; --version.
 "$bin" orbits >/dev/null 2>&1
 rc=$?

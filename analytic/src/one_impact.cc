@@ -16,15 +16,20 @@ double SingularFunction(const AnalysisBasis& b, double period) {
   return d;
 }
 
-Orbit OneImpactOrbit(const AnalysisBasis& b, double period, const AdmissibilityOptions& options) {
-  const double denom = SingularFunction(b, period);
+Eigen::VectorXd OneImpactState(const AnalysisBasis& b, double period) {
+  const double scale = b.gap / SingularFunction(b, period);
   Eigen::VectorXd y0(2 * b.n);
-  const double scale = b.gap / denom;
   for (int i = 0; i < b.n; ++i) {
     const double h = 0.5 * b.omega[i] * period;
     y0[i] = scale * b.r[i] * std::cos(h) / std::sin(h);
     y0[b.n + i] = scale * b.r[i];
   }
+  return y0;
+}
+
+Orbit OneImpactOrbit(const AnalysisBasis& b, double period, const AdmissibilityOptions& options) {
+  const double denom = SingularFunction(b, period);
+  const Eigen::VectorXd y0 = OneImpactState(b, period);
   if (!y0.allFinite() || denom == 0.0) {
     Orbit o;
     o.period = period;

@@ -9,6 +9,7 @@
 #include "nsmodal/one_impact.h"
 #include "nsmodal/roots.h"
 #include "nsmodal/stability.h"
+#include "nsmodal/work.h"
 
 namespace nsmodal {
 
@@ -87,6 +88,9 @@ std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, const std::
                                              const std::vector<bool>& grid_admissible) {
   if (periods.size() < 2) return {};
   const double from = periods.front(), to = periods.back();
+  // Bounded before it starts (work.h): the sweep's share is done, this is the search's.
+  CheckSweepWork(b, from, (to - from) / static_cast<double>(periods.size() - 1), static_cast<long>(periods.size()), {},
+                 "period", true);
   const std::vector<double> singular = SingularPeriods(b, from, to);
   const std::vector<double> modal = ModalPeriods(b, from, to);
   struct Special {

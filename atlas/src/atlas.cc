@@ -96,9 +96,17 @@ long Sweep::Admissible() const {
   return n;
 }
 
+void CheckSweepWork(const AnalysisBasis& b, const PeriodGrid& grid, const std::vector<int>& impacts,
+                    const std::string& field, bool transitions) {
+  b.CheckPeriod(grid.from, field);  // the range first: the estimate holds within it
+  b.CheckPeriod(grid.to, field);
+  CheckSweepWork(b, grid.from, grid.step, grid.Count(), impacts, field, transitions);
+}
+
 std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts, const SweepOptions& options) {
   CheckImpacts(impacts);
   b.CheckPeriod(period);
+  CheckSweepWork(b, period, 0.0, 1, {impacts}, "period");
   std::vector<Orbit> orbits;
   if (impacts == 1) {
     orbits.push_back(OneImpactOrbit(b, period));
@@ -124,6 +132,7 @@ void StreamSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, co
   grid.Validate();
   b.CheckPeriod(grid.from);
   b.CheckPeriod(grid.to);
+  CheckSweepWork(b, grid, {impacts});
   const std::vector<double> periods = grid.Values();
   const long count = static_cast<long>(periods.size());
   std::vector<std::vector<OrbitRecord>> block;
@@ -151,6 +160,9 @@ Sweep ComputeSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, 
 
 std::vector<Orbit> PotentialOrbits(const AnalysisBasis& b, const PeriodGrid& grid, const std::vector<int>& impacts,
                                    const SweepOptions& options) {
+  grid.Validate();
+  for (int m : impacts) CheckImpacts(m);
+  CheckSweepWork(b, grid, impacts);  // all the sweeps' work, before the first starts
   std::vector<Sweep> sweeps;
   for (int m : impacts) sweeps.push_back(ComputeSweep(b, grid, m, options));
   std::vector<Orbit> orbits;
@@ -176,6 +188,7 @@ Atlas ComputeAtlas(const AnalysisBasis& b, const PeriodGrid& grid, const AtlasOp
   grid.Validate();
   b.CheckPeriod(grid.from);
   b.CheckPeriod(grid.to);
+  CheckSweepWork(b, grid, {1, 2}, "period", true);
   Atlas a;
   a.grid = grid;
   a.one.impacts = 1;

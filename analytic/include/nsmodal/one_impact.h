@@ -19,6 +19,11 @@ namespace nsmodal {
 
 double SingularFunction(const AnalysisBasis& b, double period);  // D(T)
 
+// The post-impact state y0 of the 1-ipp orbit of period T (scaled modal, the
+// closed form above), O(N) and nothing else: no NC3 search (whose work grows
+// with w_max T). Not finite where D(T) = 0 or T = k T_i.
+Eigen::VectorXd OneImpactState(const AnalysisBasis& b, double period);
+
 // The potential 1-ipp orbit of period T in closed form, evaluated (NC2, NC3,
 // periodicity by propagation). potential = false where D(T) = 0 or T = k T_i.
 Orbit OneImpactOrbit(const AnalysisBasis& b, double period, const AdmissibilityOptions& options = {});

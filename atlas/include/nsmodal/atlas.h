@@ -15,6 +15,7 @@
 #include "nsmodal/stability.h"
 #include "nsmodal/transitions.h"
 #include "nsmodal/two_impact.h"
+#include "nsmodal/work.h"
 
 namespace nsmodal {
 
@@ -34,6 +35,13 @@ struct PeriodGrid {
   // "FROM:TO:STEP", checked by Validate; throws InputError naming `field`.
   static PeriodGrid Parse(const std::string& text, const std::string& field = "--period");
 };
+
+// The work limit of the analysis (work.h CheckSweepWork) for the sweeps of
+// `impacts` (1 and/or 2) over the grid, after the range of its periods
+// (AnalysisBasis::CheckPeriod): throws InputError naming `field`.
+// Every sweep below checks it before it starts.
+void CheckSweepWork(const AnalysisBasis& b, const PeriodGrid& grid, const std::vector<int>& impacts,
+                    const std::string& field = "period", bool transitions = false);
 
 // Which orbits of a sweep get their Floquet multipliers (stability.h).
 enum class StabilityPolicy {
