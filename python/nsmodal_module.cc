@@ -8,7 +8,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <optional>
 #include <string>
@@ -17,6 +19,7 @@
 
 #include "nsmodal/atlas.h"
 #include "nsmodal/error.h"
+#include "nsmodal/input_checks.h"
 #include "nsmodal/json.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/model.h"
@@ -36,6 +39,89 @@ using namespace nsmodal;
 
 namespace {
 
+// Keyword checks that pybind11's own conversions do not make. Python's bool
+// is an int (True == 1), so a plain int or float parameter takes gap=True or
+// impacts=True; the CLI, which parses text, has no such spelling, and a flag
+// set by mistake must not become a count or a length. Real<"gap"> and
+// Integer<"impacts"> take the place of double and int in the signatures and
+// refuse a bool (TypeError), a non-number (TypeError) and an integer beyond
+// an int (ValueError), naming the keyword and the value; the checks of what
+// the value may be (thread counts, ranges) are the library's, shared with
+// the CLI (input_checks.h, the options' Validate).
+template <std::size_t N>
+struct ArgName {
+  char text[N];
+  constexpr ArgName(const char (&s)[N]) { std::copy_n(s, N, text); }  // NOLINT: implicit, for the template argument
+};
+
+template <ArgName kName>
+struct Real {
+  double value = 0.0;
+  operator double() const { return value; }  // NOLINT: a double to the code that takes it
+};
+
+template <ArgName kName>
+struct Integer {
+  int value = 0;
+  operator int() const { return value; }  // NOLINT: an int to the code that takes it
+};
+
+std::string Repr(py::handle h) { return py::repr(h).cast<std::string>(); }
+
+bool IsBool(py::handle h) {
+  if (PyBool_Check(h.ptr())) return true;
+  const std::string type = Py_TYPE(h.ptr())->tp_name;
+  return type == "numpy.bool_" || type == "numpy.bool";
+}
+
+double RealOf(py::handle h, const char* name) {
+  if (IsBool(h)) throw py::type_error(std::string(name) + ": must be a number, got " + Repr(h) + " (a bool)");
+  if (PyFloat_Check(h.ptr()) || PyLong_Check(h.ptr()) || (PyNumber_Check(h.ptr()) && !PyComplex_Check(h.ptr()))) {
+    const double v = PyFloat_AsDouble(h.ptr());
+    if (!(v == -1.0 && PyErr_Occurred())) return v;
+    PyErr_Clear();
+  }
+  throw py::type_error(std::string(name) + ": must be a number, got " + Repr(h));
+}
+
+int IntOf(py::handle h, const char* name) {
+  if (IsBool(h)) throw py::type_error(std::string(name) + ": must be an integer, got " + Repr(h) + " (a bool)");
+  if (!PyIndex_Check(h.ptr())) throw py::type_error(std::string(name) + ": must be an integer, got " + Repr(h));
+  const py::object index = py::reinterpret_steal<py::object>(PyNumber_Index(h.ptr()));
+  if (!index) throw py::error_already_set();
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
+  if (overflow != 0 || v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) {
+    throw py::value_error(std::string(name) + ": " + Repr(h) + " is out of range");
+  }
+  return static_cast<int>(v);
+}
+
+}  // namespace
+
+namespace pybind11::detail {
+template <ArgName kName>
+struct type_caster<Real<kName>> {
+  PYBIND11_TYPE_CASTER(Real<kName>, const_name("float"));
+  bool load(handle src, bool) {
+    value.value = RealOf(src, kName.text);
+    return true;
+  }
+  static handle cast(const Real<kName>& r, return_value_policy, handle) { return PyFloat_FromDouble(r.value); }
+};
+template <ArgName kName>
+struct type_caster<Integer<kName>> {
+  PYBIND11_TYPE_CASTER(Integer<kName>, const_name("int"));
+  bool load(handle src, bool) {
+    value.value = IntOf(src, kName.text);
+    return true;
+  }
+  static handle cast(const Integer<kName>& i, return_value_policy, handle) { return PyLong_FromLong(i.value); }
+};
+}  // namespace pybind11::detail
+
+namespace {
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // A JSON document as Python objects (through the json module: the dict is
@@ -45,6 +131,15 @@ py::object ToPython(const nlohmann::json& j) { return py::module_::import("json"
 // Columns of a table as a dict of arrays: real columns float64 (NaN where
 // missing), integer columns int64, boolean columns bool (False where
 // missing), text columns lists of str.
+//
+// NaN in a float column is the missing marker and nothing else: a table
+// holds no inf or nan as a value (table.h; every cell passes CellOf's
+// check), so NaN here is exactly an empty field of the CSV. It is what a
+// pandas user expects: pandas.read_csv reads those empty fields as NaN in a
+// float64 column, DataFrame(d).isna() finds them, and the column stays
+// numeric (an object column of None would not vectorise, and a separate
+// mask column would be a second name for the same fact). Scalars that do not
+// apply, in the dicts of the JSON documents, are None.
 template <class Row>
 py::dict TableDict(const report::Columns<Row>& columns, const std::vector<const Row*>& rows) {
   py::dict out;
@@ -55,7 +150,7 @@ py::dict TableDict(const report::Columns<Row>& columns, const std::vector<const 
         py::array_t<double> a(n);
         auto w = a.mutable_unchecked<1>();
         for (py::ssize_t i = 0; i < n; ++i) {
-          const report::Cell c = col.cell(*rows[i]);
+          const report::Cell c = report::CellOf(col, *rows[i]);
           w(i) = std::holds_alternative<double>(c) ? std::get<double>(c) : kNaN;
         }
         out[py::str(col.name)] = a;
@@ -64,7 +159,7 @@ py::dict TableDict(const report::Columns<Row>& columns, const std::vector<const 
       case report::ColumnKind::kInteger: {
         py::array_t<long> a(n);
         auto w = a.mutable_unchecked<1>();
-        for (py::ssize_t i = 0; i < n; ++i) w(i) = std::get<long>(col.cell(*rows[i]));
+        for (py::ssize_t i = 0; i < n; ++i) w(i) = std::get<long>(report::CellOf(col, *rows[i]));
         out[py::str(col.name)] = a;
         break;
       }
@@ -72,7 +167,7 @@ py::dict TableDict(const report::Columns<Row>& columns, const std::vector<const 
         py::array_t<bool> a(n);
         auto w = a.mutable_unchecked<1>();
         for (py::ssize_t i = 0; i < n; ++i) {
-          const report::Cell c = col.cell(*rows[i]);
+          const report::Cell c = report::CellOf(col, *rows[i]);
           w(i) = std::holds_alternative<bool>(c) && std::get<bool>(c);
         }
         out[py::str(col.name)] = a;
@@ -81,7 +176,7 @@ py::dict TableDict(const report::Columns<Row>& columns, const std::vector<const 
       case report::ColumnKind::kText: {
         py::list l;
         for (py::ssize_t i = 0; i < n; ++i) {
-          const report::Cell c = col.cell(*rows[i]);
+          const report::Cell c = report::CellOf(col, *rows[i]);
           l.append(std::holds_alternative<std::string>(c) ? std::get<std::string>(c) : std::string());
         }
         out[py::str(col.name)] = l;
@@ -128,6 +223,7 @@ py::dict OrbitsDict(const Sweep& sweep, int dofs) {
 
 // A grid from (from, to, step), "FROM:TO:STEP", or one value; errors name `field`.
 PeriodGrid GridOf(const py::object& period, const std::string& field = "period") {
+  if (IsBool(period)) throw py::type_error(field + ": must be a number or a grid, got " + Repr(period) + " (a bool)");
   if (py::isinstance<py::str>(period)) return PeriodGrid::Parse(period.cast<std::string>(), field);
   if (py::isinstance<py::float_>(period) || py::isinstance<py::int_>(period)) {
     const double t = period.cast<double>();
@@ -160,10 +256,11 @@ Eigen::VectorXd VectorOf(const std::vector<double>& v) {
 
 Model MakeModel(std::optional<std::vector<double>> masses, std::optional<std::vector<double>> springs,
                 std::optional<Eigen::MatrixXd> mass_matrix, std::optional<Eigen::MatrixXd> stiffness_matrix,
-                double gap, double restitution, std::optional<int> contact_dof,
+                Real<"gap"> gap, Real<"restitution"> restitution, std::optional<Integer<"contact_dof">> contact_dof,
                 std::optional<std::vector<double>> rayleigh_damping, std::optional<std::vector<double>> damping_ratios,
                 std::optional<Eigen::MatrixXd> damping_matrix, std::optional<std::vector<double>> forcing_amplitude,
-                std::optional<double> forcing_frequency, std::optional<std::vector<double>> forcing_constant) {
+                std::optional<Real<"forcing_frequency">> forcing_frequency,
+                std::optional<std::vector<double>> forcing_constant) {
   Model m;
   const bool chain = masses || springs, matrices = mass_matrix || stiffness_matrix;
   if (chain == matrices) {
@@ -214,6 +311,11 @@ Model MakeModel(std::optional<std::vector<double>> masses, std::optional<std::ve
 // is a grid, the other one value or, when None, the model's own.
 ResponseOptions ResponseOptionsOf(const Model& model, int impacts, int periods, const py::object& frequency,
                                   const py::object& amplitude) {
+  if (IsBool(frequency) || IsBool(amplitude)) {
+    const bool f = IsBool(frequency);
+    throw py::type_error(std::string(f ? "frequency" : "amplitude") + ": must be a number or a grid, got " +
+                         Repr(f ? frequency : amplitude) + " (a bool)");
+  }
   auto is_grid = [](const py::object& o) {
     return !o.is_none() && !py::isinstance<py::float_>(o) && !py::isinstance<py::int_>(o);
   };
@@ -257,7 +359,11 @@ drawn in frequency-energy plots, are the system's nonsmooth modes.
     s = nsmodal.simulate(m, x0=[0.5, 0.0], v0=[0.5, 1.2], t_end=1000.0)
 
 Bad input raises ValueError naming the field (as a scene file or the CLI
-would name it); a file that cannot be written raises OSError.)doc";
+would name it), TypeError naming the keyword for a value of the wrong type
+(a bool where a number or a count is asked: gap=True, impacts=True); a file
+that cannot be written raises OSError. Missing values: NaN in the float
+columns of a table (as pandas.read_csv reads the CSV's empty fields), None in
+a document's dict; never inf or NaN as a value.)doc";
 
   py::register_exception_translator([](std::exception_ptr p) {
     try {
@@ -316,8 +422,9 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
 
   mod.def(
       "bar",
-      [](double length, double youngs_modulus, double density, double area, int elements, const std::string& boundary,
-         const std::string& mass, std::optional<int> contact_dof, double gap, double restitution) {
+      [](Real<"length"> length, Real<"youngs_modulus"> youngs_modulus, Real<"density"> density, Real<"area"> area,
+         Integer<"elements"> elements, const std::string& boundary, const std::string& mass,
+         std::optional<Integer<"contact_dof">> contact_dof, Real<"gap"> gap, Real<"restitution"> restitution) {
         BarSpec bar;
         bar.length = length;
         bar.youngs_modulus = youngs_modulus;
@@ -355,8 +462,8 @@ full model with energy E.)doc")
 
   mod.def(
       "truncate",
-      [](const Model& model, std::optional<int> modes, std::optional<double> contact_tolerance,
-         std::optional<double> energy) {
+      [](const Model& model, std::optional<Integer<"modes">> modes,
+         std::optional<Real<"contact_tolerance">> contact_tolerance, std::optional<Real<"energy">> energy) {
         if (modes.has_value() == contact_tolerance.has_value()) {
           throw InputError("modes", "give modes or contact_tolerance (with energy), one of them");
         }
@@ -371,13 +478,17 @@ contact_bound(energy) is at most contact_tolerance (m). Returns a
 ModalTruncation; simulate its `model` from from_physical @ x0.)doc");
 
   mod.def(
-      "load_scene", [](const std::string& path) { return LoadScene(path).model; }, py::arg("path"),
-      R"doc(The model of a scene file (TOML, the [system] table; see configs/paper.toml).)doc");
+      "load_scene", [](const std::string& path) { return LoadScene(path, "path").model; }, py::arg("path"),
+      R"doc(The model of a scene file (TOML, the [system] table; see configs/paper.toml).
+The CLI's reader: a regular file of at most 16 MiB; a FIFO, a device, a
+directory, a larger file or a path holding a NUL raise ValueError naming
+`path`.)doc");
 
   mod.def(
       "orbits",
-      [](const Model& model, int impacts, const py::object& period, const std::string& stability, int threads,
-         bool all_multipliers) {
+      [](const Model& model, Integer<"impacts"> impacts, const py::object& period, const std::string& stability,
+         Integer<"threads"> threads, bool all_multipliers) {
+        CheckThreads(threads, "threads");
         const AnalysisBasis b(model);
         const PeriodGrid grid = GridOf(period);
         SweepOptions opt;
@@ -413,7 +524,7 @@ Needs restitution = 1 (ValueError naming system.restitution otherwise).)doc");
 
   mod.def(
       "orbit",
-      [](const Model& model, double period, int impacts) {
+      [](const Model& model, Real<"period"> period, Integer<"impacts"> impacts) {
         const AnalysisBasis b(model);
         SweepOptions opt;
         PeriodGrid{period, period, 1.0}.Validate("period");
@@ -446,11 +557,13 @@ residuals, "nc3_margin", "x", "v", "reason", "stable", "max_multiplier",
 and the stability changes inside them: dict of arrays "T", "kind" (list of
 "singular", "modal", "grazing" -- the zones' ends -- and "multiplier+1",
 "multiplier-1": a pair of Floquet multipliers through +1 or -1), "energy"
-(inf at a singular transition); the rows of transitions.csv.)doc");
+(NaN at a singular transition, where it diverges: an empty field in
+transitions.csv); the rows of transitions.csv.)doc");
 
   mod.def(
       "atlas",
-      [](const Model& model, const py::object& period, int threads) {
+      [](const Model& model, const py::object& period, Integer<"threads"> threads) {
+        CheckThreads(threads, "threads");
         const AnalysisBasis b(model);
         const PeriodGrid grid = GridOf(period);
         AtlasOptions opt;
@@ -477,7 +590,7 @@ periods T* where a 1-ipp orbit has a Floquet multiplier at -1) and "notes".)doc"
 
   mod.def(
       "multipliers",
-      [](const Model& model, double period, int impacts, std::optional<double> t2) {
+      [](const Model& model, Real<"period"> period, Integer<"impacts"> impacts, std::optional<Real<"t2">> t2) {
         const AnalysisBasis b(model);
         b.CheckPeriod(period);
         Orbit o;
@@ -492,7 +605,7 @@ periods T* where a 1-ipp orbit has a Floquet multiplier at -1) and "notes".)doc"
           }
           o = TwoImpactOrbitAt(b, *t2, period, two);
         } else {
-          throw InputError("impacts", "multipliers takes 1 or 2, got " + std::to_string(impacts));
+          throw InputError("impacts", "multipliers takes 1 or 2, got " + std::to_string(impacts.value));
         }
         if (!o.potential) throw InputError("period", "no potential orbit at T = " + FormatValue(period) + ": " + o.reason);
         return Eigen::VectorXcd(OrbitStability(b, o).multipliers);
@@ -504,9 +617,9 @@ monodromy with the impact saltation matrices. Two are the trivial pair at 1.)doc
 
   mod.def(
       "simulate",
-      [](const Model& model, const std::vector<double>& x0, std::optional<std::vector<double>> v0, double t_end,
-         const std::string& integrator, double rtol, double atol, const std::string& method, double step,
-         double theta, double root_tol, double sample_dt) {
+      [](const Model& model, const std::vector<double>& x0, std::optional<std::vector<double>> v0, Real<"t_end"> t_end,
+         const std::string& integrator, Real<"rtol"> rtol, Real<"atol"> atol, const std::string& method,
+         Real<"step"> step, Real<"theta"> theta, Real<"root_tol"> root_tol, Real<"sample_dt"> sample_dt) {
         SimulateOptions opt;
         opt.integrator = ParseIntegrator(integrator, "integrator");
         opt.t_end = t_end;
@@ -553,8 +666,11 @@ A run that stopped early has "status" != "finished" and says why in "message".)d
 
   mod.def(
       "validate",
-      [](const Model& model, const py::object& period, const std::vector<int>& impacts, int periods,
-         const std::vector<std::string>& integrators, double rtol, double atol, double step, int threads) {
+      [](const Model& model, const py::object& period, const std::vector<Integer<"impacts">>& impacts_arg,
+         Integer<"periods"> periods, const std::vector<std::string>& integrators, Real<"rtol"> rtol, Real<"atol"> atol,
+         Real<"step"> step, Integer<"threads"> threads) {
+        CheckThreads(threads, "threads");
+        const std::vector<int> impacts(impacts_arg.begin(), impacts_arg.end());
         const AnalysisBasis b(model);
         const PeriodGrid grid = GridOf(period);
         ValidateOptions opt;
@@ -589,21 +705,28 @@ A run that stopped early has "status" != "finished" and says why in "message".)d
       R"doc(Validate the potential 1- and/or 2-ipp orbits of a grid by long simulations.
 
 Returns {"rows": arrays keyed as validation.csv, one per orbit and
-integrator, "summary": the dict of validate's summary.json, with "passed"}.)doc");
+integrator, "summary": the dict of validate's summary.json, with "passed"}.
+A quantity that does not apply to a row is NaN in its float column (an empty
+CSV field: "impact_time_error" when the first period did not have the
+predicted number of impacts, "t2" for one impact, the manifold and
+perturbation columns of orbits not run that way), None in the summary; no
+value is ever inf or NaN.)doc");
 
   mod.def(
       "response",
-      [](const Model& model, int impacts, int periods, const py::object& frequency, const py::object& amplitude,
-         bool backbone, int validate, const std::vector<std::string>& integrators, int threads) {
+      [](const Model& model, Integer<"impacts"> impacts, Integer<"periods"> periods, const py::object& frequency,
+         const py::object& amplitude, bool backbone, Integer<"validate"> validate,
+         const std::vector<std::string>& integrators, Integer<"threads"> threads) {
+        CheckThreads(threads, "threads");
         const ResponseOptions opt = ResponseOptionsOf(model, impacts, periods, frequency, amplitude);
         ValidateOptions vopt;
-        vopt.periods = std::max(validate, 1);
+        vopt.periods = std::max(validate.value, 1);
         vopt.integrators.clear();
         for (const std::string& name : integrators) vopt.integrators.push_back(ParseIntegrator(name, "integrators"));
         vopt.threads = threads;
         FieldNames names;
         names.Set("periods", "validate");
-        if (validate < 0) throw InputError("validate", "must be >= 0, got " + std::to_string(validate));
+        if (validate < 0) throw InputError("validate", "must be >= 0, got " + std::to_string(validate.value));
         vopt.Validate(names);
         ResponseCurve curve;
         std::optional<Sweep> sweep;

@@ -125,6 +125,61 @@ answers "transitions search" "$tmp/w5/orbits.csv" "$bin" orbits "$stiff" --impac
 answers "\-\-period" "$tmp/w6/orbits.csv" "$bin" orbits "$paper" --impacts 2 --period 1000:1000:1 --out "$tmp/w6"
 [ -s "$tmp/w6/orbits.csv" ] && ok || bad "2-ipp orbits at T = 1000 were refused: $(cat "$tmp/err")"
 
+# 7. Issue 29. (1) No inf or nan as a value in any table or document a run
+#    writes: validate over a non-admissible orbit (T = 4.5, 1 impact: an extra
+#    impact in its first period, whose time error was written as inf), and
+#    response --validate (rows that break in their first period likewise).
+#    Every CSV field and JSON number of the output directory is scanned.
+no_nonfinite() {
+  python3 - "$1" <<'PY'
+import csv, json, math, os, sys
+bad = []
+for name in sorted(os.listdir(sys.argv[1])):
+    path = os.path.join(sys.argv[1], name)
+    if name.endswith(".csv"):
+        for i, row in enumerate(csv.reader(open(path))):
+            for field in row:
+                if field.strip().lower().lstrip("+-") in ("inf", "infinity", "nan"):
+                    bad.append("%s:%d: %s" % (name, i + 1, field))
+    elif name.endswith(".json"):
+        def refuse(token, name=name):
+            bad.append("%s: %s" % (name, token))
+        json.load(open(path), parse_constant=refuse)
+print("\n".join(bad))
+sys.exit(1 if bad else 0)
+PY
+}
+t "$bin" validate "$paper" --period 4.5:4.5:1 --impacts 1 --periods 30 --out "$tmp/v45" >"$tmp/v45.log" 2>&1
+rc=$?
+[ "$rc" -eq 0 ] && ok || bad "validate T = 4.5: exit $rc: $(cat "$tmp/v45.log")"
+out=$(no_nonfinite "$tmp/v45") && ok || bad "validate T = 4.5 wrote non-finite values: $out"
+python3 -c "
+import csv, sys
+rows = list(csv.DictReader(open('$tmp/v45/validation.csv')))
+assert len(rows) == 1 and rows[0]['admissible'] == '0' and rows[0]['first_period_impacts'] != '1', rows
+assert rows[0]['impact_time_error'] == '', rows[0]['impact_time_error']
+" && ok || bad "validate T = 4.5: impact_time_error not empty on the non-admissible row"
+forced=$src/configs/forced.toml
+t "$bin" response "$forced" --frequency 0.4:1.0:0.05 --validate 3 --out "$tmp/rv" >"$tmp/rv.log" 2>&1
+rc=$?
+[ "$rc" -eq 0 ] && ok || bad "response --validate 3: exit $rc: $(cat "$tmp/rv.log")"
+out=$(no_nonfinite "$tmp/rv") && ok || bad "response --validate 3 wrote non-finite values: $out"
+python3 -c "
+import csv
+rows = list(csv.DictReader(open('$tmp/rv/response_validation.csv')))
+assert any(r['impact_time_error'] == '' for r in rows)
+" && ok || bad "response --validate 3: no row without an impact_time_error (the case is not exercised)"
+# (5) Scene files: regular files only, at most 16 MiB, refused at once with
+#     the path named (/dev/zero was read until memory ran out, /dev/urandom
+#     for more than 20 s, a FIFO hung).
+expect_error "scene: '/dev/zero' is a character device" t "$bin" orbit /dev/zero --period 7.5
+expect_error "scene: '/dev/urandom' is a character device" t "$bin" validate /dev/urandom --period 5:6:1 --out "$tmp/urandom"
+mkfifo "$tmp/scene.fifo"
+expect_error "scene: '$tmp/scene.fifo' is a FIFO" t "$bin" orbit "$tmp/scene.fifo" --period 7.5
+expect_error "is a directory" t "$bin" orbit "$tmp" --period 7.5
+truncate -s 16777217 "$tmp/big.toml"
+expect_error "is 16777217 bytes: a scene file holds at most 16777216" t "$bin" orbit "$tmp/big.toml" --period 7.5
+
 # 5. Command-line errors exit 2 as documented; --version.
 "$bin" orbits >/dev/null 2>&1
 rc=$?

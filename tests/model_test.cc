@@ -1,4 +1,9 @@
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
@@ -100,6 +105,57 @@ TEST(Scene, BadInputNamesTheFieldAndValue) {
 
 TEST(Scene, MissingFileIsAnInputError) {
   EXPECT_THROW(LoadScene("/nonexistent/scene.toml"), InputError);
+}
+
+// Issue 29 (5): the scene reader reads regular files only, at most
+// kMaxSceneBytes, and cannot block: /dev/zero was read until memory ran out,
+// a FIFO without a writer hung, a path with a NUL opened another file.
+void ExpectReadError(const std::string& path, const std::string& fragment, const std::string& field = "scene") {
+  try {
+    ReadSceneFile(path, field);
+    FAIL() << "read " << path;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), field) << e.what();
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+std::string TempPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("nsmodal_scene_" + std::to_string(::getpid()) + "_" + name))
+      .string();
+}
+
+TEST(Scene, TheReaderRefusesDevicesDirectoriesFifosAndNulsNamingThePath) {
+  ExpectReadError("/dev/zero", "'/dev/zero' is a character device");
+  ExpectReadError("/dev/urandom", "'/dev/urandom' is a character device", "path");
+  ExpectReadError("/tmp", "'/tmp' is a directory");
+  ExpectReadError(std::string("configs/paper.toml\0x", 20), "'configs/paper.toml\\x00x' holds a NUL", "path");
+  ExpectReadError("", "is empty");
+  const std::string fifo = TempPath("fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  ExpectReadError(fifo, "'" + fifo + "' is a FIFO");  // returns at once: no writer is waited for
+  std::filesystem::remove(fifo);
+}
+
+TEST(Scene, TheReaderRefusesAFileLargerThanTheLimitAndReadsOneAtIt) {
+  const std::string path = TempPath("big.toml");
+  const std::string text = "[system]\nrestitution=1\nmasses=[1,1]\nsprings=[0.85,2]\ngap=1\n";
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+  }
+  // Padded with spaces (TOML whitespace) to exactly the limit: accepted.
+  std::filesystem::resize_file(path, kMaxSceneBytes);
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(static_cast<std::streamoff>(text.size()));
+    const std::string pad(kMaxSceneBytes - text.size(), ' ');
+    f.write(pad.data(), static_cast<std::streamsize>(pad.size()));
+  }
+  EXPECT_EQ(ReadSceneFile(path).size(), kMaxSceneBytes);
+  std::filesystem::resize_file(path, kMaxSceneBytes + 1);
+  ExpectReadError(path, "is 16777217 bytes: a scene file holds at most 16777216 bytes");
+  std::filesystem::remove(path);
 }
 
 }  // namespace

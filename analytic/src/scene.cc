@@ -1,7 +1,14 @@
 #include "nsmodal/scene.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
-#include <fstream>
+#include <cstdio>
+#include <cstring>
 #include <optional>
 #include <string>
 #include <sstream>
@@ -292,12 +299,78 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
   return scene;
 }
 
-Scene LoadScene(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError("scene", "cannot open file '" + path + "'");
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return ParseScene(buf.str(), path);
+namespace {
+
+// The path as it can be shown: control characters (NUL included) escaped.
+std::string Printable(const std::string& path) {
+  std::string out;
+  for (unsigned char ch : path) {
+    if (ch < 0x20 || ch == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", ch);
+      out += buf;
+    } else {
+      out += static_cast<char>(ch);
+    }
+  }
+  return out;
+}
+
+const char* KindOf(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+struct Fd {
+  int fd;
+  ~Fd() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+}  // namespace
+
+std::string ReadSceneFile(const std::string& path, const std::string& field) {
+  // (appended, not `+`: GCC 12 warns falsely on a chain of + here, -Wrestrict)
+  std::string shown = "'";
+  shown.append(Printable(path)).append("'");
+  if (path.empty()) throw InputError(field, "is empty: give the path of a scene file");
+  if (path.find('\0') != std::string::npos) throw InputError(field, shown + " holds a NUL character");
+  // O_NONBLOCK: opening a FIFO with no writer would otherwise wait for one.
+  const Fd f{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY)};
+  if (f.fd < 0) throw InputError(field, "cannot open file " + shown + ": " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(f.fd, &st) != 0) throw InputError(field, "cannot stat " + shown + ": " + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) {
+    throw InputError(field, shown + " is " + KindOf(st.st_mode) + ": a scene is a regular file");
+  }
+  const std::string limit = "a scene file holds at most " + std::to_string(kMaxSceneBytes) + " bytes (16 MiB)";
+  if (static_cast<unsigned long long>(st.st_size) > kMaxSceneBytes) {
+    throw InputError(field, shown + " is " + std::to_string(st.st_size) + " bytes: " + limit);
+  }
+  // At most limit + 1 bytes: a file that grew past the limit since fstat is
+  // refused too, not read whole.
+  std::string text(static_cast<std::size_t>(st.st_size) + 1, '\0');
+  std::size_t got = 0;
+  while (got < kMaxSceneBytes + 1) {
+    if (got == text.size()) text.resize(std::min(kMaxSceneBytes + 1, 2 * text.size()));
+    const ssize_t r = ::read(f.fd, text.data() + got, text.size() - got);
+    if (r < 0 && errno == EINTR) continue;
+    if (r < 0) throw InputError(field, "cannot read " + shown + ": " + std::strerror(errno));
+    if (r == 0) break;
+    got += static_cast<std::size_t>(r);
+  }
+  if (got > kMaxSceneBytes) throw InputError(field, shown + " grew past the limit while read: " + limit);
+  text.resize(got);
+  return text;
+}
+
+Scene LoadScene(const std::string& path, const std::string& field) {
+  return ParseScene(ReadSceneFile(path, field), path);
 }
 
 }  // namespace nsmodal

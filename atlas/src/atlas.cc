@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "nsmodal/error.h"
+#include "nsmodal/input_checks.h"
 #include "nsmodal/one_impact.h"
 #include "nsmodal/parallel.h"
 
@@ -129,6 +130,7 @@ std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int imp
 void StreamSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, const SweepOptions& options,
                  const std::function<void(double period, std::vector<OrbitRecord>& orbits)>& sink) {
   CheckImpacts(impacts);
+  CheckThreads(options.threads, "threads");
   grid.Validate();
   b.CheckPeriod(grid.from);
   b.CheckPeriod(grid.to);
@@ -185,6 +187,7 @@ std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& on
 }
 
 Atlas ComputeAtlas(const AnalysisBasis& b, const PeriodGrid& grid, const AtlasOptions& options) {
+  CheckThreads(options.sweep.threads, "threads");
   grid.Validate();
   b.CheckPeriod(grid.from);
   b.CheckPeriod(grid.to);

@@ -53,7 +53,9 @@ def test_one_impact_transitions(paper):
     # Modal transitions are multiples of the linear periods (eq. 24), exactly.
     t1, t2 = paper.linear_periods
     np.testing.assert_allclose(by_kind["modal"], [t1, 2 * t1, 3 * t1, t2, 2 * t2, 10 * t1], rtol=1e-12)
-    assert np.all(np.isinf(tr["energy"][[x == "singular" for x in tr["kind"]]]))
+    # The energy diverges at a singular transition: missing (NaN), not inf.
+    assert np.all(np.isnan(tr["energy"][[x == "singular" for x in tr["kind"]]]))
+    assert np.all(np.isfinite(tr["energy"][[x != "singular" for x in tr["kind"]]]))
     # The stability changes inside the zones, as transitions.csv has them
     # (stability_test locates them to 1e-6 from the secular function).
     plus = tr["T"][[x == "multiplier+1" for x in tr["kind"]]]
@@ -148,7 +150,7 @@ def test_validate_small_batch(paper):
      "system.contact_dof"),
     (lambda: nsmodal.Model(mass_matrix=[[1, 2], [2, 1]], stiffness_matrix=np.eye(2), gap=1.0, restitution=1.0),
      "system.mass_matrix"),
-    (lambda: nsmodal.load_scene("/nonexistent.toml"), "scene"),
+    (lambda: nsmodal.load_scene("/nonexistent.toml"), "^path: cannot open file"),  # the keyword
 ])
 def test_bad_models_raise_value_error_naming_the_field(call, field):
     with pytest.raises(ValueError, match=field):
@@ -277,3 +279,112 @@ def test_truncation_keeps_the_lowest_modes_and_bounds_the_rest(paper):
         nsmodal.truncate(chain)
     with pytest.raises(ValueError, match="energy"):
         nsmodal.truncate(chain, contact_tolerance=0.1)
+
+
+# Issue 29 (1): a field that does not apply is NaN in a float column (the
+# empty CSV field, as pandas.read_csv reads it) or None in a document's dict;
+# never inf, and never NaN as a value.
+def _walk_floats(obj, where="summary"):
+    if isinstance(obj, float):
+        yield where, obj
+    elif isinstance(obj, dict):
+        for k, v in obj.items():
+            yield from _walk_floats(v, where + "." + str(k))
+    elif isinstance(obj, list):
+        for k, v in enumerate(obj):
+            yield from _walk_floats(v, "%s[%d]" % (where, k))
+
+
+def test_validate_non_admissible_rows_hold_no_inf(paper):
+    v = nsmodal.validate(paper, period=4.5, impacts=[1], periods=30)
+    rows = v["rows"]
+    assert list(rows["admissible"]) == [False] and rows["first_period_impacts"][0] != 1
+    for name, col in rows.items():
+        if isinstance(col, np.ndarray) and col.dtype.kind == "f":
+            assert not np.isinf(col).any(), name
+    # No pairing of impacts with the prediction: the time error does not apply.
+    assert np.isnan(rows["impact_time_error"][0])
+    for where, x in _walk_floats(v["summary"]):
+        assert np.isfinite(x), where
+    assert v["summary"]["inconsistent"] == [] and v["summary"]["passed"]
+
+
+def test_response_validation_rows_hold_no_inf():
+    m = nsmodal.load_scene(FORCED)
+    r = nsmodal.response(m, frequency=(0.4, 1.0, 0.05), backbone=False, validate=3)
+    v = r["validation"]
+    for name, col in v.items():
+        if isinstance(col, np.ndarray) and col.dtype.kind == "f":
+            assert not np.isinf(col).any(), name
+    paired = (v["first_period_impacts"] == r["rows"]["impacts"]) & (r["rows"]["impacts"] > 0)
+    assert (~paired).any(), "no row broke in its first period: the case is not exercised"
+    assert np.array_equal(np.isnan(v["impact_time_error"]), ~paired)
+
+
+# Issue 29 (5): the scene reader is the CLI's: regular files only, bounded.
+@pytest.mark.parametrize("path, fragment", [
+    ("/dev/urandom", "is a character device"),
+    ("/dev/zero", "is a character device"),
+    ("/", "is a directory"),
+])
+def test_load_scene_refuses_what_is_not_a_scene_file(path, fragment):
+    with pytest.raises(ValueError, match="^path: '%s' %s" % (path, fragment)):
+        nsmodal.load_scene(path)
+
+
+def test_load_scene_refuses_a_fifo_and_a_large_file(tmp_path):
+    fifo = str(tmp_path / "scene.fifo")
+    os.mkfifo(fifo)
+    with pytest.raises(ValueError, match="^path: .* is a FIFO"):
+        nsmodal.load_scene(fifo)  # at once: no writer is waited for
+    big = tmp_path / "big.toml"
+    with open(big, "wb") as f:
+        f.truncate(16 * 2**20 + 1)
+    with pytest.raises(ValueError, match="^path: .* is 16777217 bytes: a scene file holds at most 16777216"):
+        nsmodal.load_scene(str(big))
+
+
+# Issue 29 (6): the module refuses what the CLI refuses, naming the keyword.
+def test_thread_counts_are_the_clis(paper):
+    for bad in (-1, 1025, 10**9):
+        with pytest.raises(ValueError, match=r"^threads: must lie in \[0, 1024\].*got %d" % bad):
+            nsmodal.orbits(paper, period=5.0, threads=bad)
+        with pytest.raises(ValueError, match="^threads: "):
+            nsmodal.validate(paper, period=5.0, periods=2, threads=bad)
+        with pytest.raises(ValueError, match="^threads: "):
+            nsmodal.atlas(paper, period=(5.0, 6.0, 0.5), threads=bad)
+    with pytest.raises(ValueError, match="^threads: 1000000000000 is out of range"):
+        nsmodal.orbits(paper, period=5.0, threads=10**12)
+    with pytest.raises(ValueError, match="^threads: "):
+        nsmodal.response(nsmodal.load_scene(FORCED), frequency=(0.5, 0.6, 0.05), validate=1, threads=-1)
+    assert len(nsmodal.orbits(paper, period=5.0, threads=1024)["T"]) == 1
+
+
+def test_a_bool_is_not_a_number(paper):
+    with pytest.raises(TypeError, match=r"^gap: must be a number, got True \(a bool\)"):
+        nsmodal.Model(masses=[1, 1], springs=[1, 1], gap=True, restitution=1.0)
+    with pytest.raises(TypeError, match="^restitution: .*False"):
+        nsmodal.Model(masses=[1, 1], springs=[1, 1], gap=1.0, restitution=False)
+    with pytest.raises(TypeError, match=r"^impacts: must be an integer, got True \(a bool\)"):
+        nsmodal.orbits(paper, impacts=True, period=5.0)
+    with pytest.raises(TypeError, match="^impacts: "):
+        nsmodal.validate(paper, period=5.0, impacts=[True], periods=2)
+    with pytest.raises(TypeError, match="^threads: "):
+        nsmodal.orbits(paper, period=5.0, threads=False)
+    with pytest.raises(TypeError, match="^period: "):
+        nsmodal.orbits(paper, period=True)
+    with pytest.raises(TypeError, match="^t_end: "):
+        nsmodal.simulate(paper, x0=[0, 0], t_end=True)
+    with pytest.raises(TypeError, match=r"^impacts: must be an integer, got 1.5"):
+        nsmodal.orbits(paper, impacts=1.5, period=5.0)
+    with pytest.raises(TypeError, match="^gap: must be a number, got '1'"):
+        nsmodal.Model(masses=[1, 1], springs=[1, 1], gap="1", restitution=1.0)
+    # Numbers still pass, NumPy's included.
+    m = nsmodal.Model(masses=[1, 1], springs=[0.85, 2], gap=np.float64(1.0), restitution=1, contact_dof=np.int64(2))
+    assert m.gap == 1.0 and m.restitution == 1.0 and m.contact_dof == 2
+    assert len(nsmodal.orbits(paper, impacts=np.int32(1), period=5)["T"]) == 1
+
+
+def test_a_path_with_a_nul_is_refused():
+    with pytest.raises(ValueError, match=r"^path: '.*paper.toml\\x00x' holds a NUL"):
+        nsmodal.load_scene(PAPER + "\x00x")

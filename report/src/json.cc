@@ -1,11 +1,36 @@
 #include "nsmodal/json.h"
 
 #include <cmath>
+#include <cstdio>
+
+#include "nsmodal/check.h"
 
 namespace nsmodal::report {
 namespace {
 
 nlohmann::json OrNull(bool present, double v) { return present ? nlohmann::json(v) : nlohmann::json(); }
+
+// The documents' invariant, as the tables' (table.h): a quantity that does
+// not exist is null, said where it is set (OrNull); no number is inf or nan
+// (nlohmann would dump it as null, silently). Aborts naming the key.
+void CheckFinite(const nlohmann::json& j, const std::string& where) {
+  if (j.is_number_float()) {
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) {
+      std::fprintf(stderr, "nsmodal: %s holds %g as a value (a missing quantity must be null)\n", where.c_str(), v);
+      NSMODAL_CHECK(std::isfinite(v));
+    }
+  } else if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it) CheckFinite(it.value(), where + "." + it.key());
+  } else if (j.is_array()) {
+    for (std::size_t k = 0; k < j.size(); ++k) CheckFinite(j[k], where + "[" + std::to_string(k) + "]");
+  }
+}
+
+nlohmann::json Checked(nlohmann::json j, const std::string& document) {
+  CheckFinite(j, document);
+  return j;
+}
 
 }  // namespace
 
@@ -35,7 +60,7 @@ nlohmann::json OrbitJson(const OrbitRecord& record) {
       j["multipliers"].push_back({s->multipliers[k].real(), s->multipliers[k].imag()});
     }
   }
-  return j;
+  return Checked(std::move(j), "orbit");
 }
 
 nlohmann::json SimulationJson(const SimulationSummary& s, const SimulateOptions& opt) {
@@ -59,17 +84,18 @@ nlohmann::json SimulationJson(const SimulationSummary& s, const SimulateOptions&
   j["sweep_steps"] = s.sweep_steps;  // exact, from 8 modes on: the impact search's grid steps
   j["settings"] = {{"t_end", opt.t_end}, {"rtol", opt.rtol}, {"atol", opt.atol}, {"method", opt.cvode_method},
                    {"step", opt.step}, {"theta", opt.theta}, {"root_tol", opt.root_tol}, {"sample_dt", opt.sample_dt}};
-  return j;
+  return Checked(std::move(j), "simulation summary");
 }
 
 nlohmann::json TruncationJson(const ModalTruncation& t, double energy) {
-  return {{"kept", t.kept},
+  return Checked({{"kept", t.kept},
           {"dofs", t.dofs},
           {"highest_kept_frequency", t.highest_kept_frequency},
           {"lowest_neglected_frequency", OrNull(std::isfinite(t.lowest_neglected_frequency), t.lowest_neglected_frequency)},
           {"residual_flexibility", t.residual_flexibility},
           {"initial_energy", energy},
-          {"contact_bound", t.ContactBound(energy)}};
+          {"contact_bound", t.ContactBound(energy)}},
+                 "truncation");
 }
 
 nlohmann::json ValidationJson(const ValidationReport& report, const std::vector<OrbitValidation>& results) {
@@ -104,7 +130,7 @@ nlohmann::json ValidationJson(const ValidationReport& report, const std::vector<
                        {"unstable_orbits_rated", report.unstable_rated},
                        {"unstable_rate_within_5_percent", report.unstable_within_tolerance},
                        {"unstable_worst_relative_rate_error", report.unstable_worst_rate_error}};
-  return j;
+  return Checked(std::move(j), "validation summary");
 }
 
 }  // namespace nsmodal::report

@@ -1,6 +1,20 @@
 #include "nsmodal/table.h"
 
+#include <cmath>
+#include <cstdio>
+
+#include "nsmodal/check.h"
+
 namespace nsmodal::report {
+
+Cell CheckedCell(Cell cell, const std::string& column) {
+  if (const double* v = std::get_if<double>(&cell); v != nullptr && !std::isfinite(*v)) {
+    std::fprintf(stderr, "nsmodal: column %s holds %g as a value (a missing quantity must be std::monostate)\n",
+                 column.c_str(), *v);
+    NSMODAL_CHECK(std::isfinite(*v));
+  }
+  return cell;
+}
 
 void WriteCell(std::ostream& os, const Cell& cell) {
   struct Visitor {

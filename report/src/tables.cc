@@ -20,6 +20,10 @@ void AddState(Columns<Row>& cols, int dofs, const std::string& suffix,
 
 Cell OrMissing(bool present, double v) { return present ? Cell(v) : Cell(); }
 
+// A quantity whose library value is +-inf where it does not exist (said at
+// each use): missing there, never written as inf.
+Cell FiniteOrMissing(double v) { return OrMissing(std::isfinite(v), v); }
+
 }  // namespace
 
 Columns<OrbitRecord> OrbitColumns(int dofs) {
@@ -32,7 +36,8 @@ Columns<OrbitRecord> OrbitColumns(int dofs) {
       {"admissible", K::kBool, [](const OrbitRecord& r) -> Cell { return r.orbit.admissible; }},
       {"periodicity_residual", K::kReal, [](const OrbitRecord& r) -> Cell { return r.orbit.periodicity_residual; }},
       {"nc2_residual", K::kReal, [](const OrbitRecord& r) -> Cell { return r.orbit.nc2_residual; }},
-      {"nc3_margin", K::kReal, [](const OrbitRecord& r) -> Cell { return r.orbit.max_excess; }},
+      // -inf when no flight has an interior maximum of x_c: no margin.
+      {"nc3_margin", K::kReal, [](const OrbitRecord& r) { return FiniteOrMissing(r.orbit.max_excess); }},
       {"degenerate", K::kBool, [](const OrbitRecord& r) -> Cell { return r.orbit.degenerate; }},
   };
   AddState<OrbitRecord>(c, dofs, "", [](const OrbitRecord& r) -> const Eigen::VectorXd& { return r.orbit.z0; });
@@ -104,9 +109,10 @@ Columns<ForcedValidationRow> ForcedValidationColumns() {
       {"deviation_1", K::kReal, [](const R& r) { return OrMissing(!r.v.deviation.empty(), r.v.deviation.empty() ? 0.0 : r.v.deviation.front()); }},
       {"deviation_end", K::kReal, [](const R& r) { return OrMissing(!r.v.deviation.empty(), r.v.deviation.empty() ? 0.0 : r.v.deviation.back()); }},
       {"measured_growth", K::kReal, [](const R& r) -> Cell { return r.v.measured_growth; }},
-      {"predicted_growth", K::kReal, [](const R& r) -> Cell { return std::log(r.v.orbit.max_multiplier); }},
+      {"predicted_growth", K::kReal,
+       [](const R& r) { return OrMissing(r.v.orbit.max_multiplier > 0.0, std::log(r.v.orbit.max_multiplier)); }},
       {"first_period_impacts", K::kInteger, [](const R& r) -> Cell { return r.v.first_period_impacts; }},
-      {"impact_time_error", K::kReal, [](const R& r) -> Cell { return r.v.impact_time_error; }},
+      {"impact_time_error", K::kReal, [](const R& r) { return Real(r.v.impact_time_error); }},
       {"max_penetration", K::kReal, [](const R& r) -> Cell { return r.v.max_penetration; }},
       {"consistent", K::kBool, [](const R& r) -> Cell { return r.v.consistent; }},
       {"reason", K::kText, [](const R& r) -> Cell { return r.v.reason; }},
@@ -127,7 +133,8 @@ Columns<OrbitRecord> BackboneColumns() {
 Columns<Transition> TransitionColumns() {
   return {{"T", K::kReal, [](const Transition& t) -> Cell { return t.period; }},
           {"kind", K::kText, [](const Transition& t) -> Cell { return ToString(t.kind); }},
-          {"energy", K::kReal, [](const Transition& t) -> Cell { return t.energy; }}};
+          // inf at a singular transition (the energy diverges: no orbit there).
+          {"energy", K::kReal, [](const Transition& t) { return FiniteOrMissing(t.energy); }}};
 }
 
 Columns<Bridge> BridgeColumns() {
@@ -164,7 +171,7 @@ Columns<OrbitValidation> ValidationColumns() {
       {"periods_run", K::kInteger, [](const V& v) -> Cell { return static_cast<long>(v.deviation.size()); }},
       {"impacts", K::kInteger, [](const V& v) -> Cell { return v.impacts; }},
       {"first_period_impacts", K::kInteger, [](const V& v) -> Cell { return v.first_period_impacts; }},
-      {"impact_time_error", K::kReal, [](const V& v) -> Cell { return v.impact_time_error; }},
+      {"impact_time_error", K::kReal, [](const V& v) { return Real(v.impact_time_error); }},
       {"max_penetration", K::kReal, [](const V& v) -> Cell { return v.max_penetration; }},
       {"manifold_distance", K::kReal, [](const V& v) { return OrMissing(v.manifold_distance >= 0.0, v.manifold_distance); }},
       {"perturbed_manifold_distance", K::kReal,
@@ -188,7 +195,8 @@ Columns<WorkPrecisionRow> WorkPrecisionColumns() {
   return {{"case", K::kText, [](const R& r) -> Cell { return r.case_name; }},
           {"integrator", K::kText, [](const R& r) -> Cell { return r.integrator; }},
           {"setting", K::kText, [](const R& r) -> Cell { return r.setting; }},
-          {"error", K::kReal, [](const R& r) -> Cell { return r.error; }},
+          // inf when the run stopped early: no final state to compare.
+          {"error", K::kReal, [](const R& r) { return FiniteOrMissing(r.error); }},
           {"cpu_s", K::kReal, [](const R& r) -> Cell { return r.cpu_s; }},
           {"impacts", K::kInteger, [](const R& r) -> Cell { return r.impacts; }},
           {"steps", K::kInteger, [](const R& r) -> Cell { return r.steps; }},
@@ -199,7 +207,8 @@ Columns<GrazingRow> GrazingColumns() {
   using R = GrazingRow;
   return {{"delta", K::kReal, [](const R& r) -> Cell { return r.delta; }},
           {"side", K::kText, [](const R& r) -> Cell { return r.side; }},
-          {"clearance", K::kReal, [](const R& r) -> Cell { return r.clearance; }},
+          // -inf when the orbit's flights have no interior maximum of x_c.
+          {"clearance", K::kReal, [](const R& r) { return FiniteOrMissing(r.clearance); }},
           {"integrator", K::kText, [](const R& r) -> Cell { return r.integrator; }},
           {"setting", K::kText, [](const R& r) -> Cell { return r.setting; }},
           {"impacts", K::kInteger, [](const R& r) -> Cell { return r.impacts; }},

@@ -36,6 +36,7 @@
 //   impacts = [1, 2]
 //   periods = 1000
 //   integrators = ["exact", "cvode"]
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -69,9 +70,23 @@ struct Scene {
   ValidateSection validate;
 };
 
-// Throws InputError naming the field ("scene" for a file that cannot be read
-// or parsed, with the parser's line and column).
-Scene LoadScene(const std::string& path);
+// The largest scene file read: 16 MiB. A chain or a bar of kMaxDofs dofs is
+// a few tens of kB; the bound is for dense matrices (mass_matrix and
+// stiffness_matrix of N ~ 500 at 17 digits fill about 12 MB) and keeps a
+// wrong path (a device, a log) from being read whole into memory.
+inline constexpr std::size_t kMaxSceneBytes = std::size_t{16} << 20;
+
+// The text of a scene file, read by the one bounded reader the CLI and the
+// Python module share: only a regular file (a FIFO, a device or a directory
+// is refused without blocking: it is opened O_NONBLOCK and checked with
+// fstat), at most kMaxSceneBytes (at most that plus one byte is read), no
+// NUL in the path (a C path would stop there and open another file).
+// Throws InputError naming `field` and the path.
+std::string ReadSceneFile(const std::string& path, const std::string& field = "scene");
+
+// Throws InputError naming the field ("scene", or `field`, for a file that
+// cannot be read or parsed, with the parser's line and column).
+Scene LoadScene(const std::string& path, const std::string& field = "scene");
 Scene ParseScene(const std::string& toml_text, const std::string& source = "<string>");
 
 }  // namespace nsmodal

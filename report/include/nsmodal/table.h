@@ -8,7 +8,15 @@
 // missing value (a quantity that does not exist for that row: t2 of a 1-ipp
 // orbit, the multipliers of an orbit that is not potential) is an empty field,
 // text is quoted when it holds a comma, a quote or a line break (RFC 4180).
+//
+// No table holds inf or nan as a value. A quantity that does not exist for a
+// row (an infinite energy at a singular transition, the impact-time error of
+// a first period that did not have the predicted impacts) is missing, said so
+// where the column is declared (Real(std::optional)); a non-finite double
+// reaching a writer is a bug in nsmodal, and CheckedCell stops it (an
+// internal invariant, check.h) instead of writing it.
 #include <functional>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <variant>
@@ -31,6 +39,19 @@ struct Column {
 template <class Row>
 using Columns = std::vector<Column<Row>>;
 
+// A real cell from a quantity that may not exist.
+inline Cell Real(const std::optional<double>& v) { return v ? Cell(*v) : Cell(); }
+
+// The cell of `column` for a row, after the invariant: a double in it is
+// finite (aborts naming the column otherwise). Every writer (the CSV below,
+// the Python module's column arrays) takes its cells from here.
+Cell CheckedCell(Cell cell, const std::string& column);
+
+template <class Row>
+Cell CellOf(const Column<Row>& column, const Row& row) {
+  return CheckedCell(column.cell(row), column.name);
+}
+
 void WriteCell(std::ostream& os, const Cell& cell);
 
 template <class Row>
@@ -43,7 +64,7 @@ template <class Row>
 void WriteCsvRow(std::ostream& os, const Columns<Row>& columns, const Row& row) {
   for (std::size_t k = 0; k < columns.size(); ++k) {
     if (k) os << ",";
-    WriteCell(os, columns[k].cell(row));
+    WriteCell(os, CellOf(columns[k], row));
   }
   os << "\n";
 }

@@ -30,6 +30,7 @@
 //                   grows at the rate the multipliers predict (within 30 %), or
 //                   not at all (a floating-point fixed point of the map).
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -73,7 +74,10 @@ struct OrbitValidation {
   double measured_growth = 0.0;   // per period; 0 when the deviation never grew
   long impacts = 0;
   long first_period_impacts = 0;
-  double impact_time_error = 0.0;  // first period, max |t - predicted|
+  // First period: max |t_k - predicted_k| over its impacts, paired in order;
+  // absent when their count is not the predicted one (no pairing: an extra
+  // or a missing impact, see first_period_impacts).
+  std::optional<double> impact_time_error;
   double max_penetration = 0.0;    // max x_c - d over the samples
   double manifold_distance = -1.0;            // 1-ipp only, relative to |z0|
   double perturbed_manifold_distance = -1.0;  // 1-ipp only
@@ -113,7 +117,8 @@ struct ForcedOrbitValidation {
   std::vector<double> deviation;  // after k = 1, 2, ... periods
   double measured_growth = 0.0;
   long impacts = 0, first_period_impacts = 0;
-  double impact_time_error = 0.0, max_penetration = 0.0, wall_time_s = 0.0;
+  std::optional<double> impact_time_error;  // as in OrbitValidation; absent also when not simulated
+  double max_penetration = 0.0, wall_time_s = 0.0;
   bool consistent = false;
   std::string reason;
 };

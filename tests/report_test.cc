@@ -1,0 +1,139 @@
+// The tables and documents nsmodal writes: no inf or nan as a value
+// (table.h, json.h). Issue 29 (1): a non-admissible orbit's first period has
+// more impacts than predicted, and the extra one's time error was written as
+// inf in validation.csv and response_validation.csv.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "fixtures.h"
+#include "nsmodal/json.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/response.h"
+#include "nsmodal/scene.h"
+#include "nsmodal/table.h"
+#include "nsmodal/tables.h"
+#include "nsmodal/validate.h"
+
+namespace nsmodal {
+namespace {
+
+// The fields of a CSV line (no quoted commas in the tables checked here).
+std::vector<std::string> Fields(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string f;
+  while (std::getline(ss, f, ',')) out.push_back(f);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+// Every numeric field of every row finite or empty; returns the rows keyed by
+// the header.
+template <class Row>
+std::vector<std::vector<std::string>> CheckedCsv(const report::Columns<Row>& columns, const std::vector<Row>& rows,
+                                                 std::vector<std::string>* header) {
+  std::ostringstream os;
+  report::WriteCsv(os, columns, rows);
+  std::istringstream in(os.str());
+  std::string line;
+  std::getline(in, line);
+  *header = Fields(line);
+  std::vector<std::vector<std::string>> out;
+  while (std::getline(in, line)) {
+    out.push_back(Fields(line));
+    for (std::size_t k = 0; k < out.back().size() && k < columns.size(); ++k) {
+      if (columns[k].kind != report::ColumnKind::kReal || out.back()[k].empty()) continue;
+      EXPECT_TRUE(std::isfinite(std::stod(out.back()[k]))) << columns[k].name << " = " << out.back()[k];
+    }
+  }
+  return out;
+}
+
+std::string Field(const std::vector<std::string>& header, const std::vector<std::string>& row,
+                  const std::string& name) {
+  for (std::size_t k = 0; k < header.size(); ++k) {
+    if (header[k] == name) return row.at(k);
+  }
+  ADD_FAILURE() << "no column " << name;
+  return {};
+}
+
+TEST(Tables, AMissingRealIsAnEmptyField) {
+  const report::Columns<double> c{{"a", report::ColumnKind::kReal, [](const double& v) { return report::Real(v); }},
+                                  {"b", report::ColumnKind::kReal, [](const double&) { return report::Real(std::nullopt); }}};
+  std::ostringstream os;
+  report::WriteCsvRow(os, c, 0.5);
+  EXPECT_EQ(os.str(), "0.5,\n");
+}
+
+TEST(TablesDeathTest, ANonFiniteValueIsABugTheWriterRefusesNamingTheColumn) {
+  const report::Columns<double> c{{"energy", report::ColumnKind::kReal, [](const double& v) -> report::Cell { return v; }}};
+  std::ostringstream os;
+  EXPECT_DEATH(report::WriteCsvRow(os, c, std::numeric_limits<double>::infinity()), "column energy holds inf");
+  EXPECT_DEATH(report::WriteCsvRow(os, c, std::numeric_limits<double>::quiet_NaN()), "column energy holds nan");
+}
+
+// `nsmodal validate configs/paper.toml --period 4.5:4.5:1 --impacts 1`: the
+// 1-ipp orbit of T = 4.5 is not admissible, breaks in its first period with
+// an extra impact, and has no impact-time error to give.
+TEST(Tables, ANonAdmissibleOrbitsValidationRowHasNoInfOrNan) {
+  const Model m = PaperModel();
+  const AnalysisBasis b(m);
+  const Orbit o = OneImpactOrbit(b, 4.5);
+  ASSERT_TRUE(o.potential && !o.admissible) << o.reason;
+  ValidateOptions opt;
+  opt.periods = 30;
+  const OrbitValidation v = ValidateOrbit(m, o, Integrator::kExact, opt);
+  EXPECT_TRUE(v.consistent) << v.reason;
+  ASSERT_NE(v.first_period_impacts, 1);
+  EXPECT_FALSE(v.impact_time_error.has_value());
+  std::vector<std::string> header;
+  const auto rows = CheckedCsv(report::ValidationColumns(), std::vector<OrbitValidation>{v}, &header);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(Field(header, rows[0], "impact_time_error"), "");
+  EXPECT_EQ(Field(header, rows[0], "first_period_impacts"), std::to_string(v.first_period_impacts));
+  // An admissible orbit (T = 7.5) still has its error, a number.
+  const OrbitValidation ok = ValidateOrbit(m, OneImpactOrbit(b, 7.5), Integrator::kExact, opt);
+  ASSERT_TRUE(ok.impact_time_error.has_value());
+  EXPECT_LT(*ok.impact_time_error, 1e-9);
+  const ValidationReport report = SummarizeValidation({v, ok}, opt, 2);
+  EXPECT_NE(report::ValidationJson(report, {v, ok}).dump().find("\"passed\":true"), std::string::npos);
+}
+
+// `nsmodal response configs/forced.toml --frequency 0.4:1.0:0.05 --validate 3`:
+// every row of response_validation.csv finite or empty, and the rows that
+// broke in their first period (not admissible) have no time error.
+TEST(Tables, ForcedValidationRowsHaveNoInfOrNan) {
+  const Model m = LoadScene(NSMODAL_SOURCE_DIR "/configs/forced.toml").model;
+  ResponseOptions ro;
+  ro.grid = PeriodGrid{0.4, 1.0, 0.05};
+  ro.fixed = 0.3;
+  const ResponseCurve curve = ComputeResponse(m, ro);
+  std::vector<ForcedOrbit> orbits;
+  std::vector<report::ForcedValidationRow> rows;
+  for (const ResponseBranch& br : curve.branches) orbits.insert(orbits.end(), br.points.begin(), br.points.end());
+  ValidateOptions opt;
+  opt.periods = 3;
+  for (const ForcedOrbitValidation& v : ValidateForcedOrbits(m, orbits, opt)) rows.push_back({1, v});
+  ASSERT_FALSE(rows.empty());
+  std::vector<std::string> header;
+  const auto csv = CheckedCsv(report::ForcedValidationColumns(), rows, &header);
+  long extra = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const ForcedOrbitValidation& v = rows[i].v;
+    const bool paired = v.first_period_impacts == v.orbit.impacts && v.orbit.impacts > 0;
+    EXPECT_EQ(v.impact_time_error.has_value(), paired) << v.reason;
+    EXPECT_EQ(Field(header, csv[i], "impact_time_error").empty(), !paired);
+    extra += v.first_period_impacts > v.orbit.impacts;
+  }
+  EXPECT_GT(extra, 0) << "no row with an extra impact: the case is not exercised";
+}
+
+}  // namespace
+}  // namespace nsmodal
