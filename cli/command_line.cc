@@ -5,6 +5,7 @@
 #include <new>
 
 #include "nsmodal/error.h"
+#include "nsmodal/input_checks.h"
 #include "nsmodal/output.h"
 #include "nsmodal/stop.h"
 
@@ -19,7 +20,7 @@ CommandLine::CommandLine() {
   c_orbits->add_option("--impacts", orbits.impacts, "Impacts per period (1 or 2)")->default_val(1);
   c_orbits->add_option("--period", orbits.period, "Period grid FROM:TO:STEP")->required();
   c_orbits->add_option("--out", orbits.out, "Output directory")->required();
-  c_orbits->add_option("--threads", orbits.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
+  c_orbits->add_option("--threads", orbits.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, kMaxThreads));
   c_orbits->add_option("--modes", orbits.modes,
                        "Analyse the first K linear modes only (modal truncation; a column bounds what the others carry)");
 
@@ -67,7 +68,7 @@ CommandLine::CommandLine() {
   c_val->add_option("--atol", validate.atol, "CVODE absolute tolerance (default 1e-12)");
   c_val->add_option("--step", validate.step, "Moreau-Jean step (default 1e-4)");
   c_val->add_option("--root-tol", validate.root_tol, "Exact integrator contact tolerance (default 1e-14)");
-  c_val->add_option("--threads", validate.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
+  c_val->add_option("--threads", validate.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, kMaxThreads));
 
   c_resp = app.add_subcommand("response", "Forced, damped response curves beside the nonsmooth modes (CSV, charts)");
   c_resp->add_option("scene", response.scene, "Scene file (TOML) with damping or e < 1 and a [forcing] table")->required();
@@ -78,7 +79,7 @@ CommandLine::CommandLine() {
   c_resp->add_option("--amplitude", response.amplitude, "Grid FROM:TO:STEP of max|f_i|, or levels a,b,c (default: the scene's)");
   c_resp->add_option("--validate", response.validate, "Simulate every point this many periods (0: no validation)")->default_val(0)->check(CLI::Range(0, 100000000));
   c_resp->add_option("--integrators", response.integrators, "Integrators of --validate: exact, cvode, moreau-jean")->expected(1, 3);
-  c_resp->add_option("--threads", response.threads, "Worker threads of --validate (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
+  c_resp->add_option("--threads", response.threads, "Worker threads of --validate (0: all cores)")->default_val(0)->check(CLI::Range(0, kMaxThreads));
 
   c_bench = app.add_subcommand("bench", "Speed against accuracy of the integrators, and grazing failures");
   c_bench->add_option("scene", bench.scene, "Scene file (the paper's system: configs/paper.toml)")->required();
@@ -89,7 +90,7 @@ CommandLine::CommandLine() {
   c_fig->add_option("scene", figures.scene, "Scene file (the paper's system: configs/paper.toml)")->required();
   c_fig->add_option("--out", figures.out, "Output directory")->required();
   c_fig->add_option("--period", figures.period, "FROM:TO:STEP of the 1-ipp and 2-ipp sweeps (default 0.01:4 T_max:0.01)");
-  c_fig->add_option("--threads", figures.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, 1024));
+  c_fig->add_option("--threads", figures.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, kMaxThreads));
 }
 
 int CommandLine::Run() const {
