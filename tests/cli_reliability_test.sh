@@ -63,7 +63,7 @@ after=$(cat "$tmp/sim/summary.json" "$tmp/sim/trajectory.csv" 2>/dev/null | md5s
 [ -z "$(ls -A "$tmp/refused" 2>/dev/null)" ] && ok || bad "refused simulate wrote $(ls -A "$tmp/refused")"
 # Interrupted: nothing named like a result.
 # (No samples: 1e7 time units with samples would be refused, not run.)
-timeout -s INT 1 "$bin" simulate "$sim" --t-end 1e7 --sample-dt 0 --out "$tmp/int" >/dev/null 2>&1
+timeout --preserve-status -s INT 1 "$bin" simulate "$sim" --t-end 1e7 --sample-dt 0 --out "$tmp/int" >/dev/null 2>&1
 rc=$?
 [ "$rc" -eq 130 ] && ok || bad "simulate interrupted by SIGINT: exit $rc, expected 130"
 [ ! -e "$tmp/int/trajectory.csv" ] && [ ! -e "$tmp/int/summary.json" ] && ok || bad "interrupted simulate left results"
