@@ -229,7 +229,8 @@ int RunValidate(const ValidateArgs& a) {
   sweep_options.stability = StabilityPolicy::kNone;
   sweep_options.threads = a.threads;
   const std::vector<Orbit> orbits = PotentialOrbits(b, grid, impacts, sweep_options);
-  const std::vector<OrbitValidation> results = ValidateOrbits(scene.model, orbits, opt, ProgressBar("validate"));
+  const std::vector<OrbitValidation> results =
+      ValidateOrbits(scene.model, orbits, opt, ProgressBar("validate"), names);
   const ValidationReport report = SummarizeValidation(results, opt, static_cast<long>(orbits.size()));
 
   report::ResultFile csv(dir, "validation.csv");

@@ -83,7 +83,8 @@ int RunResponse(const ResponseArgs& a) {
   vopt.integrators.clear();
   for (const std::string& name : a.integrators) vopt.integrators.push_back(ParseIntegrator(name, "--integrators"));
   vopt.threads = a.threads;
-  vopt.Validate(FieldNames().Set("periods", "--validate").Set("integrators", "--integrators"));
+  const FieldNames vnames = FieldNames().Set("periods", "--validate").Set("integrators", "--integrators");
+  vopt.Validate(vnames);
   const report::OutputDir dir = report::OutputDir::Prepare(
       a.out, {"response.csv", "response_points.csv", "backbone.csv", "response_validation.csv", "response_energy*",
               "response_max_xc*"});
@@ -151,7 +152,8 @@ int RunResponse(const ResponseArgs& a) {
   std::vector<ForcedOrbit> orbits;
   for (const report::ResponseRow& r : rows) orbits.push_back(r.orbit);
   const std::vector<ForcedOrbitValidation> results =
-      ValidateForcedOrbits(model, orbits, vopt, ProgressBar("validating " + std::to_string(orbits.size()) + " orbits"));
+      ValidateForcedOrbits(model, orbits, vopt, ProgressBar("validating " + std::to_string(orbits.size()) + " orbits"),
+                           vnames);
   std::vector<report::ForcedValidationRow> vrows;
   long failures = 0, consistent = 0;
   const std::size_t per = vopt.integrators.size();

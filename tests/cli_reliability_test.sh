@@ -126,6 +126,12 @@ answers "\-\-period" "$tmp/w4/orbits.csv" "$bin" orbits "$stiff" --impacts 2 --p
 answers "transitions search" "$tmp/w5/orbits.csv" "$bin" orbits "$stiff" --impacts 1 --period 2:6:0.5 --out "$tmp/w5"
 # Below the limits the same commands answer: the paper's T = 1,000 (0.14 s).
 answers "\-\-period" "$tmp/w6/orbits.csv" "$bin" orbits "$paper" --impacts 2 --period 1000:1000:1 --out "$tmp/w6"
+# Simulations bounded too: 420 orbits over 1e8 periods (about 3e4 s with the
+# exact integrator, months with CVODE) refused at once, naming --periods;
+# response --validate the same, naming --validate.
+expect_error "\-\-periods: 420 orbits over 100000000 periods" t "$bin" validate "$paper" --period 2:30:0.5 --periods 100000000 --out "$tmp/w7"
+[ -z "$(ls -A "$tmp/w7" 2>/dev/null)" ] && ok || bad "refused validate wrote $(ls -A "$tmp/w7")"
+expect_error "\-\-validate: .* s of simulation on one core" t "$bin" response "$src/configs/forced.toml" --frequency 0.3:3.0:0.01 --validate 100000000 --out "$tmp/w8"
 [ -s "$tmp/w6/orbits.csv" ] && ok || bad "2-ipp orbits at T = 1000 were refused: $(cat "$tmp/err")"
 
 # 7. Issue 29. (1) No inf or nan as a value in any table or document a run

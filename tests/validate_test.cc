@@ -277,5 +277,27 @@ TEST(Validate, OptionsAreChecked) {
   EXPECT_THROW(opt.Validate(), InputError);
 }
 
+// The simulations' work is estimated before they start (validate.h): the
+// paper's validation at 1,000 periods is accepted, at 1e8 refused naming the
+// field; the estimate grows linearly in the simulated time and in the
+// integrators asked.
+TEST(Validate, SimulationWorkIsBoundedBeforeItStarts) {
+  const Model m = PaperModel();
+  ValidateOptions opt = Options(1000);
+  opt.integrators = {Integrator::kExact, Integrator::kCvode};
+  const double one = ValidationSeconds(m, 1e6, opt);
+  EXPECT_GT(one, 0.0);
+  EXPECT_NEAR(ValidationSeconds(m, 2e6, opt), 2.0 * one, 1e-12 * one);
+  opt.integrators.push_back(Integrator::kMoreauJean);
+  EXPECT_GT(ValidationSeconds(m, 1e6, opt), one);
+  EXPECT_NO_THROW(CheckValidationWork(m, 1e6, 62, opt));
+  try {
+    CheckValidationWork(m, 1e11, 420, opt, FieldNames().Set("periods", "--periods"));
+    ADD_FAILURE() << "1e11 time units with three integrators accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "--periods");
+  }
+}
+
 }  // namespace
 }  // namespace nsmodal

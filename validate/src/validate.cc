@@ -342,9 +342,14 @@ namespace {
 // Every orbit with every integrator on options.threads threads: result
 // i = orbit i / k with integrator i % k (k integrators).
 template <class Result, class OrbitT, class One>
-std::vector<Result> EveryOrbitAndIntegrator(const std::vector<OrbitT>& orbits, const ValidateOptions& options,
-                                            const std::function<void(long, long)>& progress, One one) {
-  options.Validate();
+std::vector<Result> EveryOrbitAndIntegrator(const Model& model, const std::vector<OrbitT>& orbits,
+                                            const ValidateOptions& options,
+                                            const std::function<void(long, long)>& progress,
+                                            const FieldNames& names, One one) {
+  options.Validate(names);
+  double simulated = 0.0;  // time, as ValidationSeconds counts it
+  for (const OrbitT& o : orbits) simulated += (o.admissible ? options.periods : std::min(options.periods, 2)) * o.period;
+  CheckValidationWork(model, simulated, static_cast<long>(orbits.size()), options, names);
   const long per_orbit = static_cast<long>(options.integrators.size());
   std::vector<Result> out(orbits.size() * per_orbit);
   ParallelFor(
@@ -355,11 +360,45 @@ std::vector<Result> EveryOrbitAndIntegrator(const std::vector<OrbitT>& orbits, c
 
 }  // namespace
 
+double ValidationSeconds(const Model& model, double simulated_time, const ValidateOptions& options) {
+  // Rates measured with `nsmodal simulate` on configs/paper-simulate.toml
+  // (N = 2, w_max = 2.11, about 0.15 impacts per time unit), user time:
+  // exact 0.57 s for 1e6 time units (3.4e5 oscillations); CVODE (Adams,
+  // rtol 1e-10) 6.2 s for 1e5; Moreau-Jean 0.56 s for 1e7 steps. Checked
+  // on the README's validation of 2:30:0.5 at 1,000 periods: estimated
+  // within 3.5 times above the measured CPU time of each integrator.
+  const double n = model.dofs() + 8.0;
+  const double oscillations = simulated_time * MakeModalBasis(model).omega.maxCoeff() / (2.0 * M_PI);
+  double seconds = 0.0;
+  for (Integrator i : options.integrators) {
+    switch (i) {
+      case Integrator::kExact: seconds += 1.7e-7 * oscillations * n; break;
+      case Integrator::kCvode: seconds += 1.9e-6 * oscillations * n * n; break;
+      case Integrator::kMoreauJean: seconds += 5.6e-10 * (simulated_time / options.simulate.step) * n * n; break;
+    }
+  }
+  return seconds;
+}
+
+void CheckValidationWork(const Model& model, double simulated_time, long orbits, const ValidateOptions& options,
+                         const FieldNames& names) {
+  const double seconds = ValidationSeconds(model, simulated_time, options);
+  if (seconds <= kMaxValidationSeconds) return;
+  throw InputError(names("periods"),
+                   std::to_string(orbits) + " orbits over " + std::to_string(options.periods) + " periods with " +
+                       std::to_string(options.integrators.size()) + " integrator(s): an estimated " + Short(seconds) +
+                       " s of simulation on one core (" + Short(simulated_time) +
+                       " time units); the limit is " + Short(kMaxValidationSeconds) +
+                       " s: use fewer periods, fewer orbits (a shorter range or a larger STEP), fewer integrators "
+                       "(exact is the fastest by far) or, for moreau-jean, a larger step");
+}
+
 std::vector<OrbitValidation> ValidateOrbits(const Model& model, const std::vector<Orbit>& orbits,
                                             const ValidateOptions& options,
-                                            const std::function<void(long, long)>& progress) {
+                                            const std::function<void(long, long)>& progress,
+                                            const FieldNames& names) {
   return EveryOrbitAndIntegrator<OrbitValidation>(
-      orbits, options, progress,
+      model, orbits, options, progress, names,
       [&](const Orbit& o, Integrator integrator) { return ValidateOrbit(model, o, integrator, options); });
 }
 
@@ -439,9 +478,10 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
 
 std::vector<ForcedOrbitValidation> ValidateForcedOrbits(const Model& model, const std::vector<ForcedOrbit>& orbits,
                                                         const ValidateOptions& options,
-                                                        const std::function<void(long, long)>& progress) {
+                                                        const std::function<void(long, long)>& progress,
+                                                        const FieldNames& names) {
   return EveryOrbitAndIntegrator<ForcedOrbitValidation>(
-      orbits, options, progress,
+      model, orbits, options, progress, names,
       [&](const ForcedOrbit& o, Integrator integrator) { return ValidateForcedOrbit(model, o, integrator, options); });
 }
 

@@ -15,9 +15,9 @@
 //          H(T) (1 + H(T)) roots: quadratic in w_max T.
 // Summed over a grid of periods, times (N + kRootOverhead), this is
 // SweepWork: "mode-root evaluations". (Not counted: the stability of each
-// orbit, O(N^2) for m = 1 and O(N^3) for m = 2, which does not grow with T;
-// and validate's simulations, bounded by --periods and the simulators' own
-// step limits.)
+// orbit, O(N^2) for m = 1 and O(N^3) for m = 2, which does not grow with T.
+// Validation's simulations have their own estimate: validate.h,
+// CheckValidationWork.)
 #include <string>
 #include <vector>
 

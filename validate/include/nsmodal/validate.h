@@ -96,10 +96,31 @@ struct OrbitValidation {
 OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator integrator,
                               const ValidateOptions& options);
 
+// The simulations' work, estimated before they start (issue 29): the
+// simulated time, options.periods times each admissible orbit's period plus
+// two periods of each other one (a non-admissible orbit breaks in its first
+// period, and the run stops there; validate.cc), in units of the fastest
+// mode's oscillations (w_max / 2 pi) and of Moreau-Jean's steps (time /
+// step), costed at the simulators' rates measured on the paper's system
+// (Release, one core, user time; validate.cc), scaled by the model's size:
+//   exact        1.7e-7 s x oscillations x (N + 8)
+//   cvode        1.9e-6 s x oscillations x (N + 8)^2   (dense 2N x 2N Newton systems)
+//   moreau-jean  5.6e-10 s x steps x (N + 8)^2         (dense matrix-vector steps)
+// (The perturbed runs of the stable and unstable orbits are not counted:
+// exact, and short beside the rest.) Beyond kMaxValidationSeconds in all,
+// CheckValidationWork throws InputError naming names("periods") with the
+// estimate and how to lower it.
+inline constexpr double kMaxValidationSeconds = 3600.0;
+double ValidationSeconds(const Model& model, double simulated_time, const ValidateOptions& options);
+void CheckValidationWork(const Model& model, double simulated_time, long orbits, const ValidateOptions& options,
+                         const FieldNames& names = FieldNames("validate."));
+
 // Every orbit with every integrator, on options.threads threads; progress(done, total).
+// CheckValidationWork first (named by `names`).
 std::vector<OrbitValidation> ValidateOrbits(const Model& model, const std::vector<Orbit>& orbits,
                                             const ValidateOptions& options,
-                                            const std::function<void(long, long)>& progress = {});
+                                            const std::function<void(long, long)>& progress = {},
+                                            const FieldNames& names = FieldNames("validate."));
 
 // A forced periodic orbit (forced_orbit.h) checked the same way: simulated
 // from its state at t = 0 (the simulators start there: the forcing's phase
@@ -126,7 +147,8 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
                                           const ValidateOptions& options);
 std::vector<ForcedOrbitValidation> ValidateForcedOrbits(const Model& model, const std::vector<ForcedOrbit>& orbits,
                                                         const ValidateOptions& options,
-                                                        const std::function<void(long, long)>& progress = {});
+                                                        const std::function<void(long, long)>& progress = {},
+                                                        const FieldNames& names = FieldNames("validate."));
 
 // The verdict on a batch, and the numbers behind it.
 //
