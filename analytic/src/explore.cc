@@ -214,6 +214,27 @@ ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& 
     throw InputError("grid", "must lie in [4, 200], got " + std::to_string(options.grid));
   }
   for (double period : periods) b.CheckPeriod(period);
+  // The work, bounded before it starts (issue 29): each period samples the
+  // C(grid - 1, m - 1) ordered impact times of the grid (and keeps them all
+  // to rank them), each sample a kernel of the 2N x 2N map A_m: about 3.3e-5
+  // s at N = 2 (the quick start's 19,987 samples of m = 3, grid 24, 79
+  // periods: 0.67 s on one core), growing as N^3. m = 6 at grid 200 asks
+  // 2.5e9 samples a period (and ~100 GB to rank them): beyond kMaxSamples
+  // sample-units (2 minutes, ~200 MB of ranking at N = 2) it is refused.
+  constexpr double kMaxSamples = 4e6;
+  double per_period = 1.0;
+  for (int i = 1; i <= options.impacts - 1; ++i) per_period = per_period * (options.grid - i) / i;
+  const double n_scale = std::max(1.0, std::pow(b.n / 2.0, 3));
+  const double work = per_period * static_cast<double>(periods.size()) * n_scale;
+  if (work > kMaxSamples) {
+    throw InputError("grid", FormatValue(per_period) + " samples a period (C(grid - 1, m - 1), grid " +
+                                 std::to_string(options.grid) + ", m = " + std::to_string(options.impacts) + ") over " +
+                                 std::to_string(periods.size()) + " periods" +
+                                 (n_scale > 1.0 ? ", times " + FormatValue(n_scale) + " for N = " + std::to_string(b.n)
+                                                : std::string()) +
+                                 ": " + FormatValue(work) + " sample-units, beyond the limit of " +
+                                 FormatValue(kMaxSamples) + ": use a coarser --grid, fewer periods or fewer impacts");
+  }
   // Periods are independent: searched in parallel, merged in their order.
   std::vector<ExploreReport> parts(periods.size());
   ParallelFor(
