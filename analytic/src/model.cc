@@ -1,6 +1,7 @@
 #include "nsmodal/model.h"
 
 #include <cmath>
+#include <cstdio>
 #include <utility>
 #include <sstream>
 #include <Eigen/Eigenvalues>
@@ -14,6 +15,12 @@ std::string FormatValue(double v) {
   os.precision(17);
   os << v;
   return os.str();
+}
+
+std::string FormatEstimate(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
 }
 
 namespace {

@@ -2,18 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "nsmodal/error.h"
 
 namespace nsmodal {
 namespace {
-
-std::string Short(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2g", v);
-  return buf;
-}
 
 // Roots the searches of the m-ipp orbits of period T isolate (work.h).
 double RootsAt(const ModalBasis& b, double period, int impacts) {
@@ -53,20 +46,20 @@ void CheckSweepWork(const AnalysisBasis& b, double from, double step, long count
   const bool two = std::find(impacts.begin(), impacts.end(), 2) != impacts.end();
   std::string family = two ? (impacts.size() > 1 ? "1- and 2-ipp orbits" : "2-ipp orbits") : "1-ipp orbits";
   std::string msg = family + " over " + std::to_string(count) + (count == 1 ? " period" : " periods") + " up to T = " +
-                    Short(to) + " with w_max = " + Short(b.omega.maxCoeff()) + " and " + std::to_string(b.n) +
-                    (b.n == 1 ? " mode" : " modes") + ": " + Short(HalfOscillations(b, to) / 2.0) +
+                    FormatEstimate(to) + " with w_max = " + FormatEstimate(b.omega.maxCoeff()) + " and " + std::to_string(b.n) +
+                    (b.n == 1 ? " mode" : " modes") + ": " + FormatEstimate(HalfOscillations(b, to) / 2.0) +
                     " fastest-mode oscillations per period; the searches isolate about ";
   double roots = 0.0;
   for (int m : impacts) roots += SweepWork(b, from, step, count, m) / (b.n + kRootOverhead);
-  msg += Short(roots) + " roots";
+  msg += FormatEstimate(roots) + " roots";
   if (transition_work > 0.0) {
     msg += ", and the transitions search probes about " +
-           Short(transition_work / (4.0 * HalfOscillations(b, to) * (b.n + kRootOverhead))) +
-           " modal and singular periods in the range, " + Short(transition_work) + " mode-root evaluations";
+           FormatEstimate(transition_work / (4.0 * HalfOscillations(b, to) * (b.n + kRootOverhead))) +
+           " modal and singular periods in the range, " + FormatEstimate(transition_work) + " mode-root evaluations";
   }
-  if (two) msg += " (the 2-ipp sweep checks each of its ~" + Short(HalfOscillations(b, to)) +
+  if (two) msg += " (the 2-ipp sweep checks each of its ~" + FormatEstimate(HalfOscillations(b, to)) +
                   " orbits per period over the whole period: quadratic in w_max T)";
-  msg += ", an estimated work of " + Short(work) + " mode-root evaluations; the limit is " + Short(kMaxSweepWork) +
+  msg += ", an estimated work of " + FormatEstimate(work) + " mode-root evaluations; the limit is " + FormatEstimate(kMaxSweepWork) +
          ": use shorter periods, fewer periods (a larger STEP or a shorter range)" +
          std::string(b.n > 1 ? ", or fewer modes (--modes)" : "");
   throw InputError(field, msg);

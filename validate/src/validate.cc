@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <optional>
 
@@ -16,12 +15,6 @@
 
 namespace nsmodal {
 namespace {
-
-std::string Short(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
 
 // Tolerance on the deviation of a stable admissible orbit after K periods.
 // exact: options.exact_periodicity (round-off: ~1e-12 after 10,000 periods,
@@ -204,15 +197,15 @@ void Judge(const RunFacts& f, Integrator integrator, const ValidateOptions& opti
     ok = false;
     why = "first period: " + std::to_string(f.first_period_impacts) + " impacts (expected " +
           std::to_string(f.impacts) + "), time error " +
-          (f.impact_time_error ? Short(*f.impact_time_error) : std::string("n/a")) + ", penetration " +
-          Short(f.max_penetration);
+          (f.impact_time_error ? FormatEstimate(*f.impact_time_error) : std::string("n/a")) + ", penetration " +
+          FormatEstimate(f.max_penetration);
   } else if (f.stable) {
     const double tol = PeriodicityTolerance(integrator, options, options.periods);
     const double final_dev = f.deviation.empty() ? 0.0 : f.deviation.back();
     ok = !f.broken && static_cast<int>(f.deviation.size()) == options.periods && final_dev <= tol;
-    why = ok ? "stable and periodic: deviation " + Short(final_dev) + " after " + std::to_string(options.periods) +
+    why = ok ? "stable and periodic: deviation " + FormatEstimate(final_dev) + " after " + std::to_string(options.periods) +
                    " periods"
-             : "stable orbit drifted: deviation " + Short(final_dev) + " > " + Short(tol);
+             : "stable orbit drifted: deviation " + FormatEstimate(final_dev) + " > " + FormatEstimate(tol);
   } else {
     const double max_dev = f.deviation.empty() ? 0.0 : *std::max_element(f.deviation.begin(), f.deviation.end());
     const double measured = f.growth ? *f.growth : 0.0;
@@ -221,15 +214,15 @@ void Judge(const RunFacts& f, Integrator integrator, const ValidateOptions& opti
       why = "unstable, but round-off never grew (a floating-point fixed point of the map)";
     } else if (!f.growth) {
       ok = true;
-      why = "unstable; growth not measurable above " + who + "'s error floor (" + Short(f.floor) +
+      why = "unstable; growth not measurable above " + who + "'s error floor (" + FormatEstimate(f.floor) +
             " after one period): first period as predicted";
     } else if (measured > 0.0 && std::abs(measured - f.predicted_rate) <= 0.3 * f.predicted_rate) {
       ok = true;
-      why = "unstable: deviation grows " + Short(measured) + " per period, multipliers predict " +
-            Short(f.predicted_rate);
+      why = "unstable: deviation grows " + FormatEstimate(measured) + " per period, multipliers predict " +
+            FormatEstimate(f.predicted_rate);
     } else {
       ok = false;
-      why = "unstable: measured growth " + Short(measured) + " per period, predicted " + Short(f.predicted_rate);
+      why = "unstable: measured growth " + FormatEstimate(measured) + " per period, predicted " + FormatEstimate(f.predicted_rate);
     }
   }
 }
@@ -386,9 +379,9 @@ void CheckValidationWork(const Model& model, double simulated_time, long orbits,
   if (seconds <= kMaxValidationSeconds) return;
   throw InputError(names("periods"),
                    std::to_string(orbits) + " orbits over " + std::to_string(options.periods) + " periods with " +
-                       std::to_string(options.integrators.size()) + " integrator(s): an estimated " + Short(seconds) +
-                       " s of simulation on one core (" + Short(simulated_time) +
-                       " time units); the limit is " + Short(kMaxValidationSeconds) +
+                       std::to_string(options.integrators.size()) + " integrator(s): an estimated " + FormatEstimate(seconds) +
+                       " s of simulation on one core (" + FormatEstimate(simulated_time) +
+                       " time units); the limit is " + FormatEstimate(kMaxValidationSeconds) +
                        " s: use fewer periods, fewer orbits (a shorter range or a larger STEP), fewer integrators "
                        "(exact is the fastest by far) or, for moreau-jean, a larger step");
 }
@@ -421,14 +414,14 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
   }
   std::sort(predicted.begin(), predicted.end());
   if (nearest < 1e-6 * period) {
-    v.reason = "t = 0 lies on an impact (within " + Short(nearest) + "): the comparison points k P are impacts";
+    v.reason = "t = 0 lies on an impact (within " + FormatEstimate(nearest) + "): the comparison points k P are impacts";
     return v;
   }
   const Eigen::VectorXd z0 = problem.StateAt(orbit, 0.0);
   if (z0[m.contact] > m.gap * (1.0 + 1e-12)) {
     // Only a non-admissible orbit can be beyond the wall: no motion follows it.
     v.consistent = !orbit.admissible;
-    v.reason = "x_c(0) = " + Short(z0[m.contact]) + " lies beyond the obstacle: " +
+    v.reason = "x_c(0) = " + FormatEstimate(z0[m.contact]) + " lies beyond the obstacle: " +
                (orbit.admissible ? "yet the orbit was found admissible" : "it breaks, as predicted (not admissible)");
     return v;
   }

@@ -141,6 +141,9 @@ int RigidBodyModes(const Eigen::MatrixXd& stiffness);
 // from the eigenvalues the checks computed).
 int Validate(const Model& model);
 
+// Numbers in messages: a value as given (17 significant digits) and an
+// estimate or a measure (3 significant digits, "%.3g").
 std::string FormatValue(double v);
+std::string FormatEstimate(double v);
 
 }  // namespace nsmodal
