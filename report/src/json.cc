@@ -1,9 +1,7 @@
 #include "nsmodal/json.h"
 
 #include <cmath>
-#include <cstdio>
-
-#include "nsmodal/check.h"
+#include <stdexcept>
 
 namespace nsmodal::report {
 namespace {
@@ -12,13 +10,14 @@ nlohmann::json OrNull(bool present, double v) { return present ? nlohmann::json(
 
 // The documents' invariant, as the tables' (table.h): a quantity that does
 // not exist is null, said where it is set (OrNull); no number is inf or nan
-// (nlohmann would dump it as null, silently). Aborts naming the key.
+// (nlohmann would dump it as null, silently). Throws std::logic_error naming
+// the key: the run fails (exit 1, its results removed) instead of writing it.
 void CheckFinite(const nlohmann::json& j, const std::string& where) {
   if (j.is_number_float()) {
     const double v = j.get<double>();
     if (!std::isfinite(v)) {
-      std::fprintf(stderr, "nsmodal: %s holds %g as a value (a missing quantity must be null)\n", where.c_str(), v);
-      NSMODAL_CHECK(std::isfinite(v));
+      throw std::logic_error("internal error: " + where + " holds " + (std::isnan(v) ? "nan" : "inf") +
+                             " as a value (a missing quantity must be null); please report it");
     }
   } else if (j.is_object()) {
     for (auto it = j.begin(); it != j.end(); ++it) CheckFinite(it.value(), where + "." + it.key());

@@ -1,17 +1,14 @@
 #include "nsmodal/table.h"
 
 #include <cmath>
-#include <cstdio>
-
-#include "nsmodal/check.h"
+#include <stdexcept>
 
 namespace nsmodal::report {
 
 Cell CheckedCell(Cell cell, const std::string& column) {
   if (const double* v = std::get_if<double>(&cell); v != nullptr && !std::isfinite(*v)) {
-    std::fprintf(stderr, "nsmodal: column %s holds %g as a value (a missing quantity must be std::monostate)\n",
-                 column.c_str(), *v);
-    NSMODAL_CHECK(std::isfinite(*v));
+    throw std::logic_error("internal error: column " + column + " holds " + (std::isnan(*v) ? "nan" : "inf") +
+                           " as a value (a missing quantity must be empty); please report it");
   }
   return cell;
 }

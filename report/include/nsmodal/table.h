@@ -13,8 +13,9 @@
 // row (an infinite energy at a singular transition, the impact-time error of
 // a first period that did not have the predicted impacts) is missing, said so
 // where the column is declared (Real(std::optional)); a non-finite double
-// reaching a writer is a bug in nsmodal, and CheckedCell stops it (an
-// internal invariant, check.h) instead of writing it.
+// reaching a writer is a bug in nsmodal, and CheckedCell stops it: it throws
+// std::logic_error naming the column, so the run fails (exit 1, its results
+// removed, output.h) instead of writing it, and never crashes.
 #include <functional>
 #include <optional>
 #include <ostream>
@@ -43,7 +44,7 @@ using Columns = std::vector<Column<Row>>;
 inline Cell Real(const std::optional<double>& v) { return v ? Cell(*v) : Cell(); }
 
 // The cell of `column` for a row, after the invariant: a double in it is
-// finite (aborts naming the column otherwise). Every writer (the CSV below,
+// finite (throws std::logic_error naming the column otherwise). Every writer (the CSV below,
 // the Python module's column arrays) takes its cells from here.
 Cell CheckedCell(Cell cell, const std::string& column);
 
