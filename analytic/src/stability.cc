@@ -11,7 +11,7 @@
 
 #include "nsmodal/flow.h"
 #include "nsmodal/roots.h"
-#include "simd.h"
+#include "nsmodal/simd.h"
 
 namespace nsmodal {
 namespace {

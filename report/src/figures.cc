@@ -24,7 +24,6 @@
 #include "nsmodal/one_impact.h"
 #include "nsmodal/parallel.h"
 #include "nsmodal/return_map.h"
-#include "nsmodal/scene.h"
 #include "nsmodal/trajectory.h"
 #include "nsmodal/transitions.h"
 #include "nsmodal/two_impact.h"

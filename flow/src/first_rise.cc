@@ -6,7 +6,7 @@
 #include <limits>
 #include <type_traits>
 
-#include "simd.h"
+#include "nsmodal/simd.h"
 
 namespace nsmodal {
 namespace {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "simd.h"
+#include "nsmodal/simd.h"
 
 #if NSMODAL_X86 && defined(NSMODAL_HAVE_MVEC)
 #include <immintrin.h>
