@@ -5,11 +5,63 @@
 #include <new>
 
 #include "nsmodal/error.h"
+#include "nsmodal/simulate_settings.h"
+#include "nsmodal/validate_settings.h"
 #include "nsmodal/input_checks.h"
 #include "nsmodal/output.h"
 #include "nsmodal/stop.h"
 
 namespace nsmodal::cli {
+namespace {
+
+// " [m] (default 0.01; scene key simulate.sample_dt)": the help's tail, from the table.
+template <class Options>
+std::string HelpOf(const SettingTable<Options>& table, const Setting<Options>& s) {
+  std::string help = s.info.doc;
+  if (!s.info.unit.empty()) help += " [" + s.info.unit + "]";
+  const SettingValue d = table.Default(s);
+  help += " (default " + FormatSettingValue(d);
+  const std::string key = table.SceneField(s.info);
+  if (!key.empty()) help += "; scene key " + key;
+  return help + ")";
+}
+
+// A flag for every setting of `table` that `command` takes: each value given
+// goes into `flags` with the flag's name as its origin (settings.h).
+template <class Options>
+void AddSettingFlags(CLI::App* app, const std::string& command, const SettingTable<Options>& table,
+                     SettingPatch& flags) {
+  for (const Setting<Options>& s : table.settings()) {
+    const SettingInfo& info = s.info;
+    if (info.flag.empty() || !info.Takes(command)) continue;
+    const std::string help = HelpOf(table, s);
+    auto store = [&flags, name = info.name, flag = info.flag](SettingValue v) {
+      flags[name] = {std::move(v), flag, SettingSource::kFlag};
+    };
+    switch (info.kind) {
+      case SettingKind::kReal:
+        app->add_option_function<double>(info.flag, store, help);
+        break;
+      case SettingKind::kInteger:  // read as a real: WholeNumberOf refuses 1.5 naming the flag
+        app->add_option_function<double>(info.flag, store, help);
+        break;
+      case SettingKind::kText:
+        app->add_option_function<std::string>(info.flag, store, help);
+        break;
+      case SettingKind::kRealList:
+        app->add_option_function<std::vector<double>>(info.flag, store, help)->expected(1, kMaxDofs);
+        break;
+      case SettingKind::kIntegerList:
+        app->add_option_function<std::vector<double>>(info.flag, store, help)->expected(1, 1000);
+        break;
+      case SettingKind::kTextList:
+        app->add_option_function<std::vector<std::string>>(info.flag, store, help)->expected(1, 1000);
+        break;
+    }
+  }
+}
+
+}  // namespace
 
 CommandLine::CommandLine() {
   app.require_subcommand(1);
@@ -42,33 +94,12 @@ CommandLine::CommandLine() {
   c_sim = app.add_subcommand("simulate", "Simulate an initial condition (exact, cvode or moreau-jean)");
   c_sim->add_option("scene", simulate.scene, "Scene file (TOML) with a [simulate] table")->required();
   c_sim->add_option("--out", simulate.out, "Output directory")->required();
-  c_sim->add_option("--integrator", simulate.integrator, "exact, cvode or moreau-jean");
-  c_sim->add_option("--method", simulate.method, "CVODE method: bdf or adams");
-  c_sim->add_option("--t-end", simulate.t_end, "Final time");
-  c_sim->add_option("--rtol", simulate.rtol, "CVODE relative tolerance");
-  c_sim->add_option("--atol", simulate.atol, "CVODE absolute tolerance");
-  c_sim->add_option("--step", simulate.step, "Moreau-Jean time step");
-  c_sim->add_option("--theta", simulate.theta, "Moreau-Jean theta in [0.5, 1]");
-  c_sim->add_option("--root-tol", simulate.root_tol, "Exact integrator contact tolerance (relative)");
-  c_sim->add_option("--sample-dt", simulate.sample_dt, "Trajectory sampling interval (0: none)");
-  c_sim->add_option("--modes", simulate.modes, "Simulate on the first K linear modes only (modal truncation)");
-  c_sim->add_option("--contact-tolerance", simulate.contact_tolerance,
-                    "Keep the fewest modes whose neglected share of x_c is at most this (m) at the initial energy");
-  c_sim->add_option("--x0", simulate.x0, "Initial position (N values)")->expected(-1);
-  c_sim->add_option("--v0", simulate.v0, "Initial velocity (N values)")->expected(-1);
+  AddSettingFlags(c_sim, "simulate", SimulateSettings(), simulate.flags);
 
   c_val = app.add_subcommand("validate", "Validate analytic orbits by long simulations (batch)");
   c_val->add_option("scene", validate.scene, "Scene file (TOML); an optional [validate] table")->required();
   c_val->add_option("--out", validate.out, "Output directory")->required();
-  c_val->add_option("--period", validate.period, "Period grid FROM:TO:STEP");
-  c_val->add_option("--impacts", validate.impacts, "Impacts per period: 1, 2 or both (1 2)")->expected(1, 2);
-  c_val->add_option("--periods", validate.periods, "Periods simulated per orbit (default 1000)");
-  c_val->add_option("--integrators", validate.integrators, "exact, cvode, moreau-jean (default exact)")->expected(1, 3);
-  c_val->add_option("--rtol", validate.rtol, "CVODE relative tolerance (default 1e-10)");
-  c_val->add_option("--atol", validate.atol, "CVODE absolute tolerance (default 1e-12)");
-  c_val->add_option("--step", validate.step, "Moreau-Jean step (default 1e-4)");
-  c_val->add_option("--root-tol", validate.root_tol, "Exact integrator contact tolerance (default 1e-14)");
-  c_val->add_option("--threads", validate.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, kMaxThreads));
+  AddSettingFlags(c_val, "validate", ValidateSettings(), validate.flags);
 
   c_resp = app.add_subcommand("response", "Forced, damped response curves beside the nonsmooth modes (CSV, charts)");
   c_resp->add_option("scene", response.scene, "Scene file (TOML) with damping or e < 1 and a [forcing] table")->required();
@@ -91,6 +122,10 @@ CommandLine::CommandLine() {
   c_fig->add_option("--out", figures.out, "Output directory")->required();
   c_fig->add_option("--period", figures.period, "FROM:TO:STEP of the 1-ipp and 2-ipp sweeps (default 0.01:4 T_max:0.01)");
   c_fig->add_option("--threads", figures.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, kMaxThreads));
+
+  c_settings = app.add_subcommand("settings", "Every setting of simulate and validate: scene key, flag, Python keyword, "
+                                              "default, unit, doc");
+  c_settings->add_flag("--json", settings.json, "Print a JSON list of objects");
 }
 
 int CommandLine::Run() const {
@@ -104,6 +139,7 @@ int CommandLine::Run() const {
     if (*c_bench) status = RunBench(bench);
     if (*c_resp) status = RunResponse(response);
     if (*c_fig) status = RunFigures(figures);
+    if (*c_settings) status = RunSettings(settings);
     report::CheckStdout();
     return status;
   } catch (const Stopped& e) {

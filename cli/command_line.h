@@ -27,8 +27,9 @@ struct CommandLine {
   BenchArgs bench;
   ResponseArgs response;
   FiguresArgs figures;
+  SettingsArgs settings;
   CLI::App *c_orbits = nullptr, *c_orbit = nullptr, *c_explore = nullptr, *c_sim = nullptr, *c_val = nullptr,
-           *c_bench = nullptr, *c_fig = nullptr, *c_resp = nullptr;
+           *c_bench = nullptr, *c_fig = nullptr, *c_resp = nullptr, *c_settings = nullptr;
 };
 
 // Parses argv and runs; CLI11's own errors exit 2 (0 for --help, --version).

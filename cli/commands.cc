@@ -28,6 +28,8 @@
 #include "nsmodal/simulate.h"
 #include "nsmodal/truncation.h"
 #include "nsmodal/validate.h"
+#include "nsmodal/validate_settings.h"
+#include "nsmodal/simulate_settings.h"
 #include "nsmodal/work_precision.h"
 #include "common.h"
 
@@ -198,45 +200,17 @@ int RunBench(const BenchArgs& a) {
 int RunValidate(const ValidateArgs& a) {
   const Scene scene = LoadScene(a.scene);
   const AnalysisBasis b(scene.model);
-  const ValidateSection& sec = scene.validate;
-  const std::string period_text = a.period ? *a.period : sec.period ? *sec.period : "";
-  if (period_text.empty()) throw InputError("--period", "is missing: give it with --period or validate.period");
-  const PeriodGrid grid = PeriodGrid::Parse(period_text);
-  const std::vector<int> impacts = a.impacts ? *a.impacts : sec.impacts ? *sec.impacts : std::vector<int>{1, 2};
-  for (int m : impacts) {
-    if (m != 1 && m != 2) throw InputError("--impacts", "takes 1 and/or 2, got " + std::to_string(m));
-  }
-  ValidateOptions opt;
-  FieldNames names("validate.");
-  const std::optional<double> none;
-  opt.periods = Pick(a.periods, "--periods", sec.periods, "validate.periods", opt.periods, "periods", names);
-  const std::vector<std::string> integrators =
-      Pick(a.integrators, "--integrators", sec.integrators, "validate.integrators", std::vector<std::string>{"exact"},
-           "integrators", names);
-  opt.integrators.clear();
-  for (const std::string& name : integrators) opt.integrators.push_back(ParseIntegrator(name, names("integrators")));
-  opt.simulate.rtol = Pick(a.rtol, "--rtol", none, "", opt.simulate.rtol, "rtol", names);
-  opt.simulate.atol = Pick(a.atol, "--atol", none, "", opt.simulate.atol, "atol", names);
-  opt.simulate.step = Pick(a.step, "--step", none, "", opt.simulate.step, "step", names);
-  opt.simulate.root_tol = Pick(a.root_tol, "--root-tol", none, "", opt.simulate.root_tol, "root_tol", names);
-  opt.threads = a.threads;
-  opt.Validate(names);
-  CheckSweepWork(b, grid, impacts, "--period");
+  const Configured<ValidationRequest> request = ValidateSettings().Resolve({&scene.validate, &a.flags});
+  const ValidationPlan plan = PlanValidation(b, request);
+  const ValidateOptions& opt = plan.options;
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"validation.csv", "summary.json"});
-
-  // The potential orbits of the grid, admissible or not, period by period.
-  SweepOptions sweep_options;
-  sweep_options.stability = StabilityPolicy::kNone;
-  sweep_options.threads = a.threads;
-  const std::vector<Orbit> orbits = PotentialOrbits(b, grid, impacts, sweep_options);
-  const std::vector<OrbitValidation> results =
-      ValidateOrbits(scene.model, orbits, opt, ProgressBar("validate"), names);
-  const ValidationReport report = SummarizeValidation(results, opt, static_cast<long>(orbits.size()));
+  const GridValidation v = RunValidation(scene.model, b, plan, ProgressBar("validate"), request.names);
+  const ValidationReport& report = v.report;
 
   report::ResultFile csv(dir, "validation.csv");
-  report::WriteCsv(csv.stream(), report::ValidationColumns(), results);
+  report::WriteCsv(csv.stream(), report::ValidationColumns(), v.results);
   csv.Commit();
-  report::WriteResult(dir, "summary.json", report::ValidationJson(report, results).dump(2) + "\n");
+  report::WriteResult(dir, "summary.json", report::ValidationJson(report, v.results, request).dump(2) + "\n");
   if (report.stable_perturbed + report.unstable_rated > 0) {
     std::cout << "perturbed by " << opt.perturbation << " |y| in the nontrivial Floquet subspace (exact): "
               << report.stable_perturbed << " stable orbits grew at most x" << report.stable_worst_amplification
@@ -245,16 +219,16 @@ int RunValidate(const ValidateArgs& a) {
               << 100.0 * ValidationReport::kRateTolerance << " % of log|lambda| (worst "
               << 100.0 * report.unstable_worst_rate_error << " %)\n";
   }
-  std::cout << "validated " << orbits.size() << " orbits over " << opt.periods << " periods:";
+  std::cout << "validated " << v.orbits.size() << " orbits over " << opt.periods << " periods:";
   for (const auto& [integrator, t] : report.integrators) {
     std::cout << "  " << ToString(integrator) << " " << t.consistent << "/" << t.checked << " consistent";
   }
   std::cout << "\nwrote " << a.out << "/validation.csv and " << a.out << "/summary.json\n";
   for (std::size_t i : report.inconsistent) {
-    const OrbitValidation& v = results[i];
-    std::cout << "  inconsistent: T = " << v.orbit.period
-              << (v.orbit.times.empty() ? "" : " t2 = " + FormatValue(v.orbit.times[0])) << " ("
-              << ToString(v.integrator) << "): " << v.reason << "\n";
+    const OrbitValidation& r = v.results[i];
+    std::cout << "  inconsistent: T = " << r.orbit.period
+              << (r.orbit.times.empty() ? "" : " t2 = " + FormatValue(r.orbit.times[0])) << " ("
+              << ToString(r.integrator) << "): " << r.reason << "\n";
   }
   if (!report.passed()) {
     std::cerr << "error: " << report.admissible_exact_failures.size()
@@ -264,102 +238,43 @@ int RunValidate(const ValidateArgs& a) {
   return 0;
 }
 
-namespace {
-
-Eigen::VectorXd PhysicalState(const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
-  Eigen::VectorXd z(x.size() + v.size());
-  z << x, v;
-  return z;
-}
-
-// The modal truncation a simulation asks for (--modes or --contact-tolerance,
-// else the scene's simulate.modes or simulate.contact_tolerance), printed;
-// none when neither is given. `energy`: the full initial state's.
-std::optional<ModalTruncation> SimulationTruncation(const SimulateArgs& a, const Scene& scene,
-                                                    const Eigen::VectorXd& x0, double energy) {
-  // A flag overrides both keys of the scene (--contact-tolerance replaces a
-  // scene's modes), as flags override the [simulate] table.
-  const SimulateSection& sec = scene.simulate;
-  const bool flags = a.modes || a.contact_tolerance;
-  const std::optional<double> modes = flags ? a.modes : sec.modes;
-  const std::optional<double> tol = flags ? a.contact_tolerance : sec.contact_tolerance;
-  const std::string modes_field = flags ? "--modes" : "simulate.modes";
-  const std::string tol_field = flags ? "--contact-tolerance" : "simulate.contact_tolerance";
-  if (!modes && !tol) return std::nullopt;
-  if (modes && tol) throw InputError(modes_field, "and " + tol_field + " are both given: give one of them");
-  const Model& m = scene.model;
-  ModalTruncation t = modes ? TruncationOf(m, *modes, modes_field) : TruncateForContactBound(m, energy, *tol, tol_field);
-  const double xc_kept = (t.from_physical * x0)[0];
-  PrintTruncation(t);
-  std::cout << ": at the initial energy " << energy << " J the neglected modes carry at most " << t.ContactBound(energy)
-            << " m of x_c in the full model (for as long as the energy does not grow: unforced, e <= 1); "
-            << "the run starts from the kept modes' part of the initial state (x_c " << xc_kept << " of "
-            << x0[m.contact] << ")\n";
-  return t;
-}
-
-}  // namespace
-
 int RunSimulate(const SimulateArgs& a) {
   const Scene scene = LoadScene(a.scene);
-  const SimulateSection& sec = scene.simulate;
-  SimulateOptions opt;
-  FieldNames names("simulate.");
-  const std::string integrator =
-      Pick(a.integrator, "--integrator", sec.integrator, "simulate.integrator", std::string("exact"), "integrator", names);
-  opt.integrator = ParseIntegrator(integrator, names("integrator"));
-  opt.cvode_method = Pick(a.method, "--method", sec.method, "simulate.method", opt.cvode_method, "method", names);
-  opt.t_end = Pick(a.t_end, "--t-end", sec.t_end, "simulate.t_end", opt.t_end, "t_end", names);
-  opt.rtol = Pick(a.rtol, "--rtol", sec.rtol, "simulate.rtol", opt.rtol, "rtol", names);
-  opt.atol = Pick(a.atol, "--atol", sec.atol, "simulate.atol", opt.atol, "atol", names);
-  opt.step = Pick(a.step, "--step", sec.step, "simulate.step", opt.step, "step", names);
-  opt.theta = Pick(a.theta, "--theta", sec.theta, "simulate.theta", opt.theta, "theta", names);
-  opt.root_tol = Pick(a.root_tol, "--root-tol", sec.root_tol, "simulate.root_tol", opt.root_tol, "root_tol", names);
-  opt.sample_dt = Pick(a.sample_dt, "--sample-dt", sec.sample_dt, "simulate.sample_dt", opt.sample_dt, "sample_dt", names);
-  const int n = scene.model.dofs();
-  const auto x0v = a.x0 ? a.x0 : sec.initial_position;
-  if (!x0v) throw InputError("simulate.initial_position", "is missing: give it in [simulate] or with --x0");
-  const std::vector<double> v0v = a.v0 ? *a.v0 : sec.initial_velocity ? *sec.initial_velocity : std::vector<double>(n, 0.0);
-  const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(x0v->data(), static_cast<long>(x0v->size()));
-  const Eigen::VectorXd v0 = Eigen::Map<const Eigen::VectorXd>(v0v.data(), static_cast<long>(v0v.size()));
-
-  opt.Validate(names);
-  Validate(scene.model);
-  const double initial_energy = MechanicalEnergy(scene.model, PhysicalState(x0, v0));
-  const std::optional<ModalTruncation> truncation = SimulationTruncation(a, scene, x0, initial_energy);
+  const Model& m = scene.model;
+  const Configured<SimulationRequest> request = SimulateSettings().Resolve({&scene.simulate, &a.flags});
+  const SimulateOptions& opt = request.options.options;
+  const SimulationPlan plan = PlanSimulation(m, request);
+  if (const std::optional<ModalTruncation>& t = plan.truncation) {
+    PrintTruncation(*t);
+    std::cout << ": at the initial energy " << plan.initial_energy << " J the neglected modes carry at most "
+              << t->ContactBound(plan.initial_energy)
+              << " m of x_c in the full model (for as long as the energy does not grow: unforced, e <= 1); "
+              << "the run starts from the kept modes' part of the initial state (x_c "
+              << (t->from_physical * plan.x0)[0] << " of " << plan.x0[m.contact] << ")\n";
+  }
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"trajectory.csv", "impacts.csv", "summary.json"});
   report::ResultFile traj(dir, "trajectory.csv");
   report::ResultFile imp(dir, "impacts.csv");
-  const Model& m = scene.model;
+  const int n = m.dofs();
   const auto trajectory_columns = report::TrajectoryColumns(n);
   const auto impact_columns = report::ImpactColumns(n);
   report::WriteCsvHeader(traj.stream(), trajectory_columns);
   report::WriteCsvHeader(imp.stream(), impact_columns);
-  // On a truncated model the run's states are its modal coordinates p:
-  // every output is the physical state to_physical p of the kept modes.
-  auto physical = [&](const Eigen::VectorXd& z) -> Eigen::VectorXd {
-    return truncation ? truncation->PhysicalState(z) : z;
-  };
   SimulationObserver obs;
   obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
-    report::WriteCsvRow(traj.stream(), trajectory_columns, report::SampleOf(m, t, physical(z)));
+    report::WriteCsvRow(traj.stream(), trajectory_columns, report::SampleOf(m, t, z));
   };
-  obs.on_impact = [&](const ContactEvent& ev) {
-    report::WriteCsvRow(imp.stream(), impact_columns, ContactEvent{ev.t, physical(ev.before), physical(ev.after)});
-  };
+  obs.on_impact = [&](const ContactEvent& ev) { report::WriteCsvRow(imp.stream(), impact_columns, ev); };
   const auto bar = ProgressBar("simulate");
   if (bar) {
     obs.on_progress = [&](double t) { bar(static_cast<long>(1000.0 * t / opt.t_end), 1000); };
   }
-  SimulationSummary s = truncation ? Simulate(truncation->model, truncation->from_physical * x0,
-                                              truncation->from_physical * v0, opt, obs)
-                                   : Simulate(m, x0, v0, opt, obs);
-  if (truncation && s.final_state.size() > 0) s.final_state = physical(s.final_state);
+  const SimulationSummary s = RunSimulation(m, plan, opt, obs);
   if (bar) bar(1000, 1000);
   traj.Commit();
   imp.Commit();
-  nlohmann::json summary = report::SimulationJson(s, opt);
-  if (truncation) summary["truncation"] = report::TruncationJson(*truncation, initial_energy);
+  nlohmann::json summary = report::SimulationJson(s, request);
+  if (plan.truncation) summary["truncation"] = report::TruncationJson(*plan.truncation, plan.initial_energy);
   report::WriteResult(dir, "summary.json", summary.dump(2) + "\n");
   std::cout << ToString(opt.integrator) << ": t = " << s.final_time << ", " << s.impacts << " impacts, " << s.grazes
             << " grazes, " << s.zeno_events << " Zeno sequences, sticking " << s.sticking_time << ", energy drift "
@@ -367,6 +282,15 @@ int RunSimulate(const SimulateArgs& a) {
   if (s.status != SimulationStatus::kFinished) {
     std::cerr << "error: simulation stopped: " << s.message << "\n";
     return 3;
+  }
+  return 0;
+}
+
+int RunSettings(const SettingsArgs& a) {
+  if (a.json) {
+    std::cout << report::SettingsReferenceJson().dump(2) << "\n";
+  } else {
+    report::PrintSettingsReference(std::cout);
   }
   return 0;
 }

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "nsmodal/settings.h"
+
 namespace nsmodal::cli {
 
 struct OrbitsArgs {
@@ -26,23 +28,21 @@ struct ExploreArgs {
   std::optional<std::string> follow;  // FROM:TO:STEP: follow each admissible new family (odd m) over that range
 };
 
-// Flags of `simulate`; unset ones fall back to the scene's [simulate] table.
+// `simulate` and `validate`: their settings' flags (made from the tables,
+// simulate_settings.h and validate_settings.h) fill `flags`; a setting not
+// given there falls back to the scene's table, then to its default.
 struct SimulateArgs {
   std::string scene, out;
-  std::optional<std::string> integrator, method;
-  std::optional<double> t_end, rtol, atol, step, theta, root_tol, sample_dt;
-  std::optional<std::vector<double>> x0, v0;
-  std::optional<double> modes, contact_tolerance;
+  SettingPatch flags;
 };
 
 struct ValidateArgs {
   std::string scene, out;
-  std::optional<std::string> period;
-  std::optional<std::vector<int>> impacts;
-  std::optional<int> periods;
-  std::optional<std::vector<std::string>> integrators;
-  std::optional<double> rtol, atol, step, root_tol;
-  int threads = 0;
+  SettingPatch flags;
+};
+
+struct SettingsArgs {
+  bool json = false;
 };
 
 struct BenchArgs {
@@ -77,5 +77,6 @@ int RunValidate(const ValidateArgs& a);
 int RunSimulate(const SimulateArgs& a);
 int RunOrbit(const OrbitArgs& a);
 int RunExplore(const ExploreArgs& a);
+int RunSettings(const SettingsArgs& a);
 
 }  // namespace nsmodal::cli

@@ -11,7 +11,8 @@
 #include "command_line.h"
 #include "nsmodal/atlas.h"
 #include "nsmodal/error.h"
-#include "nsmodal/simulate.h"
+#include "nsmodal/simulate_settings.h"
+#include "nsmodal/validate_settings.h"
 
 namespace {
 
@@ -48,17 +49,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (const std::string* period : {&cl.orbits.period, &cl.explore.period}) {
     Try([&] { nsmodal::PeriodGrid::Parse(*period); });
   }
-  if (cl.validate.period) Try([&] { nsmodal::PeriodGrid::Parse(*cl.validate.period); });
+  // The settings' flags resolved and checked as the commands do (settings.h).
+  Try([&] {
+    const auto c = nsmodal::ValidateSettings().Resolve({&cl.validate.flags});
+    if (!c.options.period.empty()) nsmodal::PeriodGrid::Parse(c.options.period, c.names("period"));
+    c.options.options.Validate(c.names);
+  });
+  Try([&] {
+    const auto c = nsmodal::SimulateSettings().Resolve({&cl.simulate.flags});
+    c.options.options.Validate(c.names);
+  });
   if (cl.figures.period) Try([&] { nsmodal::PeriodGrid::Parse(*cl.figures.period); });
-  if (cl.simulate.integrator) Try([&] { nsmodal::ParseIntegrator(*cl.simulate.integrator, "--integrator"); });
   for (const auto* grid : {&cl.response.frequency, &cl.response.amplitude}) {
     if (*grid && (*grid)->find(':') != std::string::npos) Try([&] { nsmodal::PeriodGrid::Parse(**grid); });
   }
   for (const std::string& name : cl.response.integrators) Try([&] { nsmodal::ParseIntegrator(name, "--integrators"); });
-  if (cl.validate.integrators) {
-    for (const std::string& name : *cl.validate.integrators) {
-      Try([&] { nsmodal::ParseIntegrator(name, "--integrators"); });
-    }
-  }
   return 0;
 }

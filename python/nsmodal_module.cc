@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <functional>
+#include <stdexcept>
 #include <limits>
 #include <optional>
 #include <string>
@@ -28,11 +30,14 @@
 #include "nsmodal/response.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate.h"
+#include "nsmodal/simulate_settings.h"
+#include "nsmodal/settings.h"
 #include "nsmodal/truncation.h"
 #include "nsmodal/stability.h"
 #include "nsmodal/tables.h"
 #include "nsmodal/two_impact.h"
 #include "nsmodal/validate.h"
+#include "nsmodal/validate_settings.h"
 
 namespace py = pybind11;
 using namespace nsmodal;
@@ -241,6 +246,69 @@ PeriodGrid GridOf(const py::object& period, const std::string& field = "period")
   PeriodGrid g{v[0], v[1], v[2]};
   g.Validate(field);
   return g;
+}
+
+// A keyword's value of the setting's kind (settings.h), with the checks of
+// Real and Integer: a bool is not a number, a str is not a list.
+SettingValue KeywordValue(py::handle h, const SettingInfo& info) {
+  const char* name = info.python.c_str();
+  auto list = [&](auto one) {
+    if (py::isinstance<py::str>(h) || !py::isinstance<py::iterable>(h)) {
+      throw py::type_error(std::string(name) + ": must be a sequence, got " + Repr(h));
+    }
+    std::vector<decltype(one(h))> out;
+    for (py::handle item : h) out.push_back(one(item));
+    return out;
+  };
+  auto text = [name](py::handle x) {
+    if (!py::isinstance<py::str>(x)) throw py::type_error(std::string(name) + ": must be a str, got " + Repr(x));
+    return x.cast<std::string>();
+  };
+  auto real = [name](py::handle x) { return RealOf(x, name); };
+  auto integer = [name](py::handle x) { return static_cast<long>(IntOf(x, name)); };
+  switch (info.kind) {
+    case SettingKind::kReal: return real(h);
+    case SettingKind::kInteger: return integer(h);
+    case SettingKind::kText: return text(h);
+    case SettingKind::kRealList: return list(real);
+    case SettingKind::kIntegerList: return list(integer);
+    case SettingKind::kTextList: return list(text);
+  }
+  throw std::logic_error("a setting kind without a Python conversion");
+}
+
+// The keywords of a call, as settings given by keyword (settings.h): each one
+// the table's keyword of a setting `command` takes, else TypeError as Python
+// raises for an unexpected keyword. `convert` may take a keyword first (a
+// period given as a number or a tuple), returning no value to decline it.
+template <class Options>
+SettingPatch KeywordPatch(const SettingTable<Options>& table, const std::string& command, const py::kwargs& kwargs,
+                          const std::function<std::optional<SettingValue>(const std::string&, py::handle)>& convert = {}) {
+  SettingPatch patch;
+  for (auto [key, value] : kwargs) {
+    const std::string keyword = py::str(key);
+    const Setting<Options>* s = table.FindKeyword(keyword);
+    if (s == nullptr || !s->info.Takes(command)) {
+      throw py::type_error(command + "() got an unexpected keyword argument '" + keyword + "'");
+    }
+    if (value.is_none()) continue;  // None: the scene's or the default value
+    std::optional<SettingValue> v = convert ? convert(keyword, value) : std::nullopt;
+    patch[s->info.name] = {v ? *v : KeywordValue(value, s->info), keyword, SettingSource::kKeyword};
+  }
+  return patch;
+}
+
+// The keywords' part of a docstring, from the table.
+template <class Options>
+std::string KeywordDoc(const SettingTable<Options>& table, const std::string& command) {
+  std::string doc = "\n\nKeywords (`nsmodal.settings()` lists them with their scene keys and flags):\n";
+  for (const Setting<Options>& s : table.settings()) {
+    const SettingInfo& i = s.info;
+    if (i.python.empty() || !i.Takes(command)) continue;
+    doc += "  " + i.python + " (" + ToString(i.kind) + (i.unit.empty() ? "" : ", " + i.unit) + "; default " +
+           FormatSettingValue(table.Default(s)) + "): " + i.doc + "\n";
+  }
+  return doc;
 }
 
 StabilityPolicy PolicyOf(const std::string& name) {
@@ -615,25 +683,41 @@ periods T* where a 1-ipp orbit has a Floquet multiplier at -1) and "notes".)doc"
 period T, or of the 2-ipp orbit at the root (t2, T): eigenvalues of the
 monodromy with the impact saltation matrices. Two are the trivial pair at 1.)doc");
 
+  static const std::string simulate_doc =
+      R"doc(simulate(model, x0=None, v0=None, **settings)
+
+Simulate one initial condition, any restitution 0 <= e <= 1.
+
+integrator: "exact" (closed-form flight, guaranteed impact search; root_tol),
+"cvode" (SUNDIALS CVODE with root finding; rtol, atol, method "adams"|"bdf")
+or "moreau-jean" (time-stepping; step, theta). v0 defaults to rest. modes or
+contact_tolerance: run on the first linear modes (modal truncation), every
+state reported on the N dofs.
+
+Returns the dict of summary.json ("status", "final_time", "final_state",
+"impacts", "grazes", "zeno_events", "sticking_time", "energy_drift",
+"settings", "settings_source", ...) plus "trajectory" (arrays "t",
+"x1".."xN", "v1".."vN", "energy", every sample_dt) and "impact_log" (arrays
+"t", "x1_before".., "x1_after"..), and "truncation" when modes were dropped.
+A run that stopped early has "status" != "finished" and says why in
+"message".)doc" + KeywordDoc(SimulateSettings(), "simulate");
   mod.def(
       "simulate",
-      [](const Model& model, const std::vector<double>& x0, std::optional<std::vector<double>> v0, Real<"t_end"> t_end,
-         const std::string& integrator, Real<"rtol"> rtol, Real<"atol"> atol, const std::string& method,
-         Real<"step"> step, Real<"theta"> theta, Real<"root_tol"> root_tol, Real<"sample_dt"> sample_dt) {
-        SimulateOptions opt;
-        opt.integrator = ParseIntegrator(integrator, "integrator");
-        opt.t_end = t_end;
-        opt.rtol = rtol;
-        opt.atol = atol;
-        opt.cvode_method = method;
-        opt.step = step;
-        opt.theta = theta;
-        opt.root_tol = root_tol;
-        opt.sample_dt = sample_dt;
-        opt.Validate(FieldNames());  // errors name the keyword: "rtol", not "simulate.rtol"
+      [](const Model& model, const py::args& args, const py::kwargs& kwargs) {
+        // x0 and v0 may come by position, as before the settings table.
+        py::kwargs all = kwargs;
+        const char* positional[] = {"x0", "v0"};
+        if (args.size() > 2) throw py::type_error("simulate() takes at most 3 positional arguments (model, x0, v0)");
+        for (std::size_t i = 0; i < args.size(); ++i) {
+          if (all.contains(positional[i])) {
+            throw py::type_error(std::string("simulate() got multiple values for argument '") + positional[i] + "'");
+          }
+          all[positional[i]] = args[i];
+        }
+        const SettingPatch keywords = KeywordPatch(SimulateSettings(), "simulate", all);
+        const Configured<SimulationRequest> request = SimulateSettings().Resolve({&keywords});
+        const SimulationPlan plan = PlanSimulation(model, request);
         const int n = model.dofs();
-        const Eigen::VectorXd x = VectorOf(x0);
-        const Eigen::VectorXd v = v0 ? VectorOf(*v0) : Eigen::VectorXd::Zero(n);
         std::vector<report::Sample> samples;
         std::vector<ContactEvent> impacts;
         SimulationObserver obs;
@@ -642,75 +726,84 @@ monodromy with the impact saltation matrices. Two are the trivial pair at 1.)doc
         SimulationSummary s;
         {
           py::gil_scoped_release release;
-          s = Simulate(model, x, v, opt, obs);
+          s = RunSimulation(model, plan, request.options.options, obs);
         }
-        py::dict d = ToPython(report::SimulationJson(s, opt));
+        py::dict d = ToPython(report::SimulationJson(s, request));
+        if (plan.truncation) d["truncation"] = ToPython(report::TruncationJson(*plan.truncation, plan.initial_energy));
         d["trajectory"] = TableDict(report::TrajectoryColumns(n), Pointers(samples));
         d["impact_log"] = TableDict(report::ImpactColumns(n), Pointers(impacts));
         return d;
       },
-      py::arg("model"), py::arg("x0"), py::arg("v0") = py::none(), py::arg("t_end") = 100.0,
-      py::arg("integrator") = "exact", py::arg("rtol") = 1e-10, py::arg("atol") = 1e-12, py::arg("method") = "adams",
-      py::arg("step") = 1e-3, py::arg("theta") = 0.5, py::arg("root_tol") = 1e-14, py::arg("sample_dt") = 0.01,
-      R"doc(Simulate one initial condition, any restitution 0 <= e <= 1.
+      py::arg("model"), simulate_doc.c_str());
 
-integrator: "exact" (closed-form flight, guaranteed impact search; root_tol),
-"cvode" (SUNDIALS CVODE with root finding; rtol, atol, method "adams"|"bdf")
-or "moreau-jean" (time-stepping; step, theta). v0 defaults to rest.
+  static const std::string validate_doc =
+      R"doc(validate(model, period=None, **settings)
 
-Returns the dict of summary.json ("status", "final_time", "final_state",
-"impacts", "grazes", "zeno_events", "sticking_time", "energy_drift", ...) plus
-"trajectory" (arrays "t", "x1".."xN", "v1".."vN", "energy", every sample_dt)
-and "impact_log" (arrays "t", "x1_before".., "x1_after"..).
-A run that stopped early has "status" != "finished" and says why in "message".)doc");
-
-  mod.def(
-      "validate",
-      [](const Model& model, const py::object& period, const std::vector<Integer<"impacts">>& impacts_arg,
-         Integer<"periods"> periods, const std::vector<std::string>& integrators, Real<"rtol"> rtol, Real<"atol"> atol,
-         Real<"step"> step, Integer<"threads"> threads) {
-        CheckThreads(threads, "threads");
-        const std::vector<int> impacts(impacts_arg.begin(), impacts_arg.end());
-        const AnalysisBasis b(model);
-        const PeriodGrid grid = GridOf(period);
-        ValidateOptions opt;
-        opt.periods = periods;
-        opt.integrators.clear();
-        for (const std::string& name : integrators) opt.integrators.push_back(ParseIntegrator(name, "integrators"));
-        opt.simulate.rtol = rtol;
-        opt.simulate.atol = atol;
-        opt.simulate.step = step;
-        opt.threads = threads;
-        opt.Validate(FieldNames());
-        std::vector<OrbitValidation> results;
-        ValidationReport report;
-        {
-          py::gil_scoped_release release;
-          SweepOptions so;
-          so.stability = StabilityPolicy::kNone;
-          so.threads = threads;
-          const std::vector<Orbit> orbits = PotentialOrbits(b, grid, impacts, so);
-          results = ValidateOrbits(model, orbits, opt);
-          report = SummarizeValidation(results, opt, static_cast<long>(orbits.size()));
-        }
-        py::dict d;
-        d["rows"] = TableDict(report::ValidationColumns(), Pointers(results));
-        d["summary"] = ToPython(report::ValidationJson(report, results));
-        return d;
-      },
-      py::arg("model"), py::arg("period"), py::arg("impacts") = std::vector<int>{1, 2}, py::arg("periods") = 1000,
-      py::arg("integrators") = std::vector<std::string>{"exact"}, py::arg("rtol") = ValidateOptions::Defaults().rtol,
-      py::arg("atol") = ValidateOptions::Defaults().atol, py::arg("step") = ValidateOptions::Defaults().step,
-      py::arg("threads") = 0,
-      R"doc(Validate the potential 1- and/or 2-ipp orbits of a grid by long simulations.
+Validate the potential 1- and/or 2-ipp orbits of a grid by long simulations.
+period: (from, to, step), "FROM:TO:STEP" or one value.
 
 Returns {"rows": arrays keyed as validation.csv, one per orbit and
-integrator, "summary": the dict of validate's summary.json, with "passed"}.
-A quantity that does not apply to a row is NaN in its float column (an empty
-CSV field: "impact_time_error" when the first period did not have the
-predicted number of impacts, "t2" for one impact, the manifold and
-perturbation columns of orbits not run that way), None in the summary; no
-value is ever inf or NaN.)doc");
+integrator, "summary": the dict of validate's summary.json, with "passed"
+and the settings blocks}. A quantity that does not apply to a row is NaN in
+its float column (an empty CSV field: "impact_time_error" when the first
+period did not have the predicted number of impacts, "t2" for one impact,
+the manifold and perturbation columns of orbits not run that way), None in
+the summary; no value is ever inf or NaN.)doc" + KeywordDoc(ValidateSettings(), "validate");
+  mod.def(
+      "validate",
+      [](const Model& model, const py::args& args, const py::kwargs& kwargs) {
+        py::kwargs all = kwargs;
+        if (args.size() > 1) throw py::type_error("validate() takes at most 2 positional arguments (model, period)");
+        if (args.size() == 1) {
+          if (all.contains("period")) throw py::type_error("validate() got multiple values for argument 'period'");
+          all["period"] = args[0];
+        }
+        // A period given as a number or (from, to, step): the grid's text, which
+        // reads back exactly (FormatValue: 17 significant digits).
+        const SettingPatch keywords = KeywordPatch(
+            ValidateSettings(), "validate", all, [](const std::string& keyword, py::handle h) -> std::optional<SettingValue> {
+              if (keyword != "period" || py::isinstance<py::str>(h)) return std::nullopt;
+              const PeriodGrid g = GridOf(py::reinterpret_borrow<py::object>(h));
+              return FormatValue(g.from) + ":" + FormatValue(g.to) + ":" + FormatValue(g.step);
+            });
+        const Configured<ValidationRequest> request = ValidateSettings().Resolve({&keywords});
+        const AnalysisBasis b(model);
+        const ValidationPlan plan = PlanValidation(b, request);
+        GridValidation v;
+        {
+          py::gil_scoped_release release;
+          v = RunValidation(model, b, plan, {}, request.names);
+        }
+        py::dict d;
+        d["rows"] = TableDict(report::ValidationColumns(), Pointers(v.results));
+        d["summary"] = ToPython(report::ValidationJson(v.report, v.results, request));
+        return d;
+      },
+      py::arg("model"), validate_doc.c_str());
+
+  mod.def(
+      "settings", [] { return ToPython(report::SettingsReferenceJson()); },
+      R"doc(Every setting of simulate and validate, as `nsmodal settings --json` prints
+them: a list of dicts with the keys name, scene_key, flag, python, kind,
+default, unit, doc and commands.)doc");
+
+  mod.def(
+      "load_settings",
+      [](const std::string& path) {
+        const Scene scene = LoadScene(path, "path");
+        py::dict out;
+        auto keywords = [](const auto& table, const SettingPatch& patch) {
+          py::dict d;
+          for (const auto& [name, given] : patch) d[py::str(table.Find(name)->info.python)] = ToPython(report::SettingValueJson(given.value));
+          return d;
+        };
+        out["simulate"] = keywords(SimulateSettings(), scene.simulate);
+        out["validate"] = keywords(ValidateSettings(), scene.validate);
+        return out;
+      },
+      py::arg("path"),
+      R"doc(The settings a scene file's [simulate] and [validate] tables give, as keyword
+dicts: simulate(model, **load_settings(path)["simulate"]).)doc");
 
   mod.def(
       "response",

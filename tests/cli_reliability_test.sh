@@ -89,7 +89,7 @@ expect_error "\\-\\-sample-dt" t "$bin" simulate "$sim" --t-end 1e6 --sample-dt 
 expect_error "\-\-period" t "$bin" orbits "$paper" --period 1:1e8:1 --out "$tmp/grid"
 x0=$(seq 1 1500 | tr '\n' ' ')
 # shellcheck disable=SC2086
-expect_error "initial_position" t "$bin" simulate "$sim" --x0 $x0 --out "$tmp/x0"
+expect_error "^error: --x0" t "$bin" simulate "$sim" --x0 $x0 --out "$tmp/x0"
 
 # 6. Issue 29 item 4: analyses within the documented limits that never ended.
 #    Each now answers within `timeout 20`: a result (exit 0, the result file)

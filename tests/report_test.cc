@@ -113,7 +113,7 @@ TEST(Tables, ANonAdmissibleOrbitsValidationRowHasNoInfOrNan) {
   ASSERT_TRUE(ok.impact_time_error.has_value());
   EXPECT_LT(*ok.impact_time_error, 1e-9);
   const ValidationReport report = SummarizeValidation({v, ok}, opt, 2);
-  EXPECT_NE(report::ValidationJson(report, {v, ok}).dump().find("\"passed\":true"), std::string::npos);
+  EXPECT_NE(report::ValidationJson(report, {v, ok}, ValidateSettings().Resolve({})).dump().find("\"passed\":true"), std::string::npos);
 }
 
 // `nsmodal response configs/forced.toml --frequency 0.4:1.0:0.05 --validate 3`:

@@ -388,3 +388,53 @@ def test_a_bool_is_not_a_number(paper):
 def test_a_path_with_a_nul_is_refused():
     with pytest.raises(ValueError, match=r"^path: '.*paper.toml\\x00x' holds a NUL"):
         nsmodal.load_scene(PAPER + "\x00x")
+
+
+# One declaration per setting (issue 23): every keyword of nsmodal.settings()
+# is taken by the function it lists, and the summary says it came from a
+# keyword. Fails when the Python face lacks a setting of the table.
+SAMPLES = {"integrator": "cvode", "method": "bdf", "modes": 2, "contact_tolerance": 1e-3, "x0": [0.5, 0.0],
+           "v0": [0.0, 0.1], "period": 5.0, "impacts": [1], "periods": 2, "integrators": ["exact"], "threads": 1}
+
+
+def test_every_setting_is_a_keyword_of_its_function(paper):
+    settings = nsmodal.settings()
+    assert {s["name"] for s in settings} >= {"rtol", "atol", "step", "root_tol", "modes", "contact_tolerance"}
+    for s in settings:
+        if s["python"] is None:
+            continue
+        value = SAMPLES.get(s["python"], s["default"])
+        if "simulate" in s["commands"] and s["scene_key"].startswith("simulate."):
+            kw = {"x0": [0.5, 0.0], "t_end": 1.0, "sample_dt": 0.0}
+            kw[s["python"]] = value
+            if s["python"] == "contact_tolerance":
+                kw["x0"] = [0.5, 0.0]
+            r = nsmodal.simulate(paper, **kw)
+        else:
+            kw = {"period": 5.0, "impacts": [1], "periods": 2}
+            kw[s["python"]] = value
+            r = nsmodal.validate(paper, **kw)["summary"]
+        assert r["settings_source"][s["name"]] == "keyword", s["name"]
+
+
+def test_an_unknown_keyword_is_a_type_error_naming_it(paper):
+    with pytest.raises(TypeError, match="rtoll"):
+        nsmodal.simulate(paper, x0=[0, 0], rtoll=1e-8)
+    with pytest.raises(TypeError, match="theta"):
+        nsmodal.validate(paper, period=5.0, theta=0.5)  # a simulate setting validate does not take
+
+
+def test_simulate_on_kept_modes_from_python():
+    chain = nsmodal.Model(masses=[1.0] * 6, springs=[1.0] * 6, gap=0.5, restitution=1.0)
+    s = nsmodal.simulate(chain, x0=[0.0] * 6, v0=[0.0] * 5 + [1.0], t_end=5.0, modes=3)
+    assert s["truncation"]["kept"] == 3 and len(s["final_state"]) == 12
+    with pytest.raises(ValueError, match="modes"):
+        nsmodal.simulate(chain, x0=[0.0] * 6, modes=3, contact_tolerance=1e-3)
+
+
+def test_load_settings_feeds_simulate():
+    sim = os.path.join(SRC, "configs", "paper-simulate.toml")
+    kw = nsmodal.load_settings(sim)["simulate"]
+    assert "x0" in kw
+    s = nsmodal.simulate(nsmodal.load_scene(sim), **dict(kw, t_end=1.0, sample_dt=0.0))
+    assert s["status"] == "finished"

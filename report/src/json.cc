@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
+#include <variant>
 
 namespace nsmodal::report {
 namespace {
@@ -62,7 +64,8 @@ nlohmann::json OrbitJson(const OrbitRecord& record) {
   return Checked(std::move(j), "orbit");
 }
 
-nlohmann::json SimulationJson(const SimulationSummary& s, const SimulateOptions& opt) {
+nlohmann::json SimulationJson(const SimulationSummary& s, const Configured<SimulationRequest>& request) {
+  const SimulateOptions& opt = request.options.options;
   nlohmann::json j;
   j["integrator"] = ToString(opt.integrator);
   j["status"] = ToString(s.status);
@@ -81,8 +84,7 @@ nlohmann::json SimulationJson(const SimulationSummary& s, const SimulateOptions&
   j["wall_time_s"] = s.wall_time_s;
   j["steps"] = s.steps;
   j["sweep_steps"] = s.sweep_steps;  // exact, from 8 modes on: the impact search's grid steps
-  j["settings"] = {{"t_end", opt.t_end}, {"rtol", opt.rtol}, {"atol", opt.atol}, {"method", opt.cvode_method},
-                   {"step", opt.step}, {"theta", opt.theta}, {"root_tol", opt.root_tol}, {"sample_dt", opt.sample_dt}};
+  WriteSettings(j, SimulateSettings(), request);
   return Checked(std::move(j), "simulation summary");
 }
 
@@ -97,7 +99,8 @@ nlohmann::json TruncationJson(const ModalTruncation& t, double energy) {
                  "truncation");
 }
 
-nlohmann::json ValidationJson(const ValidationReport& report, const std::vector<OrbitValidation>& results) {
+nlohmann::json ValidationJson(const ValidationReport& report, const std::vector<OrbitValidation>& results,
+                              const Configured<ValidationRequest>& request) {
   auto describe = [&](std::size_t i) {
     const OrbitValidation& v = results[i];
     return nlohmann::json{{"T", v.orbit.period},
@@ -129,7 +132,66 @@ nlohmann::json ValidationJson(const ValidationReport& report, const std::vector<
                        {"unstable_orbits_rated", report.unstable_rated},
                        {"unstable_rate_within_5_percent", report.unstable_within_tolerance},
                        {"unstable_worst_relative_rate_error", report.unstable_worst_rate_error}};
+  WriteSettings(j, ValidateSettings(), request);
   return Checked(std::move(j), "validation summary");
+}
+
+nlohmann::json SettingValueJson(const SettingValue& value) {
+  return std::visit(
+      [](const auto& v) -> nlohmann::json {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) {
+          return nullptr;
+        } else {
+          return v;
+        }
+      },
+      value);
+}
+
+namespace {
+
+nlohmann::json TextOrNull(const std::string& s) { return s.empty() ? nlohmann::json() : nlohmann::json(s); }
+
+template <class Options>
+void AddReference(nlohmann::json& list, const SettingTable<Options>& table) {
+  for (const Setting<Options>& s : table.settings()) {
+    const SettingInfo& i = s.info;
+    list.push_back({{"name", i.name},
+                    {"scene_key", TextOrNull(table.SceneField(i))},
+                    {"flag", TextOrNull(i.flag)},
+                    {"python", TextOrNull(i.python)},
+                    {"kind", ToString(i.kind)},
+                    {"default", SettingValueJson(table.Default(s))},
+                    {"unit", i.unit},
+                    {"doc", i.doc},
+                    {"commands", i.commands}});
+  }
+}
+
+}  // namespace
+
+nlohmann::json SettingsReferenceJson() {
+  nlohmann::json list = nlohmann::json::array();
+  AddReference(list, SimulateSettings());
+  AddReference(list, ValidateSettings());
+  return Checked(std::move(list), "settings");
+}
+
+void PrintSettingsReference(std::ostream& out) {
+  const nlohmann::json list = SettingsReferenceJson();
+  auto text = [](const nlohmann::json& v) { return v.is_null() ? std::string("-") : v.is_string() ? v.get<std::string>() : v.dump(); };
+  bool first = true;
+  for (const nlohmann::json& s : list) {
+    if (!first) out << "\n";
+    first = false;
+    std::string commands;
+    for (const auto& c : s["commands"]) commands += (commands.empty() ? "" : ", ") + c.get<std::string>();
+    out << s["name"].get<std::string>() << "  (" << s["kind"].get<std::string>()
+        << (s["unit"].get<std::string>().empty() ? "" : ", " + s["unit"].get<std::string>()) << ")\n"
+        << "  " << s["doc"].get<std::string>() << "\n"
+        << "  default " << text(s["default"]) << "; scene key " << text(s["scene_key"]) << "; flag " << text(s["flag"])
+        << "; Python keyword " << text(s["python"]) << "; commands: " << commands << "\n";
+  }
 }
 
 }  // namespace nsmodal::report

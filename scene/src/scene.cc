@@ -15,6 +15,8 @@
 #include <toml++/toml.h>
 
 #include "nsmodal/error.h"
+#include "nsmodal/simulate_settings.h"
+#include "nsmodal/validate_settings.h"
 
 namespace nsmodal {
 namespace {
@@ -149,6 +151,68 @@ BarSpec ReadBar(const toml::node& node) {
   return bar;
 }
 
+// A whole number of a list or a setting (the range is the options' to check).
+long ReadInteger(const toml::node& node, const std::string& field) {
+  const double x = ReadNumber(node, field);
+  // Range first: casting a non-finite or huge value to an integer is undefined.
+  if (!(std::abs(x) <= 9.007199254740992e15) || x != std::floor(x)) {
+    throw InputError(field, "must be an integer, got " + FormatValue(x));
+  }
+  return static_cast<long>(x);
+}
+
+std::string ReadText(const toml::node& node, const std::string& field) {
+  const auto* str = node.as_string();
+  if (str == nullptr) throw InputError(field, "must be a string");
+  return str->get();
+}
+
+const toml::array& ReadArray(const toml::node& node, const std::string& field) {
+  const toml::array* arr = node.as_array();
+  if (arr == nullptr) throw InputError(field, "must be an array");
+  return *arr;
+}
+
+// A value of the setting's kind.
+SettingValue ReadSetting(const toml::node& node, SettingKind kind, const std::string& field) {
+  switch (kind) {
+    case SettingKind::kReal: return ReadNumber(node, field);
+    case SettingKind::kInteger: return ReadInteger(node, field);
+    case SettingKind::kText: return ReadText(node, field);
+    case SettingKind::kRealList: return ReadVector(node, field);
+    case SettingKind::kIntegerList: {
+      std::vector<long> out;
+      const toml::array& arr = ReadArray(node, field);
+      for (std::size_t i = 0; i < arr.size(); ++i) out.push_back(ReadInteger(*arr.get(i), field + "[" + std::to_string(i + 1) + "]"));
+      return out;
+    }
+    case SettingKind::kTextList: {
+      std::vector<std::string> out;
+      const toml::array& arr = ReadArray(node, field);
+      for (std::size_t i = 0; i < arr.size(); ++i) out.push_back(ReadText(*arr.get(i), field + "[" + std::to_string(i + 1) + "]"));
+      return out;
+    }
+  }
+  throw InputError(field, "has a kind no reader knows");
+}
+
+// A settings table ([simulate], [validate]) by its keys (settings.h): each
+// value of its setting's kind, named by its scene key.
+template <class Options>
+SettingPatch ReadSettings(const toml::node& node, const SettingTable<Options>& settings) {
+  const toml::table* table = node.as_table();
+  if (table == nullptr) throw InputError(settings.section(), "must be a table");
+  SettingPatch patch;
+  for (auto&& [key, value] : *table) {
+    const std::string k(key.str());
+    const std::string field = settings.section() + "." + k;
+    const Setting<Options>* s = settings.FindSceneKey(k);
+    if (s == nullptr) throw InputError(field, "is not a known key (`nsmodal settings` lists them)");
+    patch[s->info.name] = {ReadSetting(value, s->info.kind, field), field, SettingSource::kScene};
+  }
+  return patch;
+}
+
 }  // namespace
 
 Scene ParseScene(const std::string& toml_text, const std::string& source) {
@@ -220,77 +284,8 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
   if (const toml::node* node = root.get("forcing")) ReadForcing(*node, model);
   Validate(model);
   Scene scene{source, model, {}, {}};
-  if (const toml::node* node = root.get("simulate")) {
-    const toml::table* sim = node->as_table();
-    if (sim == nullptr) throw InputError("simulate", "must be a table");
-    SimulateSection& out = scene.simulate;
-    // Numeric keys, each with the member it fills.
-    const std::pair<const char*, std::optional<double> SimulateSection::*> numbers[] = {
-        {"t_end", &SimulateSection::t_end}, {"rtol", &SimulateSection::rtol},
-        {"atol", &SimulateSection::atol},   {"step", &SimulateSection::step},
-        {"theta", &SimulateSection::theta}, {"root_tol", &SimulateSection::root_tol},
-        {"sample_dt", &SimulateSection::sample_dt}, {"modes", &SimulateSection::modes},
-        {"contact_tolerance", &SimulateSection::contact_tolerance}};
-    for (auto&& [key, value] : *sim) {
-      const std::string k(key.str());
-      const std::string field = "simulate." + k;
-      bool known = false;
-      for (const auto& [name, member] : numbers) {
-        if (k == name) {
-          out.*member = ReadNumber(value, field);
-          known = true;
-        }
-      }
-      if (known) continue;
-      if (k == "initial_position") {
-        out.initial_position = ReadVector(value, field);
-      } else if (k == "initial_velocity") {
-        out.initial_velocity = ReadVector(value, field);
-      } else if (k == "integrator" || k == "method") {
-        const auto* str = value.as_string();
-        if (str == nullptr) throw InputError(field, "must be a string");
-        (k == "integrator" ? out.integrator : out.method) = str->get();
-      } else {
-        throw InputError(field, "is not a known key");
-      }
-    }
-  }
-  if (const toml::node* node = root.get("validate")) {
-    const toml::table* val = node->as_table();
-    if (val == nullptr) throw InputError("validate", "must be a table");
-    for (auto&& [key, value] : *val) {
-      const std::string k(key.str());
-      const std::string field = "validate." + k;
-      if (k == "period") {
-        const auto* str = value.as_string();
-        if (str == nullptr) throw InputError(field, "must be a string FROM:TO:STEP");
-        scene.validate.period = str->get();
-      } else if (k == "periods") {
-        const double p = ReadNumber(value, field);
-        if (p != std::floor(p) || p < 1 || p > 1e8) throw InputError(field, "must be an integer in [1, 1e8], got " + FormatValue(p));
-        scene.validate.periods = static_cast<int>(p);
-      } else if (k == "impacts") {
-        std::vector<int> list;
-        for (double x : ReadVector(value, field)) {
-          if (x != 1 && x != 2) throw InputError(field, "entries must be 1 or 2, got " + FormatValue(x));
-          list.push_back(static_cast<int>(x));
-        }
-        scene.validate.impacts = list;
-      } else if (k == "integrators") {
-        const toml::array* arr = value.as_array();
-        if (arr == nullptr) throw InputError(field, "must be an array of strings");
-        std::vector<std::string> list;
-        for (std::size_t i = 0; i < arr->size(); ++i) {
-          const auto* str = arr->get(i)->as_string();
-          if (str == nullptr) throw InputError(field, "entry " + std::to_string(i + 1) + " must be a string");
-          list.push_back(str->get());
-        }
-        scene.validate.integrators = list;
-      } else {
-        throw InputError(field, "is not a known key");
-      }
-    }
-  }
+  if (const toml::node* node = root.get("simulate")) scene.simulate = ReadSettings(*node, SimulateSettings());
+  if (const toml::node* node = root.get("validate")) scene.validate = ReadSettings(*node, ValidateSettings());
   for (auto&& [key, value] : root) {
     if (key.str() != "system" && key.str() != "simulate" && key.str() != "validate" && key.str() != "forcing") {
       throw InputError(std::string(key.str()), "is not a known table");

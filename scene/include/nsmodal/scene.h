@@ -19,55 +19,29 @@
 //   constant = [0.0, 0.0]      # f0, length N (preload, gravity)
 //
 //   [simulate]                 # optional; the simulate command's flags override it
-//   initial_position = [0.0, 0.5]   # length N
-//   initial_velocity = [0.0, 1.0]   # length N
-//   t_end = 100.0
-//   integrator = "exact"       # exact, cvode, moreau-jean
-//   rtol = 1e-10               # cvode
-//   atol = 1e-12               # cvode
-//   method = "bdf"             # cvode: bdf or adams
-//   step = 1e-3                # moreau-jean
-//   theta = 0.5                # moreau-jean
-//   root_tol = 1e-14           # exact
-//   sample_dt = 0.01           # trajectory output
+//   initial_position = [0.0, 0.5]   # every key: `nsmodal settings`
+//   integrator = "exact"
 //
 //   [validate]                 # optional; the validate command's flags override it
-//   period = "2:20:0.5"        # FROM:TO:STEP
-//   impacts = [1, 2]
-//   periods = 1000
-//   integrators = ["exact", "cvode"]
+//   period = "2:20:0.5"        # every key: `nsmodal settings`
 #include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "nsmodal/model.h"
+#include "nsmodal/settings.h"
 
 namespace nsmodal {
 
-// The [simulate] table as written; values are checked by the simulator.
-struct SimulateSection {
-  std::optional<std::vector<double>> initial_position, initial_velocity;
-  std::optional<double> t_end, rtol, atol, step, theta, root_tol, sample_dt;
-  std::optional<std::string> integrator, method;
-  // Modal truncation (truncation.h): keep this many modes, or the fewest
-  // whose bound on the neglected share of x_c is at most contact_tolerance
-  // (m) at the initial energy.
-  std::optional<double> modes, contact_tolerance;
-};
-
-struct ValidateSection {
-  std::optional<std::string> period;
-  std::optional<std::vector<int>> impacts;
-  std::optional<int> periods;
-  std::optional<std::vector<std::string>> integrators;
-};
-
+// A scene: the model, and the settings its [simulate] and [validate]
+// tables give (settings.h: keys from simulate_settings.h's and
+// validate_settings.h's tables, each value with the key it came from).
 struct Scene {
   std::string source;  // file name, for messages
   Model model;
-  SimulateSection simulate;
-  ValidateSection validate;
+  SettingPatch simulate;
+  SettingPatch validate;
 };
 
 // The largest scene file read: 16 MiB. A chain or a bar of kMaxDofs dofs is

@@ -51,8 +51,6 @@ struct ValidateOptions {
   SimulateOptions simulate = Defaults();
   static SimulateOptions Defaults() {
     SimulateOptions o;
-    o.rtol = 1e-10;
-    o.atol = 1e-12;
     o.step = 1e-4;
     return o;
   }
