@@ -71,6 +71,11 @@ class CMakeBuild(build_ext):
 
 setup(
     version=cmake_project_version(),
+    # The package is the one extension module; no Python packages (and no
+    # discovery among the C++ folders). Said here rather than in pyproject.toml's
+    # [tool.setuptools], which setuptools 66 still calls beta and warns about.
+    packages=[],
+    py_modules=[],
     ext_modules=[CMakeExtension("nsmodal")],
     cmdclass={"build_ext": CMakeBuild},
     # Beside CMake's own build/ tree, not inside the CMake cache's directory.
