@@ -7,7 +7,9 @@
 #   docstrings give the Python reference. Default: build/python. When it is given
 #   explicitly it must import; when the default does not exist or does not
 #   import, the site is built without the Python reference (its page says so).
-# Environment: DOCS_TIMEOUT (seconds, default 300), DOCS_OUT (default build/docs).
+# Environment: DOCS_TIMEOUT (seconds, default 300), DOCS_OUT (default build/docs),
+# NSMODAL_BIN (default build/cli/nsmodal: its `settings --json` makes the
+# settings reference page; required when MODULE_DIR is given).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -37,6 +39,18 @@ elif [ "$explicit" -eq 1 ]; then
   fail "$module_dir: no such directory (the built module's directory, e.g. build/python)"
 fi
 [ -n "$pythonpath" ] || echo "docs: no importable module in $module_dir: building without the Python reference"
+
+# The settings reference page is made from `nsmodal settings --json` (the one
+# settings table): the built command, as the module is the built one.
+nsmodal_bin=${NSMODAL_BIN:-$root/build/cli/nsmodal}
+if [ -x "$nsmodal_bin" ]; then
+  export NSMODAL_BIN=$nsmodal_bin
+elif [ "$explicit" -eq 1 ]; then
+  fail "$nsmodal_bin: no built nsmodal command (build the project first, or set NSMODAL_BIN)"
+else
+  echo "docs: no built nsmodal command: building without the settings reference"
+  export NSMODAL_BIN=""
+fi
 
 rm -rf "$out/html" "$out/doctrees"
 mkdir -p "$out"

@@ -7,6 +7,9 @@ full. scripts/docs.sh decides which is acceptable (it fails when it was given a
 module directory that does not import).
 """
 import importlib
+import json
+import os
+import subprocess
 
 from docutils import nodes
 from docutils.parsers.rst import Directive
@@ -55,7 +58,67 @@ def _docstring_as_written(app, what, name, obj, options, lines):
     lines[:] = ["::", ""] + [("   " + line) if line else "" for line in text] + [""]
 
 
+def _settings_or_reason():
+    """The settings table as `nsmodal settings --json` prints it (NSMODAL_BIN,
+    set by scripts/docs.sh to the built command), or why it is not there."""
+    binary = os.environ.get("NSMODAL_BIN", "")
+    if not binary or not os.access(binary, os.X_OK):
+        return None, "no built nsmodal command (NSMODAL_BIN)"
+    done = subprocess.run([binary, "settings", "--json"], capture_output=True, text=True, timeout=60, check=False)
+    if done.returncode != 0:
+        raise RuntimeError(f"{binary} settings --json failed ({done.returncode}): {done.stderr.strip()}")
+    return json.loads(done.stdout), None
+
+
+def _cell(value):
+    if value is None:
+        return "-"
+    return value if isinstance(value, str) else json.dumps(value)
+
+
+class SettingsTable(Directive):
+    """The reference of every setting, made from the one settings table (issue 23)."""
+    has_content = False
+
+    def run(self):
+        settings, reason = _settings_or_reason()
+        if settings is None:
+            note = nodes.note()
+            note += nodes.paragraph(text=f"This copy was built without the settings table ({reason}): "
+                                    "`nsmodal settings` prints it; `bash scripts/docs.sh` includes it here.")
+            return [note]
+        out = []
+        for command in ("simulate", "validate"):
+            rows = [s for s in settings if s["scene_key"] is None or s["scene_key"].startswith(command + ".")
+                    if command in s["commands"]]
+            section = nodes.section(ids=[f"settings-{command}"])
+            section += nodes.title(text=f"{command}")
+            table = nodes.table()
+            group = nodes.tgroup(cols=7)
+            table += group
+            for width in (12, 18, 14, 12, 12, 8, 40):
+                group += nodes.colspec(colwidth=width)
+            head = nodes.thead()
+            group += head
+            header = nodes.row()
+            for title in ("name", "scene key", "flag", "Python", "default", "unit", "meaning"):
+                header += nodes.entry("", nodes.paragraph(text=title))
+            head += header
+            body = nodes.tbody()
+            group += body
+            for s in rows:
+                row = nodes.row()
+                for value in (s["name"], s["scene_key"], s["flag"], s["python"], s["default"], s["unit"] or None,
+                              f"{s['doc']} ({s['kind']})"):
+                    row += nodes.entry("", nodes.paragraph(text=_cell(value)))
+                body += row
+            section += table
+            out.append(section)
+        return out
+
+
 def setup(app):
     app.add_directive("nsmodal-python-api", PythonApi)
+    app.add_directive("nsmodal-settings", SettingsTable)
     app.connect("autodoc-process-docstring", _docstring_as_written)
     return {"parallel_read_safe": True, "parallel_write_safe": True}
