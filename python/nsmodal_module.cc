@@ -689,7 +689,7 @@ monodromy with the impact saltation matrices. Two are the trivial pair at 1.)doc
 Simulate one initial condition, any restitution 0 <= e <= 1.
 
 integrator: "exact" (closed-form flight, guaranteed impact search; root_tol),
-"cvode" (SUNDIALS CVODE with root finding; rtol, atol, method "adams"|"bdf")
+"cvode" (SUNDIALS CVODE with root finding; its tolerances, method "adams"|"bdf")
 or "moreau-jean" (time-stepping; step, theta). v0 defaults to rest. modes or
 contact_tolerance: run on the first linear modes (modal truncation), every
 state reported on the N dofs.

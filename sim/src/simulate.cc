@@ -5,6 +5,7 @@
 
 #include "integrators.h"
 #include "nsmodal/error.h"
+#include "nsmodal/simulate_settings.h"
 
 namespace nsmodal {
 
@@ -35,31 +36,21 @@ Integrator ParseIntegrator(const std::string& name, const std::string& field) {
 }
 
 void SimulateOptions::Validate(const FieldNames& name) const {
-  auto positive = [&](double v, const char* key) {
-    const std::string field = name(key);
-    if (!(v > 0.0) || !std::isfinite(v)) throw InputError(field, "must be positive and finite, got " + FormatValue(v));
-  };
-  positive(t_end, "t_end");
-  if (!(sample_dt >= 0.0) || !std::isfinite(sample_dt)) {
-    throw InputError(name("sample_dt"), "must be >= 0 and finite, got " + FormatValue(sample_dt));
+  // Each setting's own range, from its declaration (simulate_settings.cc).
+  for (const Setting<SimulateOptions>& s : IntegratorSettings().settings()) {
+    if (s.check) s.check(s.get(*this), name(s.info.name));
   }
+  // Then the settings taken together.
   if (sample_dt > 0.0 && t_end / sample_dt > 1e7) {
     throw InputError(name("sample_dt"), "gives more than 1e7 samples over t_end = " + FormatValue(t_end));
   }
-  positive(root_tol, "root_tol");
-  if (root_tol >= 1e-3) throw InputError(name("root_tol"), "must be below 1e-3, got " + FormatValue(root_tol));
-  positive(rtol, "rtol");
-  positive(atol, "atol");
-  if (rtol < 1e-15) throw InputError(name("rtol"), "below 1e-15 is beyond double precision, got " + FormatValue(rtol));
-  if (cvode_method != "bdf" && cvode_method != "adams") {
-    throw InputError(name("method"), "must be bdf or adams, got '" + cvode_method + "'");
-  }
-  positive(step, "step");
   if (integrator == Integrator::kMoreauJean && t_end / step > 1e10) {
     throw InputError(name("step"), "gives more than 1e10 steps over t_end = " + FormatValue(t_end));
   }
-  if (!(theta >= 0.5 && theta <= 1.0)) throw InputError(name("theta"), "must lie in [0.5, 1], got " + FormatValue(theta));
-  positive(zeno_flight, "zeno_flight");
+  // And the two no face sets.
+  if (!(zeno_flight > 0.0) || !std::isfinite(zeno_flight)) {
+    throw InputError(name("zeno_flight"), "must be positive and finite, got " + FormatValue(zeno_flight));
+  }
   if (max_steps <= 0) throw InputError(name("max_steps"), "must be positive");
 }
 

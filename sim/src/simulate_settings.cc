@@ -1,5 +1,7 @@
 #include "nsmodal/simulate_settings.h"
 
+#include <cmath>
+#include <functional>
 #include <string>
 
 #include "nsmodal/error.h"
@@ -31,6 +33,19 @@ Setting<Options> OptionalIntegerSetting(SettingInfo info, std::optional<long> Op
           }};
 }
 
+// The ranges of the integrator's settings (SimulateOptions::Validate runs
+// them, then the checks that relate two settings).
+void Positive(const SettingValue& v, const std::string& field) {
+  const double x = RealOf(v);
+  if (!(x > 0.0) || !std::isfinite(x)) throw InputError(field, "must be positive and finite, got " + FormatValue(x));
+}
+
+template <class Options>
+Setting<Options> Checked(Setting<Options> s, std::function<void(const SettingValue&, const std::string&)> check) {
+  s.check = std::move(check);
+  return s;
+}
+
 const std::vector<std::string> kSimulate{"simulate"};
 const std::vector<std::string> kSimulateAndValidate{"simulate", "validate"};
 
@@ -47,25 +62,53 @@ const SettingTable<SimulateOptions>& IntegratorSettings() {
             kSimulate},
            [](const O& o) -> SettingValue { return ToString(o.integrator); },
            [](O& o, const SettingValue& v, const std::string& field) { o.integrator = ParseIntegrator(TextOf(v), field); }},
-          RealSetting<O>({"t_end", {}, "t_end", "--t-end", "t_end", "s", "Final time of the run", kSimulate}, &O::t_end),
-          RealSetting<O>({"rtol", {}, "rtol", "--rtol", "rtol", "",
+          Checked(RealSetting<O>({"t_end", {}, "t_end", "--t-end", "t_end", "s", "Final time of the run", kSimulate}, &O::t_end),
+                  Positive),
+          Checked(RealSetting<O>({"rtol", {}, "rtol", "--rtol", "rtol", "",
                           "CVODE's relative tolerance (at least 1e-15)", kSimulateAndValidate},
                          &O::rtol),
-          RealSetting<O>({"atol", {}, "atol", "--atol", "atol", "", "CVODE's absolute tolerance", kSimulateAndValidate},
+                  [](const SettingValue& v, const std::string& field) {
+                    Positive(v, field);
+                    if (RealOf(v) < 1e-15) {
+                      throw InputError(field, "below 1e-15 is beyond double precision, got " + FormatValue(RealOf(v)));
+                    }
+                  }),
+          Checked(RealSetting<O>({"atol", {}, "atol", "--atol", "atol", "", "CVODE's absolute tolerance", kSimulateAndValidate},
                          &O::atol),
-          TextSetting<O>({"method", {}, "method", "--method", "method", "", "CVODE's method: adams or bdf", kSimulate},
+                  Positive),
+          Checked(TextSetting<O>({"method", {}, "method", "--method", "method", "", "CVODE's method: adams or bdf", kSimulate},
                          &O::cvode_method),
-          RealSetting<O>({"step", {}, "step", "--step", "step", "s", "Moreau-Jean's time step", kSimulateAndValidate},
+                  [](const SettingValue& v, const std::string& field) {
+                    if (TextOf(v) != "bdf" && TextOf(v) != "adams") {
+                      throw InputError(field, "must be bdf or adams, got '" + TextOf(v) + "'");
+                    }
+                  }),
+          Checked(RealSetting<O>({"step", {}, "step", "--step", "step", "s", "Moreau-Jean's time step", kSimulateAndValidate},
                          &O::step),
-          RealSetting<O>({"theta", {}, "theta", "--theta", "theta", "", "Moreau-Jean's theta, in [0.5, 1]", kSimulate},
+                  Positive),
+          Checked(RealSetting<O>({"theta", {}, "theta", "--theta", "theta", "", "Moreau-Jean's theta, in [0.5, 1]", kSimulate},
                          &O::theta),
-          RealSetting<O>({"root_tol", {}, "root_tol", "--root-tol", "root_tol", "",
+                  [](const SettingValue& v, const std::string& field) {
+                    const double x = RealOf(v);
+                    if (!(x >= 0.5 && x <= 1.0)) throw InputError(field, "must lie in [0.5, 1], got " + FormatValue(x));
+                  }),
+          Checked(RealSetting<O>({"root_tol", {}, "root_tol", "--root-tol", "root_tol", "",
                           "The exact integrator's contact tolerance, relative to max(d, the amplitude of x_c)",
                           kSimulateAndValidate},
                          &O::root_tol),
-          RealSetting<O>({"sample_dt", {}, "sample_dt", "--sample-dt", "sample_dt", "s",
+                  [](const SettingValue& v, const std::string& field) {
+                    Positive(v, field);
+                    if (RealOf(v) >= 1e-3) throw InputError(field, "must be below 1e-3, got " + FormatValue(RealOf(v)));
+                  }),
+          Checked(RealSetting<O>({"sample_dt", {}, "sample_dt", "--sample-dt", "sample_dt", "s",
                           "Trajectory sampling interval (0: no trajectory)", kSimulate},
                          &O::sample_dt),
+                  [](const SettingValue& v, const std::string& field) {
+                    const double x = RealOf(v);
+                    if (!(x >= 0.0) || !std::isfinite(x)) {
+                      throw InputError(field, "must be >= 0 and finite, got " + FormatValue(x));
+                    }
+                  }),
       });
   return table;
 }

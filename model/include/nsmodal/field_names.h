@@ -1,7 +1,7 @@
 #pragma once
 // Where each option's value came from, so that an error names what the user
-// actually wrote: a flag ("--rtol"), a scene key ("simulate.rtol") or a
-// Python keyword ("rtol"). Options structs validate with a FieldNames; a key
+// actually wrote: a flag ("--t-end"), a scene key ("simulate.t_end") or a
+// Python keyword ("t_end"). Options structs validate with a FieldNames; a key
 // that was not given a name of its own is named prefix + key.
 #include <map>
 #include <string>

@@ -14,8 +14,8 @@
 // options (the struct's own initialiser: one declaration of the default too).
 //
 // Every value remembers where it came from: the default, the scene, a flag
-// or a Python keyword, and the name the user wrote for it ("--rtol",
-// "simulate.rtol", "rtol"), so that a refusal names what the user wrote.
+// or a Python keyword, and the name the user wrote for it ("--t-end",
+// "simulate.t_end", "t_end"), so that a refusal names what the user wrote.
 // Precedence: default < scene < flag or keyword.
 #include <functional>
 #include <limits>
@@ -45,11 +45,11 @@ std::string ToString(SettingSource source);  // default, scene, flag, keyword
 std::string FormatSettingValue(const SettingValue& value);
 
 struct SettingInfo {
-  std::string name;       // the member, the JSON key: "rtol"
+  std::string name;       // the member, the JSON key: "t_end"
   SettingKind kind = SettingKind::kReal;
-  std::string scene_key;  // the key in its scene table ("rtol" in [simulate]); empty: not in scenes
-  std::string flag;       // "--rtol"; empty: no flag
-  std::string python;     // the Python keyword ("rtol"); empty: not a keyword
+  std::string scene_key;  // the key in its scene table ("t_end" in [simulate]); empty: not in scenes
+  std::string flag;       // "--t-end"; empty: no flag
+  std::string python;     // the Python keyword ("t_end"); empty: not a keyword
   std::string unit;       // "s", "m", "rad/s"; empty: dimensionless or not a quantity
   std::string doc;        // one sentence, for --help, docstrings and the reference page
   std::vector<std::string> commands;  // the CLI commands (and Python functions) that take it
@@ -59,7 +59,7 @@ struct SettingInfo {
 // A value given by one face, with the name the user wrote for it.
 struct GivenSetting {
   SettingValue value;
-  std::string field;  // "--rtol", "simulate.rtol", "rtol"
+  std::string field;  // "--t-end", "simulate.t_end", "t_end"
   SettingSource source = SettingSource::kDefault;
 };
 using SettingPatch = std::map<std::string, GivenSetting>;  // by setting name
@@ -80,6 +80,9 @@ struct Setting {
   // Stores a value of the setting's kind; throws InputError naming `field`
   // for one the member cannot hold (an unknown integrator name).
   std::function<void(Options&, const SettingValue&, const std::string& field)> set;
+  // The value's own range, if it has one (the options' Validate runs it):
+  // throws InputError naming `field` and the value.
+  std::function<void(const SettingValue&, const std::string& field)> check = {};
 };
 
 // Options resolved from the faces, with the origin of every setting and the
@@ -103,7 +106,7 @@ class SettingTable {
   const std::vector<Setting<Options>>& settings() const { return settings_; }
   const Options& defaults() const { return defaults_; }
   SettingValue Default(const Setting<Options>& s) const { return s.get(defaults_); }
-  // "simulate.rtol"; empty when the setting is not in scenes.
+  // "simulate.t_end"; empty when the setting is not in scenes.
   std::string SceneField(const SettingInfo& info) const {
     return info.scene_key.empty() ? std::string() : section_ + "." + info.scene_key;
   }

@@ -47,7 +47,7 @@ struct SimulationPlan {
 };
 
 // Checks the options and the model (InputError naming each field as the
-// request's origins say: "--rtol", "simulate.rtol", "rtol") and chooses the
+// request's origins say: "--t-end", "simulate.t_end", "t_end") and chooses the
 // truncation. Of modes and contact_tolerance, one given with a higher
 // precedence than the other (a flag over a scene key) replaces it; both from
 // the same face are refused.

@@ -1,7 +1,7 @@
 #pragma once
 // The settings of a batch validation, declared once (settings.h): the grid,
 // the impacts, the periods, the integrators and their tolerances (lifted from
-// simulate's table: one declaration each, in [validate] as validate.rtol),
+// simulate's table: one declaration each, in [validate] as validate.step),
 // the threads. The scene's [validate] table, the `validate` command's flags,
 // Python's validate() keywords and summary.json's settings block are made
 // from this table.

@@ -2,7 +2,7 @@
 // Speed against accuracy for every integrator, and where each one fails.
 //
 // Work-precision: each case is integrated by every integrator over a sweep of
-// its accuracy setting (exact: root_tol; cvode: rtol, Adams and BDF;
+// its accuracy setting (exact: root_tol; cvode: its relative tolerance, Adams and BDF;
 // moreau-jean: step h). The error is the relative distance of the final state
 // to the exact integrator at its tightest setting; the cost is the thread's
 // CPU time. Cases (the paper's system unless said):
