@@ -155,6 +155,30 @@ TEST(Response, AmplitudeContinuationMeetsTheClosedFormGrazingLevel) {
   EXPECT_LT(best, 1e-9 * a_g);
 }
 
+// Each branch is traced once. The range's last value is a grid value with
+// orbits of its own; before they were recorded, a start found there was
+// traced again as a new branch: at w = 0.5 the one (1,1) branch came out three
+// times (30 points each, the same fold and zero-velocity points three times).
+// The test fails without the edge's nodes (checked): 3 branches.
+TEST(Response, AnAmplitudeContinuationTracesEachBranchOnce) {
+  ResponseOptions o;
+  o.impacts = 1;
+  o.parameter = ResponseParameter::kAmplitude;
+  o.grid = {0.1, 0.5, 0.05};
+  o.fixed = 0.5;
+  const ResponseCurve c = ComputeResponse(Forced(), o);
+  ASSERT_EQ(c.branches.size(), 1u);
+  // And no special point twice: same kind, same amplitude to 1e-9 (the
+  // duplicates agreed to ~1e-10, their own corrector tolerance).
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    for (std::size_t j = i + 1; j < c.points.size(); ++j) {
+      EXPECT_FALSE(c.points[i].kind == c.points[j].kind &&
+                   std::abs(c.points[i].orbit.amplitude - c.points[j].orbit.amplitude) < 1e-9)
+          << "special points " << i << " and " << j << " are the same";
+    }
+  }
+}
+
 TEST(Response, BadOptionsNameTheField) {
   auto expect = [](ResponseOptions o, const std::string& field) {
     try {

@@ -331,6 +331,10 @@ class Responder {
         if (const std::optional<Vec> at =
                 tr_.SolveAt(edge * tr_.LambdaScale(), cur_xi + a * (*next - cur_xi))) {
           if (std::abs(nodes.back().xi[tr_.dim() - 1] - edge) > 1e-12) nodes.push_back(MakeNode(*at, cur_t, true));
+          // The edge is a grid value too (the range's first or last): its
+          // orbit recorded, so that a start found there is covered, not
+          // traced as a new branch (GridBetween leaves the edges out).
+          grid_nodes_.back().push_back(*at);
         }
         *end = "left the range at " + Name() + " = " + FormatValue(edge * tr_.LambdaScale());
         return nodes;
