@@ -10,7 +10,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <chrono>
+#include <csignal>
 #include <cstddef>
+#include <future>
+#include <thread>
 #include <functional>
 #include <stdexcept>
 #include <limits>
@@ -34,6 +38,7 @@
 #include "nsmodal/settings.h"
 #include "nsmodal/truncation.h"
 #include "nsmodal/stability.h"
+#include "nsmodal/stop.h"
 #include "nsmodal/tables.h"
 #include "nsmodal/two_impact.h"
 #include "nsmodal/validate.h"
@@ -410,6 +415,46 @@ ResponseOptions ResponseOptionsOf(const Model& model, int impacts, int periods, 
 
 }  // namespace
 
+// Long work runs without the GIL on a worker thread while this thread, the
+// one Python delivers signals to, checks for them every 50 ms: Ctrl-C (or
+// Jupyter's "interrupt kernel") runs Python's SIGINT handler in
+// PyErr_CheckSignals, which sets KeyboardInterrupt; the work is then asked to
+// stop (stop.h: every long loop polls between units of work, so it unwinds
+// within a fraction of a second), awaited, and the KeyboardInterrupt raised.
+// The stop request is cleared, so the next call runs. Called from another
+// Python thread, PyErr_CheckSignals never reports a signal: the call then
+// runs to its end, as any call without this did.
+template <class F>
+auto Interruptible(F&& work) -> decltype(work()) {
+  using R = decltype(work());
+  std::packaged_task<R()> task(std::forward<F>(work));
+  std::future<R> done = task.get_future();
+  std::thread worker;
+  {
+    py::gil_scoped_release release;
+    worker = std::thread(std::move(task));
+  }
+  for (;;) {
+    bool ready = false;
+    {
+      py::gil_scoped_release release;
+      ready = done.wait_for(std::chrono::milliseconds(50)) == std::future_status::ready;
+    }
+    if (ready) break;
+    if (PyErr_CheckSignals() != 0) {
+      RequestStop(SIGINT);
+      {
+        py::gil_scoped_release release;
+        worker.join();
+      }
+      ClearStopRequest();
+      throw py::error_already_set();
+    }
+  }
+  worker.join();
+  return done.get();  // the work's own exception, if it threw, translated as usual
+}
+
 PYBIND11_MODULE(nsmodal, mod) {
   mod.doc() = R"doc(nsmodal: nonsmooth modal analysis of vibro-impact oscillators.
 
@@ -483,6 +528,28 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
             return t;
           },
           "Periods 2 pi / w_i of the linear modes, ascending (NumPy array).")
+      // Pickling (multiprocessing, joblib, copy): the matrices, the forcing and
+      // the contact; a state is checked on the way in as a new Model is.
+      .def(py::pickle(
+          [](const Model& m) {
+            return py::make_tuple(1, m.mass, m.stiffness, m.damping, m.forcing.constant, m.forcing.amplitude,
+                                  m.forcing.frequency, m.contact, m.gap, m.restitution);
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 10 || t[0].cast<int>() != 1) throw InputError("state", "is not a pickled nsmodal.Model");
+            Model m;
+            m.mass = t[1].cast<Eigen::MatrixXd>();
+            m.stiffness = t[2].cast<Eigen::MatrixXd>();
+            m.damping = t[3].cast<Eigen::MatrixXd>();
+            m.forcing.constant = t[4].cast<Eigen::VectorXd>();
+            m.forcing.amplitude = t[5].cast<Eigen::VectorXd>();
+            m.forcing.frequency = t[6].cast<double>();
+            m.contact = t[7].cast<int>();
+            m.gap = t[8].cast<double>();
+            m.restitution = t[9].cast<double>();
+            Validate(m);
+            return m;
+          }))
       .def("__repr__", [](const Model& m) {
         return "<nsmodal.Model: " + std::to_string(m.dofs()) + " dofs, contact_dof " + std::to_string(m.contact + 1) +
                ", gap " + FormatValue(m.gap) + ", restitution " + FormatValue(m.restitution) + ">";
@@ -563,11 +630,7 @@ directory, a larger file or a path holding a NUL raise ValueError naming
         opt.stability = PolicyOf(stability);
         opt.stability_options.all_multipliers = all_multipliers;
         opt.threads = threads;
-        Sweep sweep;
-        {
-          py::gil_scoped_release release;
-          sweep = ComputeSweep(b, grid, impacts, opt);
-        }
+        const Sweep sweep = Interruptible([&] { return ComputeSweep(b, grid, impacts, opt); });
         return OrbitsDict(sweep, b.n);
       },
       py::arg("model"), py::arg("impacts") = 1, py::arg("period"), py::arg("stability") = "potential",
@@ -611,13 +674,11 @@ residuals, "nc3_margin", "x", "v", "reason", "stable", "max_multiplier",
       [](const Model& model, const py::object& period) {
         const AnalysisBasis b(model);
         const PeriodGrid grid = GridOf(period);
-        std::vector<Transition> tr;
-        {
-          py::gil_scoped_release release;
+        const std::vector<Transition> tr = Interruptible([&] {
           SweepOptions opt;
           opt.stability = StabilityPolicy::kNone;
-          tr = SweepTransitions(b, ComputeSweep(b, grid, 1, opt));
-        }
+          return SweepTransitions(b, ComputeSweep(b, grid, 1, opt));
+        });
         return TableDict(report::TransitionColumns(), Pointers(tr));
       },
       py::arg("model"), py::arg("period"),
@@ -636,11 +697,7 @@ transitions.csv); the rows of transitions.csv.)doc");
         const PeriodGrid grid = GridOf(period);
         AtlasOptions opt;
         opt.sweep.threads = threads;
-        Atlas a;
-        {
-          py::gil_scoped_release release;
-          a = ComputeAtlas(b, grid, opt);
-        }
+        const Atlas a = Interruptible([&] { return ComputeAtlas(b, grid, opt); });
         py::dict d;
         d["one"] = OrbitsDict(a.one, b.n);
         d["two"] = OrbitsDict(a.two, b.n);
@@ -723,11 +780,7 @@ A run that stopped early has "status" != "finished" and says why in
         SimulationObserver obs;
         obs.on_sample = [&](double t, const Eigen::VectorXd& z) { samples.push_back(report::SampleOf(model, t, z)); };
         obs.on_impact = [&](const ContactEvent& ev) { impacts.push_back(ev); };
-        SimulationSummary s;
-        {
-          py::gil_scoped_release release;
-          s = RunSimulation(model, plan, request.options.options, obs);
-        }
+        const SimulationSummary s = Interruptible([&] { return RunSimulation(model, plan, request.options.options, obs); });
         py::dict d = ToPython(report::SimulationJson(s, request));
         if (plan.truncation) d["truncation"] = ToPython(report::TruncationJson(*plan.truncation, plan.initial_energy));
         d["trajectory"] = TableDict(report::TrajectoryColumns(n), Pointers(samples));
@@ -769,11 +822,7 @@ the summary; no value is ever inf or NaN.)doc" + KeywordDoc(ValidateSettings(), 
         const Configured<ValidationRequest> request = ValidateSettings().Resolve({&keywords});
         const AnalysisBasis b(model);
         const ValidationPlan plan = PlanValidation(b, request);
-        GridValidation v;
-        {
-          py::gil_scoped_release release;
-          v = RunValidation(model, b, plan, {}, request.names);
-        }
+        const GridValidation v = Interruptible([&] { return RunValidation(model, b, plan, {}, request.names); });
         py::dict d;
         d["rows"] = TableDict(report::ValidationColumns(), Pointers(v.results));
         d["summary"] = ToPython(report::ValidationJson(v.report, v.results, request));
@@ -823,8 +872,7 @@ dicts: simulate(model, **load_settings(path)["simulate"]).)doc");
         vopt.Validate(names);
         ResponseCurve curve;
         std::optional<Sweep> sweep;
-        {
-          py::gil_scoped_release release;
+        Interruptible([&] {
           curve = ComputeResponse(model, opt);
           if (backbone && opt.parameter == ResponseParameter::kFrequency) {
             SweepOptions so;
@@ -832,7 +880,7 @@ dicts: simulate(model, **load_settings(path)["simulate"]).)doc");
             // An (m, n) response meets the mode of frequency w / n.
             sweep = BackboneSweep(model, opt.grid.from / opt.periods, opt.grid.to / opt.periods, 2000, so);
           }
-        }
+        });
         std::vector<report::ResponseRow> rows;
         py::list ends;
         for (std::size_t b = 0; b < curve.branches.size(); ++b) {
@@ -843,11 +891,8 @@ dicts: simulate(model, **load_settings(path)["simulate"]).)doc");
         if (validate > 0) {
           std::vector<ForcedOrbit> orbits;
           for (const report::ResponseRow& r : rows) orbits.push_back(r.orbit);
-          std::vector<ForcedOrbitValidation> results;
-          {
-            py::gil_scoped_release release;
-            results = ValidateForcedOrbits(model, orbits, vopt);
-          }
+          const std::vector<ForcedOrbitValidation> results =
+              Interruptible([&] { return ValidateForcedOrbits(model, orbits, vopt); });
           std::vector<report::ForcedValidationRow> vrows;
           for (std::size_t i = 0; i < results.size(); ++i) {
             vrows.push_back({rows[i / vopt.integrators.size()].branch, results[i]});
