@@ -205,29 +205,57 @@ std::vector<const Row*> Pointers(const std::vector<Row>& rows) {
   return p;
 }
 
-// The orbits table of a sweep, with x, v (rows x N) and the multipliers
-// (rows x 2N, complex, NaN where not computed) as matrices too.
+// The orbits table of a sweep: its CSV columns, each a 1-D array, so that
+// pandas.DataFrame takes it in one call (stack() gives the state and the
+// multipliers as matrices).
 py::dict OrbitsDict(const Sweep& sweep, int dofs) {
   std::vector<const OrbitRecord*> rows;
   for (const auto& list : sweep.at) {
     for (const OrbitRecord& r : list) rows.push_back(&r);
   }
-  py::dict d = TableDict(report::OrbitColumns(dofs), rows);
-  const long n = static_cast<long>(rows.size());
-  Eigen::MatrixXd x(n, dofs), v(n, dofs);
-  Eigen::MatrixXcd mu = Eigen::MatrixXcd::Constant(n, 2 * dofs, std::complex<double>(kNaN, kNaN));
-  for (long i = 0; i < n; ++i) {
-    x.row(i) = rows[i]->orbit.z0.head(dofs).transpose();
-    v.row(i) = rows[i]->orbit.z0.tail(dofs).transpose();
-    if (rows[i]->stability) {
-      const Eigen::VectorXcd& m = rows[i]->stability->multipliers;  // fewer than 2N when verdict-only
-      mu.row(i).head(m.size()) = m.transpose();
+  return TableDict(report::OrbitColumns(dofs), rows);
+}
+
+// Columns name1, name2, ... of a table as one matrix (rows x N); "mu": the
+// complex multipliers from mu1_re, mu1_im, ... (NaN where not computed).
+py::array Stack(const py::dict& table, const std::string& name) {
+  const bool complex = name == "mu";
+  auto key = [&](int k, const char* part) { return name + std::to_string(k) + (complex ? part : ""); };
+  int n = 0;
+  while (table.contains(py::str(key(n + 1, "_re")))) ++n;
+  if (n == 0) throw InputError("name", "the table has no columns " + key(1, "_re") + ", " + key(2, "_re") + ", ...");
+  const py::ssize_t rows = py::len(table[py::str(key(1, "_re"))]);
+  auto column = [&](const std::string& k) {
+    py::array_t<double> a = py::array_t<double>::ensure(table[py::str(k)]);
+    if (!a || a.ndim() != 1 || a.shape(0) != rows) throw InputError("table", "column " + k + " is not a 1-D array of the table's length");
+    return a;
+  };
+  if (!complex) {
+    py::array_t<double> out({rows, static_cast<py::ssize_t>(n)});
+    auto w = out.mutable_unchecked<2>();
+    for (int k = 0; k < n; ++k) {
+      const auto c = column(key(k + 1, "")).unchecked<1>();
+      for (py::ssize_t i = 0; i < rows; ++i) w(i, k) = c(i);
     }
+    return out;
   }
-  d["x"] = x;
-  d["v"] = v;
-  d["multipliers"] = mu;
-  d["impacts"] = sweep.impacts;
+  py::array_t<std::complex<double>> out({rows, static_cast<py::ssize_t>(n)});
+  auto w = out.mutable_unchecked<2>();
+  for (int k = 0; k < n; ++k) {
+    const auto re = column(key(k + 1, "_re")).unchecked<1>();
+    const auto im = column(key(k + 1, "_im")).unchecked<1>();
+    for (py::ssize_t i = 0; i < rows; ++i) w(i, k) = {re(i), im(i)};
+  }
+  return out;
+}
+
+// An orbit document (orbit --json) with arrays where orbits() has arrays:
+// impact_times, x, v, and the multipliers as complex numbers.
+py::dict OrbitRecordDict(const OrbitRecord& r) {
+  py::dict d = ToPython(report::OrbitJson(r));
+  const py::module_ np = py::module_::import("numpy");
+  for (const char* k : {"impact_times", "x", "v"}) d[k] = np.attr("asarray")(d[k], "float64");
+  if (r.stability) d["multipliers"] = Eigen::VectorXcd(r.stability->multipliers);
   return d;
 }
 
@@ -641,16 +669,18 @@ period: (from, to, step), "FROM:TO:STEP" or one period T.
 stability: which orbits get Floquet multipliers: "potential" (default),
 "admissible" or "none".
 all_multipliers: False keeps, for 1 impact, only the verdict, the largest
-modulus and the multipliers off the unit circle (the others are NaN in
-"multipliers"): less work for large systems.
+modulus and the multipliers off the unit circle (the others are NaN in the
+mu columns): less work for large systems.
 
 Returns a dict of NumPy arrays, one entry per orbit, keyed as the columns of
 orbits.csv: "T", "t2" (NaN for one impact), "energy", "potential",
 "admissible", "periodicity_residual", "nc2_residual", "nc3_margin",
 "degenerate", "x1".."xN", "v1".."vN" (the state just after the impact at
 t = 0), "stable" (False where not computed), "max_multiplier" (NaN where not
-computed), "mu1_re", "mu1_im", ...; and "x", "v" (rows x N) and
-"multipliers" (rows x 2N, complex, sorted by decreasing modulus).
+computed), "mu1_re", "mu1_im", ... (sorted by decreasing modulus). Every
+entry is a 1-D array: pandas.DataFrame(o) takes it whole; stack(o, "x"),
+stack(o, "v") and stack(o, "mu") give the state (rows x N) and the
+multipliers (rows x 2N, complex) as matrices.
 Needs restitution = 1 (ValueError naming system.restitution otherwise).)doc");
 
   mod.def(
@@ -660,14 +690,22 @@ Needs restitution = 1 (ValueError naming system.restitution otherwise).)doc");
         SweepOptions opt;
         PeriodGrid{period, period, 1.0}.Validate("period");
         py::list out;
-        for (const OrbitRecord& r : OrbitsAt(b, period, impacts, opt)) out.append(ToPython(report::OrbitJson(r)));
+        for (const OrbitRecord& r : OrbitsAt(b, period, impacts, opt)) out.append(OrbitRecordDict(r));
         return out;
       },
       py::arg("model"), py::arg("period"), py::arg("impacts") = 1,
       R"doc(Every potential orbit of period T as a list of dicts (as `nsmodal orbit --json`):
 "T", "impact_times", "t2", "energy", "potential", "admissible", "degenerate",
 residuals, "nc3_margin", "x", "v", "reason", "stable", "max_multiplier",
-"multipliers" ([re, im] pairs).)doc");
+"multipliers"; impact_times, x and v float arrays, the multipliers a complex
+array, as in orbits().)doc");
+
+  mod.def("stack", &Stack, py::arg("table"), py::arg("name"),
+          R"doc(Columns name1, name2, ... of a table as one matrix (rows x N):
+stack(o, "x"), stack(o, "v") for the state of orbits() or of a trajectory;
+stack(o, "mu") for the Floquet multipliers as a complex matrix (NaN where not
+computed). Every table is a dict of 1-D arrays, so pandas.DataFrame(table)
+takes it whole.)doc");
 
   mod.def(
       "transitions",

@@ -69,11 +69,11 @@ def test_orbits_arrays_follow_the_csv_columns(paper):
     columns = ["T", "t2", "energy", "potential", "admissible", "periodicity_residual", "nc2_residual",
                "nc3_margin", "degenerate", "x1", "x2", "v1", "v2", "stable", "max_multiplier"]
     columns += [f"mu{k}_{p}" for k in range(1, 5) for p in ("re", "im")]
-    assert [k for k in o if k not in ("x", "v", "multipliers", "impacts")] == columns
+    assert list(o) == columns and all(a.ndim == 1 for a in o.values())
     n = len(o["T"])
-    assert n == 1001 and o["x"].shape == (n, 2) and o["multipliers"].shape == (n, 4)
+    assert n == 1001 and nsmodal.stack(o, "x").shape == (n, 2) and nsmodal.stack(o, "mu").shape == (n, 4)
     assert o["admissible"].dtype == bool and np.all(np.isnan(o["t2"]))
-    np.testing.assert_array_equal(o["x"][:, 1], o["x2"])
+    np.testing.assert_array_equal(nsmodal.stack(o, "x")[:, 1], o["x2"])
     # 1-ipp orbits start on the wall: x_c(0) = d (NC2), to round-off.
     pot = o["potential"]
     np.testing.assert_allclose(o["x2"][pot], 1.0, rtol=1e-12)
@@ -82,7 +82,7 @@ def test_orbits_arrays_follow_the_csv_columns(paper):
     assert o["stable"][i5] and abs(o["max_multiplier"][i5] - 1) < 1e-6
     assert not o["stable"][i65] and abs(o["max_multiplier"][i65] - 2.398) < 1e-3
     mu = nsmodal.multipliers(paper, 6.5)
-    np.testing.assert_allclose(abs(mu), abs(o["multipliers"][i65]), rtol=1e-12)
+    np.testing.assert_allclose(abs(mu), abs(nsmodal.stack(o, "mu")[i65]), rtol=1e-12)
 
 
 def test_orbit_records_and_two_impact_multipliers(paper):
@@ -254,7 +254,8 @@ def test_verdict_only_multipliers_of_a_chain():
     quick = nsmodal.orbits(chain, period=(1.0, 20.0, 0.5), all_multipliers=False)
     np.testing.assert_array_equal(full["stable"], quick["stable"])
     np.testing.assert_allclose(full["max_multiplier"], quick["max_multiplier"], rtol=1e-12)
-    assert np.isnan(quick["multipliers"]).any() and not np.isnan(full["multipliers"][full["potential"]]).any()
+    assert np.isnan(nsmodal.stack(quick, "mu")).any()
+    assert not np.isnan(nsmodal.stack(full, "mu")[full["potential"]]).any()
 
 
 def test_truncation_keeps_the_lowest_modes_and_bounds_the_rest(paper):
@@ -475,3 +476,32 @@ def test_a_pickled_model_round_trips():
         state = list(m.__getstate__())
         state[8] = -1.0
         nsmodal.Model.__new__(nsmodal.Model).__setstate__(tuple(state))
+
+
+def test_every_table_is_a_dataframe_in_one_call(paper):
+    # Tables are dicts of 1-D arrays keyed as the CSV columns: pandas takes
+    # each whole (issue 25: orbits() used to carry 2-D arrays and a scalar).
+    pd = pytest.importorskip("pandas")
+    o = nsmodal.orbits(paper, impacts=2, period=(5.0, 6.0, 0.5))
+    a = nsmodal.atlas(paper, period=(2.0, 12.0, 0.5))
+    s = nsmodal.simulate(paper, x0=[0.5, 0.0], v0=[0.5, 1.2], t_end=20.0)
+    v = nsmodal.validate(paper, period=5.0, impacts=[1], periods=2)
+    forced = nsmodal.load_scene(os.path.join(SRC, "configs", "forced.toml"))
+    r = nsmodal.response(forced, frequency=(0.4, 0.6, 0.1), validate=2)
+    tables = {"orbits": o, "transitions": nsmodal.transitions(paper, period=(2.0, 12.0, 0.5)),
+              "trajectory": s["trajectory"], "impact_log": s["impact_log"], "validation": v["rows"]}
+    tables.update({f"atlas {k}": t for k, t in a.items() if isinstance(t, dict) and "T" in t})
+    tables.update({f"response {k}": t for k, t in r.items() if isinstance(t, dict) and t and
+                   all(hasattr(c, "__len__") for c in t.values())})
+    for name, t in tables.items():
+        frame = pd.DataFrame(t)
+        assert list(frame.columns) == list(t), name
+        assert len(frame) == len(next(iter(t.values()))), name
+
+
+def test_orbit_gives_arrays_as_orbits_does(paper):
+    (record,) = nsmodal.orbit(paper, 7.5)
+    assert isinstance(record["x"], np.ndarray) and record["x"].dtype == float
+    assert record["multipliers"].dtype == complex and record["multipliers"].shape == (4,)
+    o = nsmodal.orbits(paper, period=7.5)
+    np.testing.assert_array_equal(record["x"], nsmodal.stack(o, "x")[0])
