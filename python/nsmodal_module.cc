@@ -642,10 +642,21 @@ ModalTruncation; simulate its `model` from from_physical @ x0.)doc");
 
   mod.def(
       "load_scene", [](const std::string& path) { return LoadScene(path, "path").model; }, py::arg("path"),
-      R"doc(The model of a scene file (TOML, the [system] table; see configs/paper.toml).
+      R"doc(The model of a scene: a file (TOML, the [system] table; see configs/paper.toml)
+or the name of an example scene compiled into nsmodal (scenes() lists them:
+load_scene("paper") is the paper's system, wherever nsmodal is installed).
 The CLI's reader: a regular file of at most 16 MiB; a FIFO, a device, a
 directory, a larger file or a path holding a NUL raise ValueError naming
 `path`.)doc");
+
+  mod.def(
+      "scenes",
+      [] {
+        py::list names;
+        for (const auto& [name, text] : BuiltinScenes()) names.append(name);
+        return names;
+      },
+      R"doc(The names of the example scenes compiled into nsmodal (configs/*.toml).)doc");
 
   mod.def(
       "orbits",

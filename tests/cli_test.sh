@@ -13,6 +13,9 @@ expect_error "system.restitution" "$bin" orbit "$(scene e15 '[system]\ngap=1\nma
 expect_error "only for e = 1" "$bin" orbits "$(scene e05 '[system]\ngap=1\nmasses=[1,1]\nsprings=[1,1]\nrestitution=0.5\n')" --period 1:2:0.5 --out "$tmp/o"
 expect_error "scene" "$bin" orbit "$(scene malformed '[system\nmasses=[1,1]\n')" --period 3
 expect_error "cannot open" "$bin" orbit "$tmp/missing.toml" --period 3
+# A built-in scene by name (compiled in from configs/), from a directory that has no such file.
+if env -C "$tmp" "$bin" orbit paper --period 7.5 | grep -q "admissible"; then ok; else bad "orbit paper: no built-in scene"; fi
+expect_error "no built-in scene of that name (bar, forced, paper-simulate, paper)" env -C "$tmp" "$bin" orbit papr --period 3
 expect_error "\-\-period" "$bin" orbits "$paper" --period 1:2 --out "$tmp/o"
 expect_error "\-\-period" "$bin" orbits "$paper" --period 5:1:0.1 --out "$tmp/o"
 expect_error "\-\-period" "$bin" orbits "$paper" --period 1:2:0 --out "$tmp/o"

@@ -505,3 +505,14 @@ def test_orbit_gives_arrays_as_orbits_does(paper):
     assert record["multipliers"].dtype == complex and record["multipliers"].shape == (4,)
     o = nsmodal.orbits(paper, period=7.5)
     np.testing.assert_array_equal(record["x"], nsmodal.stack(o, "x")[0])
+
+
+def test_example_scenes_load_by_name_from_anywhere(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # no configs/ here: the names are compiled in
+    assert set(nsmodal.scenes()) >= {"paper", "forced", "bar", "paper-simulate"}
+    paper = nsmodal.load_scene("paper")
+    from_file = nsmodal.load_scene(PAPER)
+    np.testing.assert_array_equal(paper.stiffness_matrix, from_file.stiffness_matrix)
+    assert "x0" in nsmodal.load_settings("paper-simulate")["simulate"]
+    with pytest.raises(ValueError, match="no built-in scene"):
+        nsmodal.load_scene("papr")

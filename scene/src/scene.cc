@@ -365,6 +365,16 @@ std::string ReadSceneFile(const std::string& path, const std::string& field) {
 }
 
 Scene LoadScene(const std::string& path, const std::string& field) {
+  struct stat st {};
+  if (path.find('/') == std::string::npos && path.find('\0') == std::string::npos && ::stat(path.c_str(), &st) != 0 &&
+      errno == ENOENT) {
+    for (const auto& [name, text] : BuiltinScenes()) {
+      if (name == path) return ParseScene(text, "builtin:" + name);
+    }
+    std::string names;
+    for (const auto& [name, text] : BuiltinScenes()) names += (names.empty() ? "" : ", ") + name;
+    throw InputError(field, "no file '" + Printable(path) + "', and no built-in scene of that name (" + names + ")");
+  }
   return ParseScene(ReadSceneFile(path, field), path);
 }
 

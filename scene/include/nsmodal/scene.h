@@ -27,6 +27,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nsmodal/model.h"
@@ -58,8 +59,15 @@ inline constexpr std::size_t kMaxSceneBytes = std::size_t{16} << 20;
 // Throws InputError naming `field` and the path.
 std::string ReadSceneFile(const std::string& path, const std::string& field = "scene");
 
-// Throws InputError naming the field ("scene", or `field`, for a file that
-// cannot be read or parsed, with the parser's line and column).
+// The example scenes of configs/, compiled in: {name, TOML text}, by name
+// ("bar", "forced", "paper", "paper-simulate").
+const std::vector<std::pair<std::string, std::string>>& BuiltinScenes();
+
+// The scene at `path`, or, when no file is there and `path` is the name of
+// a built-in scene ("paper"), that scene. Throws InputError naming the field
+// ("scene", or `field`, for a file that cannot be read or parsed, with the
+// parser's line and column; a missing file's message lists the built-in
+// names).
 Scene LoadScene(const std::string& path, const std::string& field = "scene");
 Scene ParseScene(const std::string& toml_text, const std::string& source = "<string>");
 
