@@ -376,7 +376,17 @@ double ValidationSeconds(const Model& model, double simulated_time, const Valida
 void CheckValidationWork(const Model& model, double simulated_time, long orbits, const ValidateOptions& options,
                          const FieldNames& names) {
   const double seconds = ValidationSeconds(model, simulated_time, options);
-  if (seconds <= kMaxValidationSeconds) return;
+  if (seconds <= kMaxValidationSeconds) {
+    // Within the time, still within the samples: a validation samples the
+    // state once a period (its deviation), and a simulation takes at most
+    // 1e7 samples (SimulateOptions::Validate), which would otherwise refuse
+    // it naming sample_dt, a setting the user never gave.
+    if (options.periods > kMaxValidationPeriods) {
+      throw InputError(names("periods"), "is " + std::to_string(options.periods) + ": a validation samples every period, at most " +
+                                             FormatEstimate(kMaxValidationPeriods) + " periods (use fewer periods)");
+    }
+    return;
+  }
   throw InputError(names("periods"),
                    std::to_string(orbits) + " orbits over " + std::to_string(options.periods) + " periods with " +
                        std::to_string(options.integrators.size()) + " integrator(s): an estimated " + FormatEstimate(seconds) +
