@@ -322,7 +322,6 @@ class CvodeStepper {
   long base_steps_ = 0;
 };
 
-template SimulationSummary RunIntegrator<CvodeStepper>(const ContactModel&, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                                                  const SimulateOptions&, const SimulationObserver&);
+template NSMODAL_RUN_INTEGRATOR(CvodeStepper);
 
 }  // namespace nsmodal::internal

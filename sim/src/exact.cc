@@ -248,13 +248,7 @@ class ExactStepper {
   long steps_ = 0, sweep_steps_ = 0;
 };
 
-template SimulationSummary RunIntegrator<ExactStepper<ConservativeFlight>>(const ContactModel&,
-                                                                            const Eigen::VectorXd&,
-                                                                            const Eigen::VectorXd&,
-                                                                            const SimulateOptions&,
-                                                                            const SimulationObserver&);
-template SimulationSummary RunIntegrator<ExactStepper<ForcedFlight>>(const ContactModel&, const Eigen::VectorXd&,
-                                                                      const Eigen::VectorXd&, const SimulateOptions&,
-                                                                      const SimulationObserver&);
+template NSMODAL_RUN_INTEGRATOR(ExactStepper<ConservativeFlight>);
+template NSMODAL_RUN_INTEGRATOR(ExactStepper<ForcedFlight>);
 
 }  // namespace nsmodal::internal

@@ -46,19 +46,15 @@ class MoreauJeanStepper;
 template <typename Stepper>
 SimulationSummary RunIntegrator(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
                                 const SimulateOptions& options, const SimulationObserver& observer);
-extern template SimulationSummary RunIntegrator<ExactStepper<ConservativeFlight>>(
-    const ContactModel&, const Eigen::VectorXd&, const Eigen::VectorXd&, const SimulateOptions&,
-    const SimulationObserver&);
-extern template SimulationSummary RunIntegrator<ExactStepper<ForcedFlight>>(const ContactModel&,
-                                                                             const Eigen::VectorXd&,
-                                                                             const Eigen::VectorXd&,
-                                                                             const SimulateOptions&,
-                                                                             const SimulationObserver&);
-extern template SimulationSummary RunIntegrator<CvodeStepper>(const ContactModel&, const Eigen::VectorXd&,
-                                                              const Eigen::VectorXd&, const SimulateOptions&,
-                                                              const SimulationObserver&);
-extern template SimulationSummary RunIntegrator<MoreauJeanStepper>(const ContactModel&, const Eigen::VectorXd&,
-                                                                   const Eigen::VectorXd&, const SimulateOptions&,
-                                                                   const SimulationObserver&);
+// RunIntegrator's signature for one Stepper, written once: each stepper's file
+// instantiates it (template NSMODAL_RUN_INTEGRATOR(S);), every other file
+// is told so (extern template ...), so none compiles the loop again.
+#define NSMODAL_RUN_INTEGRATOR(...)                                                                        \
+  SimulationSummary RunIntegrator<__VA_ARGS__>(const ContactModel&, const Eigen::VectorXd&, const Eigen::VectorXd&, \
+                                               const SimulateOptions&, const SimulationObserver&)
+extern template NSMODAL_RUN_INTEGRATOR(ExactStepper<ConservativeFlight>);
+extern template NSMODAL_RUN_INTEGRATOR(ExactStepper<ForcedFlight>);
+extern template NSMODAL_RUN_INTEGRATOR(CvodeStepper);
+extern template NSMODAL_RUN_INTEGRATOR(MoreauJeanStepper);
 
 }  // namespace nsmodal::internal

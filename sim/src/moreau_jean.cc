@@ -133,7 +133,6 @@ class MoreauJeanStepper {
   double t_ = 0.0;
 };
 
-template SimulationSummary RunIntegrator<MoreauJeanStepper>(const ContactModel&, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                                                  const SimulateOptions&, const SimulationObserver&);
+template NSMODAL_RUN_INTEGRATOR(MoreauJeanStepper);
 
 }  // namespace nsmodal::internal

@@ -9,29 +9,22 @@
 namespace nsmodal {
 namespace {
 
-template <class Options>
-Setting<Options> OptionalRealSetting(SettingInfo info, std::optional<double> Options::*member) {
-  info.kind = SettingKind::kReal;
+// A setting whose default is "not given" (std::nullopt: no value), of a
+// kind whose values `read` converts (naming the field on a bad one).
+template <class Options, class T>
+Setting<Options> OptionalSetting(SettingInfo info, SettingKind kind, std::optional<T> Options::*member,
+                                 T (*read)(const SettingValue&, const std::string&)) {
+  info.kind = kind;
   return {std::move(info),
           [member](const Options& o) -> SettingValue {
             if (const auto& v = o.*member) return *v;
             return std::monostate{};
           },
-          [member](Options& o, const SettingValue& v, const std::string&) { o.*member = RealOf(v); }};
+          [member, read](Options& o, const SettingValue& v, const std::string& field) { o.*member = read(v, field); }};
 }
 
-template <class Options>
-Setting<Options> OptionalIntegerSetting(SettingInfo info, std::optional<long> Options::*member) {
-  info.kind = SettingKind::kInteger;
-  return {std::move(info),
-          [member](const Options& o) -> SettingValue {
-            if (const auto& v = o.*member) return *v;
-            return std::monostate{};
-          },
-          [member](Options& o, const SettingValue& v, const std::string& field) {
-            o.*member = WholeNumberOf(v, -kMaxDofs, kMaxDofs, field);
-          }};
-}
+double ReadReal(const SettingValue& v, const std::string&) { return RealOf(v); }
+long ReadModes(const SettingValue& v, const std::string& field) { return WholeNumberOf(v, -kMaxDofs, kMaxDofs, field); }
 
 // The ranges of the integrator's settings (SimulateOptions::Validate runs
 // them, then the checks that relate two settings).
@@ -124,15 +117,15 @@ const SettingTable<SimulationRequest>& SimulateSettings() {
     settings.push_back(RealListSetting<R>({"initial_velocity", {}, "initial_velocity", "--v0", "v0", "m/s",
                                            "Initial velocity v(0), one value per dof (default: at rest)", kSimulate},
                                           &R::initial_velocity));
-    settings.push_back(OptionalIntegerSetting<R>(
+    settings.push_back(OptionalSetting<R, long>(
         {"modes", {}, "modes", "--modes", "modes", "",
          "Simulate on the first K linear modes only (modal truncation; not with contact_tolerance)", kSimulate},
-        &R::modes));
-    settings.push_back(OptionalRealSetting<R>(
+        SettingKind::kInteger, &R::modes, &ReadModes));
+    settings.push_back(OptionalSetting<R, double>(
         {"contact_tolerance", {}, "contact_tolerance", "--contact-tolerance", "contact_tolerance", "m",
          "Keep the fewest modes whose neglected share of x_c is at most this at the initial energy (not with modes)",
          kSimulate},
-        &R::contact_tolerance));
+        SettingKind::kReal, &R::contact_tolerance, &ReadReal));
     return SettingTable<R>("simulate", std::move(settings));
   }();
   return table;
