@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "nsmodal/atlas.h"
+#include "nsmodal/console.h"
 #include "nsmodal/error.h"
 #include "nsmodal/explore.h"
 #include "nsmodal/stability.h"
@@ -41,23 +42,6 @@ void CheckImpacts(int impacts) {
     throw InputError("--impacts", "orbits and orbit compute 1 or 2 impacts per period, got " +
                                       std::to_string(impacts) + " (use 'nsmodal explore' for 3 or more)");
   }
-}
-
-// The modal truncation asked for by `field` (a whole number of modes).
-ModalTruncation TruncationOf(const Model& m, double modes, const std::string& field) {
-  if (modes != std::floor(modes) || !(std::abs(modes) <= kMaxDofs)) {
-    throw InputError(field, "must be a whole number of modes, got " + FormatValue(modes));
-  }
-  return TruncateModes(m, static_cast<int>(modes), field);
-}
-
-// "modal truncation: k of N modes kept (...); residual flexibility f m/N"
-void PrintTruncation(const ModalTruncation& t) {
-  std::cout << "modal truncation: " << t.kept << " of " << t.dofs << " modes kept (up to "
-            << t.highest_kept_frequency << " rad/s; "
-            << (t.kept < t.dofs ? "the first neglected " : "none neglected");
-  if (t.kept < t.dofs) std::cout << t.lowest_neglected_frequency << " rad/s";
-  std::cout << "); residual flexibility " << t.residual_flexibility << " m/N";
 }
 
 }  // namespace
@@ -93,15 +77,10 @@ int RunOrbits(const OrbitsArgs& a) {
   CheckImpacts(a.impacts);
   const PeriodGrid grid = PeriodGrid::Parse(a.period);
   const Scene scene = LoadScene(a.scene);
-  // --modes K: the sweep runs on the first K modes (a model of K dofs whose
-  // dof 0 is x_c); orbits.csv gives the physical state of the N dofs, and a
-  // column the most the neglected modes can carry of x_c at each orbit's energy.
+  // --modes K: the sweep on the first K modes; orbits.csv in the N dofs, with the bound's column.
   std::optional<ModalTruncation> truncation;
-  if (a.modes) {
-    truncation = TruncationOf(scene.model, *a.modes, "--modes");
-    PrintTruncation(*truncation);
-    std::cout << ": the neglected modes carry at most sqrt(2 E f_res) of x_c at energy E (orbits.csv, neglected_xc_bound)\n";
-  }
+  if (a.modes) truncation = TruncateModesAsGiven(scene.model, *a.modes, "--modes");
+  if (truncation) report::PrintSweepTruncation(std::cout, *truncation);
   const AnalysisBasis b(truncation ? truncation->model : scene.model);
   CheckSweepWork(b, grid, {a.impacts}, "--period", a.impacts == 1);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"orbits.csv", "transitions.csv"});
@@ -110,12 +89,7 @@ int RunOrbits(const OrbitsArgs& a) {
   opt.threads = a.threads;
   opt.progress = ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
   report::ResultFile out(dir, "orbits.csv");
-  auto columns = report::OrbitColumns(scene.model.dofs());
-  if (truncation) {
-    columns.push_back({"neglected_xc_bound", report::ColumnKind::kReal, [&truncation](const OrbitRecord& r) -> report::Cell {
-                         return truncation->ContactBound(r.orbit.energy);
-                       }});
-  }
+  const auto columns = report::OrbitColumns(scene.model.dofs(), truncation ? &*truncation : nullptr);
   report::WriteCsvHeader(out.stream(), columns);
   // Streamed: one block of periods in memory at a time; the transitions need
   // only the 1-ipp admissibility of each period.
@@ -123,8 +97,8 @@ int RunOrbits(const OrbitsArgs& a) {
   std::vector<double> periods;
   std::vector<bool> one_admissible;
   StreamSweep(b, grid, a.impacts, opt, [&](double period, std::vector<OrbitRecord>& list) {
+    if (truncation) ToPhysical(*truncation, list);
     for (OrbitRecord& r : list) {
-      if (truncation) r.orbit.z0 = truncation->PhysicalState(r.orbit.z0);
       report::WriteCsvRow(out.stream(), columns, r);
       ++orbits;
       admissible += r.orbit.admissible;
@@ -245,7 +219,7 @@ int RunSimulate(const SimulateArgs& a) {
   const SimulateOptions& opt = request.options.options;
   const SimulationPlan plan = PlanSimulation(m, request);
   if (const std::optional<ModalTruncation>& t = plan.truncation) {
-    PrintTruncation(*t);
+    report::PrintTruncation(std::cout, *t);
     std::cout << ": at the initial energy " << plan.initial_energy << " J the neglected modes carry at most "
               << t->ContactBound(plan.initial_energy)
               << " m of x_c in the full model (for as long as the energy does not grow: unforced, e <= 1); "
