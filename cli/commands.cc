@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "nsmodal/atlas.h"
+#include "nsmodal/console.h"
 #include "nsmodal/error.h"
 #include "nsmodal/explore.h"
 #include "nsmodal/stability.h"
@@ -41,23 +42,6 @@ void CheckImpacts(int impacts) {
     throw InputError("--impacts", "orbits and orbit compute 1 or 2 impacts per period, got " +
                                       std::to_string(impacts) + " (use 'nsmodal explore' for 3 or more)");
   }
-}
-
-// The modal truncation asked for by `field` (a whole number of modes).
-ModalTruncation TruncationOf(const Model& m, double modes, const std::string& field) {
-  if (modes != std::floor(modes) || !(std::abs(modes) <= kMaxDofs)) {
-    throw InputError(field, "must be a whole number of modes, got " + FormatValue(modes));
-  }
-  return TruncateModes(m, static_cast<int>(modes), field);
-}
-
-// "modal truncation: k of N modes kept (...); residual flexibility f m/N"
-void PrintTruncation(const ModalTruncation& t) {
-  std::cout << "modal truncation: " << t.kept << " of " << t.dofs << " modes kept (up to "
-            << t.highest_kept_frequency << " rad/s; "
-            << (t.kept < t.dofs ? "the first neglected " : "none neglected");
-  if (t.kept < t.dofs) std::cout << t.lowest_neglected_frequency << " rad/s";
-  std::cout << "); residual flexibility " << t.residual_flexibility << " m/N";
 }
 
 }  // namespace
@@ -93,15 +77,10 @@ int RunOrbits(const OrbitsArgs& a) {
   CheckImpacts(a.impacts);
   const PeriodGrid grid = PeriodGrid::Parse(a.period);
   const Scene scene = LoadScene(a.scene);
-  // --modes K: the sweep runs on the first K modes (a model of K dofs whose
-  // dof 0 is x_c); orbits.csv gives the physical state of the N dofs, and a
-  // column the most the neglected modes can carry of x_c at each orbit's energy.
+  // --modes K: the sweep on the first K modes; orbits.csv in the N dofs, with the bound's column.
   std::optional<ModalTruncation> truncation;
-  if (a.modes) {
-    truncation = TruncationOf(scene.model, *a.modes, "--modes");
-    PrintTruncation(*truncation);
-    std::cout << ": the neglected modes carry at most sqrt(2 E f_res) of x_c at energy E (orbits.csv, neglected_xc_bound)\n";
-  }
+  if (a.modes) truncation = TruncateModesAsGiven(scene.model, *a.modes, "--modes");
+  if (truncation) report::PrintSweepTruncation(std::cout, *truncation);
   const AnalysisBasis b(truncation ? truncation->model : scene.model);
   CheckSweepWork(b, grid, {a.impacts}, "--period", a.impacts == 1);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"orbits.csv", "transitions.csv"});
@@ -110,12 +89,7 @@ int RunOrbits(const OrbitsArgs& a) {
   opt.threads = a.threads;
   opt.progress = ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
   report::ResultFile out(dir, "orbits.csv");
-  auto columns = report::OrbitColumns(scene.model.dofs());
-  if (truncation) {
-    columns.push_back({"neglected_xc_bound", report::ColumnKind::kReal, [&truncation](const OrbitRecord& r) -> report::Cell {
-                         return truncation->ContactBound(r.orbit.energy);
-                       }});
-  }
+  const auto columns = report::OrbitColumns(scene.model.dofs(), truncation ? &*truncation : nullptr);
   report::WriteCsvHeader(out.stream(), columns);
   // Streamed: one block of periods in memory at a time; the transitions need
   // only the 1-ipp admissibility of each period.
@@ -123,8 +97,8 @@ int RunOrbits(const OrbitsArgs& a) {
   std::vector<double> periods;
   std::vector<bool> one_admissible;
   StreamSweep(b, grid, a.impacts, opt, [&](double period, std::vector<OrbitRecord>& list) {
+    if (truncation) ToPhysical(*truncation, list);
     for (OrbitRecord& r : list) {
-      if (truncation) r.orbit.z0 = truncation->PhysicalState(r.orbit.z0);
       report::WriteCsvRow(out.stream(), columns, r);
       ++orbits;
       admissible += r.orbit.admissible;
@@ -245,7 +219,7 @@ int RunSimulate(const SimulateArgs& a) {
   const SimulateOptions& opt = request.options.options;
   const SimulationPlan plan = PlanSimulation(m, request);
   if (const std::optional<ModalTruncation>& t = plan.truncation) {
-    PrintTruncation(*t);
+    report::PrintTruncation(std::cout, *t);
     std::cout << ": at the initial energy " << plan.initial_energy << " J the neglected modes carry at most "
               << t->ContactBound(plan.initial_energy)
               << " m of x_c in the full model (for as long as the energy does not grow: unforced, e <= 1); "
@@ -345,92 +319,28 @@ int RunExplore(const ExploreArgs& a) {
   if (a.grid < 4 || a.grid > 200) throw InputError("--grid", "must lie in [4, 200], got " + std::to_string(a.grid));
   const PeriodGrid range = PeriodGrid::Parse(a.period);
   const AnalysisBasis b(LoadScene(a.scene).model);
-  ExploreOptions opt;
-  opt.impacts = a.impacts;
-  opt.grid = a.grid;
   if (a.impacts < 3 || a.impacts > 6) {
     throw InputError("--impacts", "explore takes 3 to 6 impacts per period, got " + std::to_string(a.impacts) +
                                       " (use 'nsmodal orbits' for 1 or 2)");
   }
-  std::optional<PeriodGrid> follow_range;
-  if (a.follow) {
-    follow_range = PeriodGrid::Parse(*a.follow, "--follow");
-    if (a.impacts % 2 == 0) {
-      throw InputError("--follow", "follows families with an odd number of impacts (3 or 5), got --impacts " +
-                                       std::to_string(a.impacts));
-    }
-    b.CheckPeriod(follow_range->from, "--follow");
-    b.CheckPeriod(follow_range->to, "--follow");
-  }
-  opt.progress = ProgressBar("explore");
+  std::optional<PeriodGrid> follow;
+  if (a.follow) follow = PeriodGrid::Parse(*a.follow, "--follow");
+  if (follow) CheckFamilyRange(b, a.impacts, follow->from, follow->to, FieldNames("--"));
   const std::vector<double> periods = range.Values();
+  ExploreOptions opt;
+  opt.impacts = a.impacts;
+  opt.grid = a.grid;
+  opt.progress = ProgressBar("explore");
   const ExploreReport r = ExploreImpacts(b, periods, opt);
-  const long repeated = r.Count("repeated-lower-m"), grazing = r.Count("grazing-contact"), fresh = r.Count("new"),
-             fresh_admissible = r.Count("new", true);
   if (a.json) {
-    nlohmann::json j;
-    j["impacts"] = r.impacts;
-    j["samples"] = r.samples;
-    for (auto [k, v] : r.kernel_dimension_histogram) j["kernel_dimension_histogram"][std::to_string(k)] = v;
-    j["findings"] = nlohmann::json::array();
-    for (const ExploreFinding& f : r.findings) {
-      nlohmann::json o = report::OrbitJson({f.orbit, std::nullopt});
-      o["kind"] = f.kind;
-      o["kernel_dimension"] = f.kernel_dimension;
-      o["grazing_ratio"] = f.grazing_ratio;
-      j["findings"].push_back(o);
-    }
-    j["best_phi_new"] = r.best_phi_new;
-    std::cout << j.dump(2) << "\n";
+    std::cout << report::ExploreJson(r).dump(2) << "\n";
     return 0;
   }
-  std::cout << "m = " << r.impacts << ": " << r.samples << " grid samples over " << periods.size() << " periods\n";
-  std::cout << "dim ker A_m " << (r.impacts % 2 ? "at grid samples" : "at roots found") << ":";
-  for (auto [k, v] : r.kernel_dimension_histogram) std::cout << "  " << k << " -> " << v;
-  std::cout << "\npotential orbits (cyclic shifts merged): " << repeated << " repeat a lower-m orbit, " << grazing
-            << " have a grazing contact, " << fresh << " new (" << fresh_admissible << " admissible)\n";
-  std::cout << "smallest defect away from repeated orbits: " << r.best_phi_new << "\n";
-  std::cout << "conjecture (paper 2.3): dim ker = " << (r.impacts % 2 ? 1 : 2)
-            << "; potential solutions only as degenerate lower-m orbits\n";
-  for (const ExploreFinding& f : r.findings) {
-    if (f.kind != "new") continue;
-    std::cout << "  new: T = " << f.orbit.period << " times =";
-    for (double t : f.orbit.times) std::cout << " " << t;
-    std::cout << " energy = " << f.orbit.energy << " min/max |v_c-| = " << f.grazing_ratio
-              << (f.orbit.admissible ? " admissible" : " not admissible") << "\n";
-  }
-  if (follow_range) {
-    std::vector<std::pair<double, double>> stretches;  // families already printed
-    for (const ExploreFinding& f : r.findings) {
-      if (f.kind != "new" || !f.orbit.admissible) continue;
-      FamilyOptions fo;
-      fo.step = follow_range->step;
-      const FamilyStretch fam = FollowOddImpactFamilyBothWays(b, f.orbit, follow_range->from, follow_range->to, fo);
-      const Family &down = fam.down, &up = fam.up;
-      const double lo = fam.from, hi = fam.to;
-      bool seen = false;
-      for (const auto& [l, h] : stretches) seen = seen || (std::abs(l - lo) <= 1e-9 * hi && std::abs(h - hi) <= 1e-9 * hi);
-      if (seen) continue;
-      stretches.emplace_back(lo, hi);
-      double e_min = INFINITY, e_max = 0.0, mu_min = INFINITY, mu_max = 0.0;
-      long points = 0;
-      for (const Orbit& o : fam.Ascending()) {  // the start once (it was counted in both directions)
-        if (!o.admissible) continue;
-        ++points;
-        e_min = std::min(e_min, o.energy);
-        e_max = std::max(e_max, o.energy);
-        const Stability s = OrbitStability(b, o);
-        if (s.defined) {
-          mu_min = std::min(mu_min, s.max_modulus);
-          mu_max = std::max(mu_max, s.max_modulus);
-        }
-      }
-      std::cout << "  family of T = " << f.orbit.period << ": admissible for T in [" << FormatValue(lo) << ", "
-                << FormatValue(hi) << "]" << (std::isnan(down.admissibility_change) ? " (lower end: " + down.stop + ")" : "")
-                << (std::isnan(up.admissibility_change) ? " (upper end: " + up.stop + ")" : "") << "; " << points
-                << " points at step " << fo.step << ": energy " << e_min << " to " << e_max << ", largest |multiplier| " << mu_min
-                << " to " << mu_max << (mu_min > 1.0 ? " (unstable throughout)" : "") << "\n";
-    }
+  report::PrintExplore(std::cout, r, periods.size());
+  if (follow) {
+    FamilyOptions fo;
+    fo.step = follow->step;
+    report::PrintFamilies(std::cout, FollowNewFamilies(b, r, follow->from, follow->to, fo), fo.step);
   }
   return 0;
 }

@@ -29,6 +29,7 @@
 #include "nsmodal/json.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/model.h"
+#include "nsmodal/model_spec.h"
 #include "nsmodal/one_impact.h"
 #include "nsmodal/output.h"
 #include "nsmodal/response.h"
@@ -355,6 +356,17 @@ Eigen::VectorXd VectorOf(const std::vector<double>& v) {
   return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<long>(v.size()));
 }
 
+// The keywords' names in errors: the keyword where Python names its own
+// checks, else the scene's field (system.contact_dof, as Validate names it).
+FieldNames ModelKeywordNames() {
+  FieldNames names("system.");
+  for (const char* key : {"masses", "springs", "mass_matrix", "stiffness_matrix", "damping", "rayleigh_damping",
+                          "forcing.amplitude", "forcing.frequency"}) {
+    names.Set(key, key);
+  }
+  return names.Set("form", "masses");
+}
+
 Model MakeModel(std::optional<std::vector<double>> masses, std::optional<std::vector<double>> springs,
                 std::optional<Eigen::MatrixXd> mass_matrix, std::optional<Eigen::MatrixXd> stiffness_matrix,
                 Real<"gap"> gap, Real<"restitution"> restitution, std::optional<Integer<"contact_dof">> contact_dof,
@@ -362,50 +374,21 @@ Model MakeModel(std::optional<std::vector<double>> masses, std::optional<std::ve
                 std::optional<Eigen::MatrixXd> damping_matrix, std::optional<std::vector<double>> forcing_amplitude,
                 std::optional<Real<"forcing_frequency">> forcing_frequency,
                 std::optional<std::vector<double>> forcing_constant) {
-  Model m;
-  const bool chain = masses || springs, matrices = mass_matrix || stiffness_matrix;
-  if (chain == matrices) {
-    throw InputError("masses", "give masses and springs (a chain), or mass_matrix and stiffness_matrix, not both");
-  }
-  if (chain) {
-    if (!masses || !springs) throw InputError(masses ? "springs" : "masses", "is missing: a chain needs both");
-    const int n = static_cast<int>(masses->size());
-    m = MakeChain(*masses, *springs, contact_dof ? *contact_dof - 1 : n - 1, gap, restitution);
-  } else {
-    if (!mass_matrix || !stiffness_matrix) {
-      throw InputError(mass_matrix ? "stiffness_matrix" : "mass_matrix", "is missing: give both matrices");
-    }
-    m.mass = *mass_matrix;
-    m.stiffness = *stiffness_matrix;
-    m.contact = contact_dof ? *contact_dof - 1 : static_cast<int>(mass_matrix->rows()) - 1;
-    m.gap = gap;
-    m.restitution = restitution;
-  }
-  Validate(m);
-  // Damping and forcing, as the scene keys (scene.h).
-  if ((rayleigh_damping ? 1 : 0) + (damping_ratios ? 1 : 0) + (damping_matrix ? 1 : 0) > 1) {
-    throw InputError("damping", "give at most one of rayleigh_damping, damping_ratios and damping_matrix");
-  }
-  if (rayleigh_damping) {
-    if (rayleigh_damping->size() != 2) throw InputError("rayleigh_damping", "must be (a, b): C = a M + b K");
-    m.damping = RayleighDamping(m.mass, m.stiffness, (*rayleigh_damping)[0], (*rayleigh_damping)[1]);
-  }
-  if (damping_ratios) m.damping = ModalDamping(m.mass, m.stiffness, *damping_ratios);
-  if (damping_matrix) m.damping = *damping_matrix;
-  if (forcing_amplitude.has_value() != forcing_frequency.has_value()) {
-    throw InputError(forcing_amplitude ? "forcing.frequency" : "forcing.amplitude",
-                     "is missing: f cos(w t) needs both forcing_amplitude and forcing_frequency");
-  }
-  if (forcing_amplitude) {
-    m.forcing.amplitude = VectorOf(*forcing_amplitude);
-    m.forcing.frequency = *forcing_frequency;
-    if (!(m.forcing.frequency > 0.0)) {
-      throw InputError("forcing.frequency", "must be positive, got " + FormatValue(m.forcing.frequency));
-    }
-  }
-  if (forcing_constant) m.forcing.constant = VectorOf(*forcing_constant);
-  Validate(m);
-  return m;
+  ModelSpec spec{.masses = std::move(masses),
+                 .springs = std::move(springs),
+                 .mass_matrix = std::move(mass_matrix),
+                 .stiffness_matrix = std::move(stiffness_matrix),
+                 .bar = std::nullopt,
+                 .contact_dof = contact_dof ? std::optional<double>(*contact_dof) : std::nullopt,
+                 .gap = gap,
+                 .restitution = restitution,
+                 .rayleigh_damping = std::move(rayleigh_damping),
+                 .damping_ratios = std::move(damping_ratios),
+                 .damping_matrix = std::move(damping_matrix),
+                 .forcing_amplitude = std::move(forcing_amplitude),
+                 .forcing_frequency = forcing_frequency ? std::optional<double>(*forcing_frequency) : std::nullopt,
+                 .forcing_constant = std::move(forcing_constant)};
+  return AssembleModel(spec, ModelKeywordNames());
 }
 
 // The response grid and the fixed parameter: one of frequency and amplitude
@@ -596,7 +579,12 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
         bar.elements = elements;
         bar.boundary = ParseBarBoundary(boundary, "boundary");
         bar.mass = ParseBarMass(mass, "mass");
-        return MakeBar(bar, contact_dof ? *contact_dof - 1 : bar.Dofs() - 1, gap, restitution);
+        ModelSpec spec;
+        spec.bar = bar;
+        if (contact_dof) spec.contact_dof = *contact_dof;
+        spec.gap = gap;
+        spec.restitution = restitution;
+        return AssembleModel(spec, ModelKeywordNames());
       },
       py::kw_only(), py::arg("length"), py::arg("youngs_modulus"), py::arg("density"), py::arg("area"),
       py::arg("elements"), py::arg("boundary") = "fixed-free", py::arg("mass") = "consistent",

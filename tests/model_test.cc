@@ -11,6 +11,7 @@
 #include "nsmodal/error.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/model.h"
+#include "nsmodal/model_spec.h"
 #include "nsmodal/roots.h"
 #include "nsmodal/scene.h"
 #include "scene_errors.h"
@@ -101,6 +102,51 @@ TEST(Scene, BadInputNamesTheFieldAndValue) {
   ExpectSceneError("[system]\ngap=1\nrestitution=1\nmasses=[1,1]\n", "system.springs");
   ExpectSceneError("[other]\nx=1\n", "system");
   ExpectSceneError("[system\nmasses=[1,1]\n", "scene", ":1:");
+}
+
+// One assembly for both faces (model_spec.h): the scene and the Python
+// module build the same model from the same keys, and each names a field as
+// its user wrote it.
+TEST(AssembleModel, TheFacesShareTheRulesAndNameTheirOwnFields) {
+  ModelSpec spec;
+  spec.masses = {1.0, 1.0};
+  spec.springs = {0.85, 2.0};
+  spec.gap = 1.0;
+  spec.restitution = 0.8;
+  spec.damping_ratios = {0.02, 0.02};
+  spec.forcing_amplitude = {0.3, 0.0};
+  spec.forcing_frequency = 0.5;
+  const Scene scene = ParseScene("[system]\nmasses=[1,1]\nsprings=[0.85,2]\ngap=1\nrestitution=0.8\n"
+                                 "damping_ratios=[0.02,0.02]\n[forcing]\namplitude=[0.3,0]\nfrequency=0.5\n");
+  const Model m = AssembleModel(spec, FieldNames("system."));
+  EXPECT_EQ(m.damping, scene.model.damping);
+  EXPECT_EQ(m.forcing.amplitude, scene.model.forcing.amplitude);
+  EXPECT_EQ(m.contact, 1);
+  auto field = [](const ModelSpec& s, const FieldNames& names) {
+    try {
+      AssembleModel(s, names);
+    } catch (const InputError& e) {
+      return e.field();
+    }
+    return std::string("no error");
+  };
+  const FieldNames keywords = FieldNames().Set("form", "masses");
+  ModelSpec two = spec;
+  two.rayleigh_damping = {0.1, 0.0};
+  EXPECT_EQ(field(two, keywords), "damping");
+  ModelSpec chain_and_matrix = spec;
+  chain_and_matrix.mass_matrix = Eigen::MatrixXd::Identity(2, 2);
+  EXPECT_EQ(field(chain_and_matrix, keywords), "masses");
+  ModelSpec no_springs = spec;
+  no_springs.springs.reset();
+  EXPECT_EQ(field(no_springs, keywords), "springs");
+  EXPECT_EQ(field(no_springs, FieldNames("system.")), "system.springs");
+  ModelSpec no_frequency = spec;
+  no_frequency.forcing_frequency.reset();
+  EXPECT_EQ(field(no_frequency, keywords), "forcing.frequency");
+  ModelSpec bad_contact = spec;
+  bad_contact.contact_dof = 3;
+  EXPECT_EQ(field(bad_contact, FieldNames("system.")), "system.contact_dof");
 }
 
 TEST(Scene, MissingFileIsAnInputError) {

@@ -15,6 +15,7 @@
 #include "nsmodal/error.h"
 #include "nsmodal/flow.h"
 #include "nsmodal/return_map.h"
+#include "nsmodal/stability.h"
 #include "nsmodal/stop.h"
 
 namespace nsmodal {
@@ -397,6 +398,49 @@ FamilyStretch FollowOddImpactFamilyBothWays(const AnalysisBasis& b, const Orbit&
   f.from = end(f.down);
   f.to = end(f.up);
   return f;
+}
+
+void CheckFamilyRange(const AnalysisBasis& b, int impacts, double from, double to, const FieldNames& names) {
+  if (impacts % 2 == 0) {
+    throw InputError(names("follow"), "follows families with an odd number of impacts (3 or 5), got " +
+                                          names("impacts") + " " + std::to_string(impacts));
+  }
+  b.CheckPeriod(from, names("follow"));
+  b.CheckPeriod(to, names("follow"));
+}
+
+std::vector<FamilySummary> FollowNewFamilies(const AnalysisBasis& b, const ExploreReport& report, double from,
+                                             double to, const FamilyOptions& options) {
+  std::vector<FamilySummary> out;
+  for (const ExploreFinding& f : report.findings) {
+    if (f.kind != "new" || !f.orbit.admissible) continue;
+    const FamilyStretch fam = FollowOddImpactFamilyBothWays(b, f.orbit, from, to, options);
+    const double lo = fam.from, hi = fam.to;
+    bool seen = false;
+    for (const FamilySummary& s : out) {
+      seen = seen || (std::abs(s.from - lo) <= 1e-9 * hi && std::abs(s.to - hi) <= 1e-9 * hi);
+    }
+    if (seen) continue;
+    FamilySummary s;
+    s.start = f.orbit;
+    s.from = lo;
+    s.to = hi;
+    if (std::isnan(fam.down.admissibility_change)) s.lower_end = fam.down.stop;
+    if (std::isnan(fam.up.admissibility_change)) s.upper_end = fam.up.stop;
+    for (const Orbit& o : fam.Ascending()) {  // the start once (it was counted in both directions)
+      if (!o.admissible) continue;
+      ++s.points;
+      s.energy_min = std::min(s.energy_min, o.energy);
+      s.energy_max = std::max(s.energy_max, o.energy);
+      const Stability st = OrbitStability(b, o);
+      if (st.defined) {
+        s.multiplier_min = std::min(s.multiplier_min, st.max_modulus);
+        s.multiplier_max = std::max(s.multiplier_max, st.max_modulus);
+      }
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
 }
 
 std::vector<Orbit> FamilyStretch::Ascending() const {

@@ -104,6 +104,10 @@ void CheckSweepWork(const AnalysisBasis& b, const PeriodGrid& grid, const std::v
   CheckSweepWork(b, grid.from, grid.step, grid.Count(), impacts, field, transitions);
 }
 
+void ToPhysical(const ModalTruncation& t, std::vector<OrbitRecord>& orbits) {
+  for (OrbitRecord& r : orbits) r.orbit.z0 = t.PhysicalState(r.orbit.z0);
+}
+
 std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts, const SweepOptions& options) {
   CheckImpacts(impacts);
   b.CheckPeriod(period);

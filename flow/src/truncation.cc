@@ -119,6 +119,14 @@ ModalTruncation TruncateModes(const Model& full, int modes, const std::string& f
   return Truncate(full, MakeModalBasis(full), modes, field);
 }
 
+ModalTruncation TruncateModesAsGiven(const Model& full, double modes, const std::string& field) {
+  // Whole and bounded first: casting a fraction, a non-finite or a huge value to an int is wrong or undefined.
+  if (modes != std::floor(modes) || !(std::abs(modes) <= kMaxDofs)) {
+    throw InputError(field, "must be a whole number of modes, got " + FormatValue(modes));
+  }
+  return TruncateModes(full, static_cast<int>(modes), field);
+}
+
 int ModesForContactBound(const Model& full, double energy, double tolerance, const std::string& field) {
   return ModesFor(MakeModalBasis(full), energy, tolerance, field);
 }

@@ -64,6 +64,23 @@ nlohmann::json OrbitJson(const OrbitRecord& record) {
   return Checked(std::move(j), "orbit");
 }
 
+nlohmann::json ExploreJson(const ExploreReport& r) {
+  nlohmann::json j;
+  j["impacts"] = r.impacts;
+  j["samples"] = r.samples;
+  for (auto [k, v] : r.kernel_dimension_histogram) j["kernel_dimension_histogram"][std::to_string(k)] = v;
+  j["findings"] = nlohmann::json::array();
+  for (const ExploreFinding& f : r.findings) {
+    nlohmann::json o = OrbitJson({f.orbit, std::nullopt});
+    o["kind"] = f.kind;
+    o["kernel_dimension"] = f.kernel_dimension;
+    o["grazing_ratio"] = f.grazing_ratio;
+    j["findings"].push_back(o);
+  }
+  j["best_phi_new"] = r.best_phi_new;
+  return j;
+}
+
 nlohmann::json SimulationJson(const SimulationSummary& s, const Configured<SimulationRequest>& request) {
   const SimulateOptions& opt = request.options.options;
   nlohmann::json j;

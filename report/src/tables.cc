@@ -26,7 +26,7 @@ Cell FiniteOrMissing(double v) { return OrMissing(std::isfinite(v), v); }
 
 }  // namespace
 
-Columns<OrbitRecord> OrbitColumns(int dofs) {
+Columns<OrbitRecord> OrbitColumns(int dofs, const ModalTruncation* truncation) {
   Columns<OrbitRecord> c{
       {"T", K::kReal, [](const OrbitRecord& r) -> Cell { return r.orbit.period; }},
       {"t2", K::kReal,
@@ -53,6 +53,10 @@ Columns<OrbitRecord> OrbitColumns(int dofs) {
                      return Cell(part ? mu.imag() : mu.real());
                    }});
     }
+  }
+  if (truncation) {
+    c.push_back({"neglected_xc_bound", K::kReal,
+                 [truncation](const OrbitRecord& r) -> Cell { return truncation->ContactBound(r.orbit.energy); }});
   }
   return c;
 }

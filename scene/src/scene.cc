@@ -15,6 +15,7 @@
 #include <toml++/toml.h>
 
 #include "nsmodal/error.h"
+#include "nsmodal/model_spec.h"
 #include "nsmodal/simulate_settings.h"
 #include "nsmodal/validate_settings.h"
 
@@ -56,56 +57,22 @@ Eigen::MatrixXd ReadMatrix(const toml::node& node, const std::string& field) {
   return m;
 }
 
-// At most one of the three damping forms; none means C = 0.
-void ReadDamping(const toml::table& sys, Model& model) {
-  const char* forms[] = {"rayleigh_damping", "damping_ratios", "damping_matrix"};
-  int given = 0;
-  for (const char* f : forms) given += sys.contains(f) ? 1 : 0;
-  if (given > 1) {
-    throw InputError("system", "give at most one of rayleigh_damping, damping_ratios and damping_matrix");
-  }
-  if (const toml::node* node = sys.get("rayleigh_damping")) {
-    const std::vector<double> ab = ReadVector(*node, "system.rayleigh_damping");
-    if (ab.size() != 2) {
-      throw InputError("system.rayleigh_damping", "must be [a, b] (C = a M + b K), got " +
-                                                      std::to_string(ab.size()) + " entries");
-    }
-    model.damping = RayleighDamping(model.mass, model.stiffness, ab[0], ab[1]);
-  } else if (const toml::node* ratios = sys.get("damping_ratios")) {
-    model.damping = ModalDamping(model.mass, model.stiffness, ReadVector(*ratios, "system.damping_ratios"));
-  } else if (const toml::node* matrix = sys.get("damping_matrix")) {
-    model.damping = ReadMatrix(*matrix, "system.damping_matrix");
-  }
-}
-
-// [forcing]: f0 + f cos(w t). amplitude and frequency come together.
-void ReadForcing(const toml::node& node, Model& model) {
+// [forcing]: f0 + f cos(w t), each key as given (AssembleModel pairs them).
+void ReadForcing(const toml::node& node, ModelSpec& spec) {
   const toml::table* table = node.as_table();
   if (table == nullptr) throw InputError("forcing", "must be a table");
-  auto to_vector = [](const std::vector<double>& v) {
-    return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())).eval();
-  };
   for (auto&& [key, value] : *table) {
     const std::string k(key.str());
     const std::string field = "forcing." + k;
     if (k == "amplitude") {
-      model.forcing.amplitude = to_vector(ReadVector(value, field));
+      spec.forcing_amplitude = ReadVector(value, field);
     } else if (k == "constant") {
-      model.forcing.constant = to_vector(ReadVector(value, field));
+      spec.forcing_constant = ReadVector(value, field);
     } else if (k == "frequency") {
-      model.forcing.frequency = ReadNumber(value, field);
+      spec.forcing_frequency = ReadNumber(value, field);
     } else {
       throw InputError(field, "is not a known key");
     }
-  }
-  if (table->contains("amplitude") && !table->contains("frequency")) {
-    throw InputError("forcing.frequency", "is missing: the angular frequency w (rad/s) of f cos(w t)");
-  }
-  if (table->contains("frequency") && !table->contains("amplitude")) {
-    throw InputError("forcing.amplitude", "is missing: the force amplitude f on each dof");
-  }
-  if (table->contains("frequency") && !(model.forcing.frequency > 0.0)) {
-    throw InputError("forcing.frequency", "must be positive, got " + FormatValue(model.forcing.frequency));
   }
 }
 
@@ -235,54 +202,30 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
     for (const char* k : kKnown) known = known || key.str() == k;
     if (!known) throw InputError("system." + std::string(key.str()), "is not a known key");
   }
-  const bool chain = sys->contains("masses") || sys->contains("springs");
-  const bool matrices = sys->contains("mass_matrix") || sys->contains("stiffness_matrix");
-  const bool bar = sys->contains("bar");
-  if (int(chain) + int(matrices) + int(bar) != 1) {
-    throw InputError("system", "give exactly one of: masses and springs (a chain), mass_matrix and "
-                               "stiffness_matrix, or bar (a finite-element bar)");
-  }
-  Model model;
-  if (bar) {
-    const BarSpec spec = ReadBar(*sys->get("bar"));
-    model = MakeBar(spec, spec.Dofs() - 1, 1.0, 1.0);  // contact on the last node unless contact_dof says otherwise
-  } else if (chain) {
-    if (!sys->contains("masses")) throw InputError("system.masses", "is missing");
-    if (!sys->contains("springs")) throw InputError("system.springs", "is missing");
-    std::vector<double> masses = ReadVector(*sys->get("masses"), "system.masses");
-    std::vector<double> springs = ReadVector(*sys->get("springs"), "system.springs");
-    model = MakeChain(masses, springs, static_cast<int>(masses.size()) - 1, 1.0, 1.0);
-  } else {
-    if (!sys->contains("mass_matrix")) throw InputError("system.mass_matrix", "is missing");
-    if (!sys->contains("stiffness_matrix")) throw InputError("system.stiffness_matrix", "is missing");
-    model.mass = ReadMatrix(*sys->get("mass_matrix"), "system.mass_matrix");
-    model.stiffness = ReadMatrix(*sys->get("stiffness_matrix"), "system.stiffness_matrix");
-    model.contact = model.dofs() - 1;
-  }
-  if (const toml::node* n = sys->get("contact_dof")) {
-    const double c = ReadNumber(*n, "system.contact_dof");
-    // Range first: casting a non-finite or huge value to an integer is undefined.
-    if (!(c >= 1 && c <= model.dofs()) || c != std::floor(c)) {
-      throw InputError("system.contact_dof", "must be an integer between 1 and " +
-                                                 std::to_string(model.dofs()) + ", got " + FormatValue(c));
-    }
-    model.contact = static_cast<int>(c) - 1;
-  }
-  // No silent defaults for the obstacle and the impact law: a scene that
-  // forgot them would run another system.
-  const toml::node* gap = sys->get("gap");
-  if (gap == nullptr) throw InputError("system.gap", "is missing: the distance d from rest to the obstacle");
-  model.gap = ReadNumber(*gap, "system.gap");
-  const toml::node* restitution = sys->get("restitution");
-  if (restitution == nullptr) {
-    throw InputError("system.restitution",
-                     "is missing: the coefficient e of Newton's impact law, 0 <= e <= 1 (1 for periodic orbits)");
-  }
-  model.restitution = ReadNumber(*restitution, "system.restitution");
-  Validate(model);  // M and K first: the damping forms are built from them
-  ReadDamping(*sys, model);
-  if (const toml::node* node = root.get("forcing")) ReadForcing(*node, model);
-  Validate(model);
+  // Each key as given; AssembleModel builds the model (the faces' one rule).
+  ModelSpec spec;
+  auto given = [sys](const char* key, auto read) {
+    using T = decltype(read(*sys, std::string()));
+    const toml::node* n = sys->get(key);
+    return n ? std::optional<T>(read(*n, std::string("system.") + key)) : std::optional<T>();
+  };
+  if (const toml::node* n = sys->get("bar")) spec.bar = ReadBar(*n);
+  spec.masses = given("masses", ReadVector);
+  spec.springs = given("springs", ReadVector);
+  spec.mass_matrix = given("mass_matrix", ReadMatrix);
+  spec.stiffness_matrix = given("stiffness_matrix", ReadMatrix);
+  spec.contact_dof = given("contact_dof", ReadNumber);
+  spec.gap = given("gap", ReadNumber);
+  spec.restitution = given("restitution", ReadNumber);
+  spec.rayleigh_damping = given("rayleigh_damping", ReadVector);
+  spec.damping_ratios = given("damping_ratios", ReadVector);
+  spec.damping_matrix = given("damping_matrix", ReadMatrix);
+  if (const toml::node* node = root.get("forcing")) ReadForcing(*node, spec);
+  const Model model = AssembleModel(spec, FieldNames("system.")
+                                              .Set("form", "system")
+                                              .Set("damping", "system")
+                                              .Set("forcing.amplitude", "forcing.amplitude")
+                                              .Set("forcing.frequency", "forcing.frequency"));
   Scene scene{source, model, {}, {}};
   if (const toml::node* node = root.get("simulate")) scene.simulate = ReadSettings(*node, SimulateSettings());
   if (const toml::node* node = root.get("validate")) scene.validate = ReadSettings(*node, ValidateSettings());

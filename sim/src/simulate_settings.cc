@@ -187,11 +187,7 @@ SimulationPlan PlanSimulation(const Model& model, const Configured<SimulationReq
     }
   }
   if (modes) {
-    if (*modes < 1 || *modes > kMaxDofs) {
-      throw InputError(names("modes"), "must be a whole number of modes in [1, " + std::to_string(n) + "], got " +
-                                           std::to_string(*modes));
-    }
-    plan.truncation = TruncateModes(model, static_cast<int>(*modes), names("modes"));
+    plan.truncation = TruncateModesAsGiven(model, static_cast<double>(*modes), names("modes"));
   } else if (tolerance) {
     plan.truncation = TruncateForContactBound(model, plan.initial_energy, *tolerance, names("contact_tolerance"));
   }

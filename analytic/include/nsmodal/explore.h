@@ -8,11 +8,14 @@
 // The search minimises phi = sigma_k(A_m) (k = 2 for even m, 0 for odd m) +
 // the NC2 least-squares misfit in the span of the k smallest singular vectors,
 // from the best grid points, with GSL's Nelder-Mead simplex.
+#include <cmath>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "nsmodal/field_names.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/orbit.h"
 
@@ -89,5 +92,25 @@ struct FamilyStretch {
 };
 FamilyStretch FollowOddImpactFamilyBothWays(const AnalysisBasis& b, const Orbit& start, double from, double to,
                                             const FamilyOptions& options = {});
+
+// explore --follow: the family of each admissible new orbit of an
+// exploration (odd m), followed both ways over [from, to] and summed up over
+// its admissible orbits (the start once). A family met again from another
+// of its orbits (the same stretch to 1e-9 T) is given once, at the first.
+struct FamilySummary {
+  Orbit start;                        // the finding it was followed from
+  double from = 0.0, to = 0.0;        // the stretch (FamilyStretch::from, to)
+  // Why it ended on that side (Family::stop), when no admissibility change ended it there.
+  std::optional<std::string> lower_end, upper_end;
+  long points = 0;                    // admissible orbits
+  double energy_min = INFINITY, energy_max = 0.0;
+  double multiplier_min = INFINITY, multiplier_max = 0.0;  // largest |Floquet multiplier|, where defined
+};
+// Throws InputError naming "follow" (as `names` says: the CLI's --follow)
+// when the report's m is even or [from, to] leaves the periods the basis
+// honours, before any work; as FollowOddImpactFamily otherwise.
+void CheckFamilyRange(const AnalysisBasis& b, int impacts, double from, double to, const FieldNames& names = FieldNames());
+std::vector<FamilySummary> FollowNewFamilies(const AnalysisBasis& b, const ExploreReport& report, double from,
+                                             double to, const FamilyOptions& options = {});
 
 }  // namespace nsmodal

@@ -14,6 +14,7 @@
 #include "nsmodal/orbit.h"
 #include "nsmodal/stability.h"
 #include "nsmodal/transitions.h"
+#include "nsmodal/truncation.h"
 #include "nsmodal/two_impact.h"
 #include "nsmodal/work.h"
 
@@ -90,6 +91,11 @@ Sweep ComputeSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, 
 inline constexpr long kStreamBlock = 256;
 void StreamSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, const SweepOptions& options,
                  const std::function<void(double period, std::vector<OrbitRecord>& orbits)>& sink);
+
+// The orbits of a sweep on a model's first modes (truncation.h: the basis
+// of t.model) in the full model's dofs: each z0 mapped back by to_physical
+// (the stability stays the truncated model's).
+void ToPhysical(const ModalTruncation& t, std::vector<OrbitRecord>& orbits);
 
 // The orbits of one period, with the policy's stability.
 std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts,

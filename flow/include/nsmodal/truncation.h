@@ -53,6 +53,13 @@ struct ModalTruncation {
 // Validate does on a bad model.
 ModalTruncation TruncateModes(const Model& full, int modes, const std::string& field = "modes");
 
+// The truncation a face asks for with a number of modes as given (a flag's
+// real, a setting's whole number): InputError naming `field` unless it is a
+// whole number of at most kMaxDofs in size, then as TruncateModes (the
+// range the model allows). The one check of `orbits --modes` and of
+// simulate's modes.
+ModalTruncation TruncateModesAsGiven(const Model& full, double modes, const std::string& field);
+
 // The fewest modes whose ContactBound(energy) is at most `tolerance` (m):
 // InputError naming `field` when tolerance is not > 0 or energy not >= 0.
 int ModesForContactBound(const Model& full, double energy, double tolerance,

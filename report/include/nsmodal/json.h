@@ -7,6 +7,7 @@
 #include <ostream>
 
 #include "nsmodal/atlas.h"
+#include "nsmodal/explore.h"
 #include "nsmodal/settings.h"
 #include "nsmodal/simulate_settings.h"
 #include "nsmodal/truncation.h"
@@ -19,6 +20,11 @@ namespace nsmodal::report {
 // admissible, degenerate, residuals, nc3_margin (null when not finite), x, v,
 // reason, and with stability: stable, max_multiplier, multipliers [[re, im]].
 nlohmann::json OrbitJson(const OrbitRecord& record);
+
+// explore --json: impacts, samples, kernel_dimension_histogram (dimension ->
+// count), findings (OrbitJson of each, with kind, kernel_dimension and
+// grazing_ratio) and best_phi_new.
+nlohmann::json ExploreJson(const ExploreReport& report);
 
 // summary.json of `simulate`: integrator, status, message, final_time,
 // final_state, impacts, grazes, zeno_events, first_zeno_time (null: none),

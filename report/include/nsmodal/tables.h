@@ -7,6 +7,7 @@
 #include "nsmodal/response.h"
 #include "nsmodal/simulate.h"
 #include "nsmodal/table.h"
+#include "nsmodal/truncation.h"
 #include "nsmodal/validate.h"
 #include "nsmodal/work_precision.h"
 
@@ -16,7 +17,11 @@ namespace nsmodal::report {
 // nc2_residual,nc3_margin,degenerate,x1..xN,v1..vN,stable,max_multiplier,
 // mu1_re,mu1_im..mu2N_re,mu2N_im (t2 missing for one impact; stable and the
 // multipliers missing where the sweep's policy computed no stability).
-Columns<OrbitRecord> OrbitColumns(int dofs);
+// With a truncation (orbits --modes: the sweep on its kept modes, the
+// states mapped back to the N dofs, ToPhysical), one more column,
+// neglected_xc_bound: ContactBound of the orbit's energy, the most the
+// neglected modes can carry of x_c. The truncation must outlive the columns.
+Columns<OrbitRecord> OrbitColumns(int dofs, const ModalTruncation* truncation = nullptr);
 
 // transitions.csv: T,kind,energy.
 Columns<Transition> TransitionColumns();

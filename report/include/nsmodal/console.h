@@ -1,0 +1,31 @@
+#pragma once
+// The text a person reads on the console: the lines and tables the commands
+// print besides their files. Each function writes to `out` (the CLI passes
+// std::cout) and leaves its format flags as it found them.
+#include <cstddef>
+#include <ostream>
+#include <vector>
+
+#include "nsmodal/explore.h"
+#include "nsmodal/truncation.h"
+
+namespace nsmodal::report {
+
+// "modal truncation: k of N modes kept (up to w_k rad/s; the first neglected
+// w_k+1 rad/s); residual flexibility f m/N", no end of line: each command
+// goes on with what the bound means for it.
+void PrintTruncation(std::ostream& out, const ModalTruncation& t);
+
+// The line of a sweep on the kept modes (orbits --modes): PrintTruncation
+// and the bound's column in orbits.csv.
+void PrintSweepTruncation(std::ostream& out, const ModalTruncation& t);
+
+// explore's summary: the grid samples, dim ker A_m, the potential orbits by
+// kind, the smallest defect, the paper's conjecture, and a line per new
+// orbit; `periods`: how many periods were searched.
+void PrintExplore(std::ostream& out, const ExploreReport& report, std::size_t periods);
+
+// explore --follow: a line per family (FollowNewFamilies) followed at `step`.
+void PrintFamilies(std::ostream& out, const std::vector<FamilySummary>& families, double step);
+
+}  // namespace nsmodal::report
