@@ -539,6 +539,45 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
             return t;
           },
           "Periods 2 pi / w_i of the linear modes, ascending (NumPy array).")
+      .def(
+          "replace",
+          [](const Model& m, const py::kwargs& changes) {
+            // The constructor's keywords; the current model's matrices,
+            // contact and forcing are the defaults a change overrides.
+            static const char* keywords[] = {"masses", "springs", "mass_matrix", "stiffness_matrix", "gap",
+                                             "restitution", "contact_dof", "rayleigh_damping", "damping_ratios",
+                                             "damping_matrix", "forcing_amplitude", "forcing_frequency",
+                                             "forcing_constant"};
+            for (auto [key, value] : changes) {
+              const std::string k = py::str(key);
+              if (std::find_if(std::begin(keywords), std::end(keywords), [&](const char* w) { return k == w; }) ==
+                  std::end(keywords)) {
+                throw py::type_error("replace() got an unexpected keyword argument '" + k + "'");
+              }
+            }
+            py::dict kw;
+            if (!changes.contains("masses") && !changes.contains("springs")) {
+              kw["mass_matrix"] = m.mass;
+              kw["stiffness_matrix"] = m.stiffness;
+            }
+            kw["gap"] = m.gap;
+            kw["restitution"] = m.restitution;
+            kw["contact_dof"] = m.contact + 1;
+            const bool new_damping = changes.contains("rayleigh_damping") || changes.contains("damping_ratios") ||
+                                     changes.contains("damping_matrix");
+            if (m.HasDamping() && !new_damping) kw["damping_matrix"] = m.damping;
+            if (m.forcing.HasHarmonic()) {
+              kw["forcing_amplitude"] = m.forcing.amplitude;
+              kw["forcing_frequency"] = m.forcing.frequency;
+            }
+            if (m.forcing.HasConstant()) kw["forcing_constant"] = m.forcing.constant;
+            for (auto [key, value] : changes) kw[key] = value;
+            return py::type::of<Model>()(**kw).cast<Model>();
+          },
+          R"doc(A copy with some of the constructor's keywords changed: m.replace(gap=0.5),
+m.replace(restitution=0.8, rayleigh_damping=(0.0, 0.01)). masses and springs
+replace the matrices; a damping form replaces the damping. Checked as a new
+Model is.)doc")
       // Pickling (multiprocessing, joblib, copy): the matrices, the forcing and
       // the contact; a state is checked on the way in as a new Model is.
       .def(py::pickle(

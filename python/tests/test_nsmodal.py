@@ -516,3 +516,20 @@ def test_example_scenes_load_by_name_from_anywhere(tmp_path, monkeypatch):
     assert "x0" in nsmodal.load_settings("paper-simulate")["simulate"]
     with pytest.raises(ValueError, match="no built-in scene"):
         nsmodal.load_scene("papr")
+
+
+def test_replace_changes_what_it_names_and_keeps_the_rest():
+    m = nsmodal.Model(masses=[1.0, 2.0], springs=[1.0, 3.0], gap=0.5, restitution=1.0,
+                      rayleigh_damping=[0.0, 0.01], forcing_amplitude=[0.1, 0.0], forcing_frequency=0.7)
+    e = m.replace(restitution=0.8)
+    assert (e.restitution, e.gap, e.contact_dof, e.forcing_frequency) == (0.8, 0.5, 2, 0.7)
+    np.testing.assert_array_equal(e.damping_matrix, m.damping_matrix)
+    np.testing.assert_array_equal(e.stiffness_matrix, m.stiffness_matrix)
+    stiffer = m.replace(masses=[1.0, 1.0], springs=[2.0, 2.0])
+    assert stiffer.stiffness_matrix[0, 0] == 4.0 and stiffer.mass_matrix[1, 1] == 1.0
+    undamped = m.replace(damping_ratios=[0.0, 0.0])
+    assert not undamped.damping_matrix.any()
+    with pytest.raises(ValueError, match="gap"):
+        m.replace(gap=-1.0)
+    with pytest.raises(TypeError, match="gapp"):
+        m.replace(gapp=1.0)
