@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "nsmodal/console.h"
 #include "nsmodal/error.h"
 #include "nsmodal/figures.h"
 #include "nsmodal/output.h"
@@ -78,101 +79,47 @@ int RunResponse(const ResponseArgs& a) {
   base.Validate(names);
   // --validate: every point simulated a.validate periods with each
   // integrator; its options checked now, before any work or file.
-  ValidateOptions vopt;
-  vopt.periods = std::max(a.validate, 1);
-  vopt.integrators.clear();
-  for (const std::string& name : a.integrators) vopt.integrators.push_back(ParseIntegrator(name, "--integrators"));
-  vopt.threads = a.threads;
   const FieldNames vnames = FieldNames().Set("periods", "--validate").Set("integrators", "--integrators");
-  vopt.Validate(vnames);
+  const ValidateOptions vopt = ResponseValidateOptions(a.validate, a.integrators, a.threads, vnames);
   const report::OutputDir dir = report::OutputDir::Prepare(
       a.out, {"response.csv", "response_points.csv", "backbone.csv", "response_validation.csv", "response_energy*",
               "response_max_xc*"});
-  std::vector<report::ResponseRow> rows;
-  std::vector<SpecialPoint> points;
-  int branch_offset = 0;
-  for (double level : levels) {
-    ResponseOptions opt = base;
-    opt.fixed = level;
-    opt.progress = ProgressBar("response " + std::string(frequency_grid ? "a = " : "w = ") + FormatValue(level));
-    const ResponseCurve curve = ComputeResponse(model, opt);
-    for (std::size_t b = 0; b < curve.branches.size(); ++b) {
-      for (const ForcedOrbit& o : curve.branches[b].points) rows.push_back({branch_offset + static_cast<int>(b) + 1, o});
-      std::cout << "branch " << branch_offset + b + 1 << ": " << curve.branches[b].points.size() << " points; "
-                << curve.branches[b].end << "\n";
-    }
-    for (SpecialPoint p : curve.points) {
-      p.branch += branch_offset;
-      points.push_back(p);
-    }
-    for (const std::string& note : curve.notes) std::cout << "note: " << note << "\n";
-    branch_offset += static_cast<int>(curve.branches.size());
-  }
+  const ResponseLevels r = ComputeResponseLevels(
+      model, base, levels,
+      [frequency_grid](double level) {
+        return ProgressBar("response " + std::string(frequency_grid ? "a = " : "w = ") + FormatValue(level));
+      },
+      [](const ResponseCurve& curve, int first_branch) { report::PrintResponseCurve(std::cout, curve, first_branch); });
   report::ResultFile out(dir, "response.csv");
-  report::WriteCsv(out.stream(), report::ResponseColumns(model.dofs()), rows);
+  report::WriteCsv(out.stream(), report::ResponseColumns(model.dofs()), r.rows);
   out.Commit();
   report::ResultFile pts(dir, "response_points.csv");
-  report::WriteCsv(pts.stream(), report::ResponsePointColumns(), points);
+  report::WriteCsv(pts.stream(), report::ResponsePointColumns(), r.points);
   pts.Commit();
-  std::cout << "wrote " << rows.size() << " points on " << branch_offset << " branches to " << a.out
-            << "/response.csv, " << points.size() << " special points to " << a.out << "/response_points.csv\n";
-  bool backbone = false;
+  std::cout << "wrote " << r.rows.size() << " points on " << r.branches << " branches to " << a.out
+            << "/response.csv, " << r.points.size() << " special points to " << a.out << "/response_points.csv\n";
   if (frequency_grid) {
     // The nonsmooth mode of the conservative twin over the same frequencies.
-    SweepOptions sopt;
-    sopt.stability = StabilityPolicy::kAdmissible;
-    sopt.progress = ProgressBar("backbone");
-    // An (m, n) response has period n 2 pi / w: it meets the mode of period
-    // T = n 2 pi / w, i.e. of frequency w / n.
-    const double n = base.periods;
-    const Sweep sweep = BackboneSweep(model, base.grid.from / n, base.grid.to / n, 2000, sopt);
+    const BackboneMatch match = MatchBackbone(model, base, r.points, ProgressBar("backbone"));
     report::ResultFile bb(dir, "backbone.csv");
     std::vector<OrbitRecord> records;
-    for (const auto& list : sweep.at) records.insert(records.end(), list.begin(), list.end());
+    for (const auto& list : match.backbone.at) records.insert(records.end(), list.begin(), list.end());
     report::WriteCsv(bb.stream(), report::BackboneColumns(), records);
     bb.Commit();
-    backbone = true;
-    for (const SpecialPoint& p : points) {
-      if (p.kind != SpecialKind::kPeak) continue;
-      const double own = p.orbit.frequency / n;  // the response's own frequency 2 pi / P
-      const std::optional<double> w = BackboneFrequency(model, sweep, p.orbit.energy, own);
-      std::cout << "peak on branch " << p.branch + 1 << ": w = " << FormatValue(p.orbit.frequency)
-                << (n > 1 ? " (w / n = " + FormatValue(own) + ")" : std::string()) << ", energy = "
-                << FormatValue(p.orbit.energy);
-      if (w) {
-        std::cout << "; the nonsmooth mode at that energy: w = " << FormatValue(*w) << " (difference "
-                  << FormatValue(own - *w) << ")\n";
-      } else {
-        std::cout << "; no admissible nonsmooth mode at that energy in the range\n";
-      }
-    }
+    report::PrintResponsePeaks(std::cout, r.points, match, base.periods);
   }
-  report::DrawResponseCharts(dir, rows, model.dofs(), backbone, frequency_grid, base.periods, std::cout);
+  report::DrawResponseCharts(dir, r.rows, model.dofs(), frequency_grid, frequency_grid, base.periods, std::cout);
   if (a.validate == 0) return 0;
-  std::vector<ForcedOrbit> orbits;
-  for (const report::ResponseRow& r : rows) orbits.push_back(r.orbit);
-  const std::vector<ForcedOrbitValidation> results =
-      ValidateForcedOrbits(model, orbits, vopt, ProgressBar("validating " + std::to_string(orbits.size()) + " orbits"),
-                           vnames);
-  std::vector<report::ForcedValidationRow> vrows;
-  long failures = 0, consistent = 0;
-  const std::size_t per = vopt.integrators.size();
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    vrows.push_back({rows[i / per].branch, results[i]});
-    consistent += results[i].consistent ? 1 : 0;
-    if (!results[i].consistent) {
-      std::cout << "  inconsistent: w = " << FormatValue(results[i].orbit.frequency) << " ("
-                << ToString(results[i].integrator) << "): " << results[i].reason << "\n";
-      if (results[i].integrator == Integrator::kExact && results[i].orbit.admissible) ++failures;
-    }
-  }
+  const ResponseValidation v = ValidateResponse(
+      model, r.rows, vopt, ProgressBar("validating " + std::to_string(r.rows.size()) + " orbits"), vnames);
+  report::PrintInconsistent(std::cout, v);
   report::ResultFile val(dir, "response_validation.csv");
-  report::WriteCsv(val.stream(), report::ForcedValidationColumns(), vrows);
+  report::WriteCsv(val.stream(), report::ForcedValidationColumns(), v.rows);
   val.Commit();
-  std::cout << "validated " << orbits.size() << " orbits over " << a.validate << " periods: " << consistent << "/"
-            << results.size() << " runs consistent; wrote " << a.out << "/response_validation.csv\n";
-  if (failures > 0) {
-    std::cerr << "error: " << failures << " admissible orbit(s) failed to validate with the exact integrator\n";
+  std::cout << "validated " << r.rows.size() << " orbits over " << a.validate << " periods: " << v.consistent << "/"
+            << v.rows.size() << " runs consistent; wrote " << a.out << "/response_validation.csv\n";
+  if (v.failures > 0) {
+    std::cerr << "error: " << v.failures << " admissible orbit(s) failed to validate with the exact integrator\n";
     return 4;
   }
   return 0;

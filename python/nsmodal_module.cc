@@ -937,63 +937,31 @@ dicts: simulate(model, **load_settings(path)["simulate"]).)doc");
          const std::vector<std::string>& integrators, Integer<"threads"> threads) {
         CheckThreads(threads, "threads");
         const ResponseOptions opt = ResponseOptionsOf(model, impacts, periods, frequency, amplitude);
-        ValidateOptions vopt;
-        vopt.periods = std::max(validate.value, 1);
-        vopt.integrators.clear();
-        for (const std::string& name : integrators) vopt.integrators.push_back(ParseIntegrator(name, "integrators"));
-        vopt.threads = threads;
-        FieldNames names;
-        names.Set("periods", "validate");
-        if (validate < 0) throw InputError("validate", "must be >= 0, got " + std::to_string(validate.value));
-        vopt.Validate(names);
-        ResponseCurve curve;
-        std::optional<Sweep> sweep;
+        const FieldNames names = FieldNames().Set("periods", "validate");
+        const ValidateOptions vopt = ResponseValidateOptions(validate, integrators, threads, names);
+        ResponseLevels r;
+        std::optional<BackboneMatch> match;
+        std::optional<ResponseValidation> v;
         Interruptible([&] {
-          curve = ComputeResponse(model, opt);
-          if (backbone && opt.parameter == ResponseParameter::kFrequency) {
-            SweepOptions so;
-            so.stability = StabilityPolicy::kAdmissible;
-            // An (m, n) response meets the mode of frequency w / n.
-            sweep = BackboneSweep(model, opt.grid.from / opt.periods, opt.grid.to / opt.periods, 2000, so);
-          }
+          r = ComputeResponseLevels(model, opt, {opt.fixed});
+          if (backbone && opt.parameter == ResponseParameter::kFrequency) match = MatchBackbone(model, opt, r.points);
+          if (validate > 0) v = ValidateResponse(model, r.rows, vopt, {}, names);
         });
-        std::vector<report::ResponseRow> rows;
-        py::list ends;
-        for (std::size_t b = 0; b < curve.branches.size(); ++b) {
-          for (const ForcedOrbit& o : curve.branches[b].points) rows.push_back({static_cast<int>(b) + 1, o});
-          ends.append(curve.branches[b].end);
-        }
         py::dict d;
-        if (validate > 0) {
-          std::vector<ForcedOrbit> orbits;
-          for (const report::ResponseRow& r : rows) orbits.push_back(r.orbit);
-          const std::vector<ForcedOrbitValidation> results =
-              Interruptible([&] { return ValidateForcedOrbits(model, orbits, vopt); });
-          std::vector<report::ForcedValidationRow> vrows;
-          for (std::size_t i = 0; i < results.size(); ++i) {
-            vrows.push_back({rows[i / vopt.integrators.size()].branch, results[i]});
-          }
-          d["validation"] = TableDict(report::ForcedValidationColumns(), Pointers(vrows));
-        }
-        d["rows"] = TableDict(report::ResponseColumns(model.dofs()), Pointers(rows));
-        d["points"] = TableDict(report::ResponsePointColumns(), Pointers(curve.points));
-        d["branch_ends"] = ends;
-        d["notes"] = curve.notes;
-        if (sweep) {
+        if (v) d["validation"] = TableDict(report::ForcedValidationColumns(), Pointers(v->rows));
+        d["rows"] = TableDict(report::ResponseColumns(model.dofs()), Pointers(r.rows));
+        d["points"] = TableDict(report::ResponsePointColumns(), Pointers(r.points));
+        d["branch_ends"] = r.ends;
+        d["notes"] = r.notes;
+        if (match) {
           std::vector<const OrbitRecord*> records;
-          for (const auto& list : sweep->at) {
-            for (const OrbitRecord& r : list) records.push_back(&r);
+          for (const auto& list : match->backbone.at) {
+            for (const OrbitRecord& rec : list) records.push_back(&rec);
           }
           d["backbone"] = TableDict(report::BackboneColumns(), records);
           // The nonsmooth mode's frequency at each peak's energy (NaN: none).
           std::vector<double> mode_w;
-          for (const SpecialPoint& p : curve.points) {
-            const std::optional<double> w = p.kind == SpecialKind::kPeak
-                                                ? BackboneFrequency(model, *sweep, p.orbit.energy,
-                                                                    p.orbit.frequency / opt.periods)
-                                                : std::nullopt;
-            mode_w.push_back(w ? *w : kNaN);
-          }
+          for (const std::optional<double>& w : match->mode_frequency) mode_w.push_back(w ? *w : kNaN);
           d["points"]["mode_w"] = py::array_t<double>(static_cast<py::ssize_t>(mode_w.size()), mode_w.data());
         }
         return d;

@@ -126,7 +126,7 @@ TEST(Tables, ForcedValidationRowsHaveNoInfOrNan) {
   ro.fixed = 0.3;
   const ResponseCurve curve = ComputeResponse(m, ro);
   std::vector<ForcedOrbit> orbits;
-  std::vector<report::ForcedValidationRow> rows;
+  std::vector<ForcedValidationRow> rows;
   for (const ResponseBranch& br : curve.branches) orbits.insert(orbits.end(), br.points.begin(), br.points.end());
   ValidateOptions opt;
   opt.periods = 3;

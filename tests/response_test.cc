@@ -179,6 +179,43 @@ TEST(Response, AnAmplitudeContinuationTracesEachBranchOnce) {
   }
 }
 
+// Several levels of the fixed parameter merged (response.h, both faces):
+// each level's curve as alone, its branches numbered on from the last
+// level's; the peaks matched to the backbone, and only the peaks.
+TEST(Response, LevelsAreMergedAndPeaksMatchedToTheBackbone) {
+  ResponseOptions o;
+  o.grid = {0.4, 1.0, 0.05};
+  const ResponseLevels r = ComputeResponseLevels(Forced(), o, {0.1, 0.3});
+  const ResponseCurve low = Curve(1, 0.4, 1.0, 0.05, 0.1), high = Curve(1, 0.4, 1.0, 0.05, 0.3);
+  const int n_low = static_cast<int>(low.branches.size());
+  ASSERT_EQ(r.branches, n_low + static_cast<int>(high.branches.size()));
+  ASSERT_EQ(r.ends.size(), static_cast<std::size_t>(r.branches));
+  ASSERT_EQ(r.points.size(), low.points.size() + high.points.size());
+  std::size_t rows = 0;
+  for (const ResponseCurve* c : {&low, &high}) {
+    for (const ResponseBranch& b : c->branches) rows += b.points.size();
+  }
+  ASSERT_EQ(r.rows.size(), rows);
+  EXPECT_EQ(r.rows.front().branch, 1);
+  EXPECT_EQ(r.rows.back().branch, r.branches);
+  EXPECT_EQ(r.points.back().branch, high.points.back().branch + n_low);
+  EXPECT_EQ(r.rows.back().orbit.energy, high.branches.back().points.back().energy);
+  const BackboneMatch match = MatchBackbone(Forced(), o, r.points);
+  ASSERT_EQ(match.mode_frequency.size(), r.points.size());
+  int matched = 0;
+  for (std::size_t i = 0; i < r.points.size(); ++i) {
+    if (r.points[i].kind != SpecialKind::kPeak) {
+      EXPECT_FALSE(match.mode_frequency[i]);
+    }
+    if (match.mode_frequency[i]) {
+      ++matched;
+      EXPECT_EQ(match.mode_frequency[i], BackboneFrequency(Forced(), match.backbone, r.points[i].orbit.energy,
+                                                           r.points[i].orbit.frequency));
+    }
+  }
+  EXPECT_GT(matched, 0);
+}
+
 TEST(Response, BadOptionsNameTheField) {
   auto expect = [](ResponseOptions o, const std::string& field) {
     try {

@@ -503,4 +503,45 @@ ResponseCurve ComputeResponse(const Model& model, const ResponseOptions& options
   return Responder(model, options).Run();
 }
 
+ResponseLevels ComputeResponseLevels(const Model& model, const ResponseOptions& options,
+                                     const std::vector<double>& levels,
+                                     const std::function<std::function<void(long, long)>(double)>& progress,
+                                     const std::function<void(const ResponseCurve&, int)>& on_curve) {
+  ResponseLevels out;
+  for (double level : levels) {
+    ResponseOptions opt = options;
+    opt.fixed = level;
+    if (progress) opt.progress = progress(level);
+    const ResponseCurve curve = ComputeResponse(model, opt);
+    for (std::size_t b = 0; b < curve.branches.size(); ++b) {
+      for (const ForcedOrbit& o : curve.branches[b].points) out.rows.push_back({out.branches + static_cast<int>(b) + 1, o});
+      out.ends.push_back(curve.branches[b].end);
+    }
+    for (SpecialPoint p : curve.points) {
+      p.branch += out.branches;
+      out.points.push_back(p);
+    }
+    out.notes.insert(out.notes.end(), curve.notes.begin(), curve.notes.end());
+    if (on_curve) on_curve(curve, out.branches);
+    out.branches += static_cast<int>(curve.branches.size());
+  }
+  return out;
+}
+
+BackboneMatch MatchBackbone(const Model& model, const ResponseOptions& options, const std::vector<SpecialPoint>& points,
+                            const std::function<void(long, long)>& progress) {
+  SweepOptions sweep;
+  sweep.stability = StabilityPolicy::kAdmissible;
+  sweep.progress = progress;
+  const double n = options.periods;
+  BackboneMatch out{BackboneSweep(model, options.grid.from / n, options.grid.to / n, 2000, sweep), {}};
+  for (const SpecialPoint& p : points) {
+    // The response's own frequency 2 pi / P, P = n 2 pi / w.
+    out.mode_frequency.push_back(p.kind == SpecialKind::kPeak
+                                     ? BackboneFrequency(model, out.backbone, p.orbit.energy, p.orbit.frequency / n)
+                                     : std::nullopt);
+  }
+  return out;
+}
+
 }  // namespace nsmodal

@@ -1,6 +1,8 @@
 #include "nsmodal/console.h"
 
 #include <ios>
+#include <optional>
+#include <string>
 
 namespace nsmodal::report {
 namespace {
@@ -59,6 +61,41 @@ void PrintFamilies(std::ostream& out, const std::vector<FamilySummary>& families
         << step << ": energy " << f.energy_min << " to " << f.energy_max << ", largest |multiplier| "
         << f.multiplier_min << " to " << f.multiplier_max << (f.multiplier_min > 1.0 ? " (unstable throughout)" : "")
         << "\n";
+  }
+}
+
+void PrintResponseCurve(std::ostream& out, const ResponseCurve& curve, int first_branch) {
+  for (std::size_t b = 0; b < curve.branches.size(); ++b) {
+    out << "branch " << first_branch + b + 1 << ": " << curve.branches[b].points.size() << " points; "
+        << curve.branches[b].end << "\n";
+  }
+  for (const std::string& note : curve.notes) out << "note: " << note << "\n";
+}
+
+void PrintResponsePeaks(std::ostream& out, const std::vector<SpecialPoint>& points, const BackboneMatch& match,
+                        int periods) {
+  const double n = periods;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const SpecialPoint& p = points[i];
+    if (p.kind != SpecialKind::kPeak) continue;
+    const double own = p.orbit.frequency / n;  // the response's own frequency 2 pi / P
+    out << "peak on branch " << p.branch + 1 << ": w = " << FormatValue(p.orbit.frequency)
+        << (n > 1 ? " (w / n = " + FormatValue(own) + ")" : std::string()) << ", energy = "
+        << FormatValue(p.orbit.energy);
+    if (const std::optional<double>& w = match.mode_frequency[i]) {
+      out << "; the nonsmooth mode at that energy: w = " << FormatValue(*w) << " (difference "
+          << FormatValue(own - *w) << ")\n";
+    } else {
+      out << "; no admissible nonsmooth mode at that energy in the range\n";
+    }
+  }
+}
+
+void PrintInconsistent(std::ostream& out, const ResponseValidation& validation) {
+  for (const ForcedValidationRow& r : validation.rows) {
+    if (r.v.consistent) continue;
+    out << "  inconsistent: w = " << FormatValue(r.v.orbit.frequency) << " (" << ToString(r.v.integrator)
+        << "): " << r.v.reason << "\n";
   }
 }
 

@@ -488,6 +488,34 @@ std::vector<ForcedOrbitValidation> ValidateForcedOrbits(const Model& model, cons
       [&](const ForcedOrbit& o, Integrator integrator) { return ValidateForcedOrbit(model, o, integrator, options); });
 }
 
+ValidateOptions ResponseValidateOptions(long periods, const std::vector<std::string>& integrators, int threads,
+                                        const FieldNames& names) {
+  ValidateOptions o;
+  o.periods = static_cast<int>(std::clamp(periods, 1L, static_cast<long>(std::numeric_limits<int>::max())));
+  o.integrators.clear();
+  for (const std::string& name : integrators) o.integrators.push_back(ParseIntegrator(name, names("integrators")));
+  o.threads = threads;
+  if (periods < 0) throw InputError(names("periods"), "must be >= 0, got " + std::to_string(periods));
+  o.Validate(names);
+  return o;
+}
+
+ResponseValidation ValidateResponse(const Model& model, const std::vector<ResponseRow>& rows,
+                                    const ValidateOptions& options, const std::function<void(long, long)>& progress,
+                                    const FieldNames& names) {
+  std::vector<ForcedOrbit> orbits;
+  for (const ResponseRow& r : rows) orbits.push_back(r.orbit);
+  ResponseValidation out;
+  const std::vector<ForcedOrbitValidation> results = ValidateForcedOrbits(model, orbits, options, progress, names);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const ForcedOrbitValidation& v = results[i];
+    out.rows.push_back({rows[i / options.integrators.size()].branch, v});
+    out.consistent += v.consistent ? 1 : 0;
+    out.failures += !v.consistent && v.integrator == Integrator::kExact && v.orbit.admissible ? 1 : 0;
+  }
+  return out;
+}
+
 ValidationReport SummarizeValidation(const std::vector<OrbitValidation>& results, const ValidateOptions& options,
                                      long orbits) {
   ValidationReport r;

@@ -95,4 +95,45 @@ Sweep BackboneSweep(const Model& model, double w_from, double w_to, long points,
 // stretch of the sweep reaches that energy.
 std::optional<double> BackboneFrequency(const Model& model, const Sweep& backbone, double energy, double near);
 
+// A point of a response with the number of its branch (1-based): a row of
+// response.csv (report/tables.h), of Python's response()["rows"].
+struct ResponseRow {
+  int branch = 0;
+  ForcedOrbit orbit;
+};
+
+// The curves of one grid at each value of the fixed parameter (the CLI's
+// --amplitude 0.1,0.3 beside a frequency grid; one value from Python),
+// merged: the branches numbered on from one level to the next.
+struct ResponseLevels {
+  std::vector<ResponseRow> rows;      // every branch's points, branch by branch
+  std::vector<SpecialPoint> points;   // every curve's; branch: 0-based over the merged branches
+  std::vector<std::string> ends;      // how each merged branch ended
+  std::vector<std::string> notes;     // every curve's
+  int branches = 0;
+};
+// `options` at each of `levels` in turn (its `fixed` replaced); progress(level)
+// gives each curve's progress callback (empty: none), on_curve(curve,
+// first_branch) is called as each curve is done (first_branch: the merged
+// 0-based number of its first branch).
+ResponseLevels ComputeResponseLevels(
+    const Model& model, const ResponseOptions& options, const std::vector<double>& levels,
+    const std::function<std::function<void(long, long)>(double level)>& progress = {},
+    const std::function<void(const ResponseCurve& curve, int first_branch)>& on_curve = {});
+
+// The backbone beside a frequency response and the peaks matched to it: the
+// conservative twin's 1-ipp mode over the grid's frequencies divided by n
+// (an (m, n) response meets the mode of frequency w / n; BackboneSweep of
+// 2000 periods, stability of the admissible orbits) and, at each peak of
+// `points`, the mode's frequency at the peak's energy nearest to the
+// response's own w / n (BackboneFrequency).
+struct BackboneMatch {
+  Sweep backbone;
+  // One per point: the mode's frequency at a peak; nullopt at the other
+  // points and where no admissible stretch of the mode reaches the energy.
+  std::vector<std::optional<double>> mode_frequency;
+};
+BackboneMatch MatchBackbone(const Model& model, const ResponseOptions& options, const std::vector<SpecialPoint>& points,
+                            const std::function<void(long done, long count)>& progress = {});
+
 }  // namespace nsmodal

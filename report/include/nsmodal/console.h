@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "nsmodal/explore.h"
+#include "nsmodal/response.h"
 #include "nsmodal/truncation.h"
+#include "nsmodal/validate.h"
 
 namespace nsmodal::report {
 
@@ -27,5 +29,17 @@ void PrintExplore(std::ostream& out, const ExploreReport& report, std::size_t pe
 
 // explore --follow: a line per family (FollowNewFamilies) followed at `step`.
 void PrintFamilies(std::ostream& out, const std::vector<FamilySummary>& families, double step);
+
+// response: a line per branch of a curve ("branch k: n points; how it
+// ended", numbered on from first_branch, 0-based) and its notes.
+void PrintResponseCurve(std::ostream& out, const ResponseCurve& curve, int first_branch);
+
+// response: a line per peak with the nonsmooth mode at its energy
+// (MatchBackbone), for an (m, n) response of n = `periods`.
+void PrintResponsePeaks(std::ostream& out, const std::vector<SpecialPoint>& points, const BackboneMatch& match,
+                        int periods);
+
+// response --validate: a line per inconsistent run.
+void PrintInconsistent(std::ostream& out, const ResponseValidation& validation);
 
 }  // namespace nsmodal::report

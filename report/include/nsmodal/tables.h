@@ -41,10 +41,6 @@ Columns<GrazingRow> GrazingColumns();
 // max_multiplier,t_impact,x1..xN,v1..vN,branch,periods,residual: the state
 // just after the first impact, at t_impact (m = 0: at the maximum of x_c;
 // impact_velocity missing); impact_velocity is the smallest v_c(t_i-).
-struct ResponseRow {
-  int branch = 0;  // 1-based
-  ForcedOrbit orbit;
-};
 Columns<ResponseRow> ResponseColumns(int dofs);
 // response_points.csv: w,amplitude,kind,energy,branch,max_xc,impact_velocity,
 // admissible,stable,max_multiplier.
@@ -54,10 +50,6 @@ Columns<SpecialPoint> ResponsePointColumns();
 // branch,integrator,admissible,stable,max_multiplier,periods_run,deviation_1,
 // deviation_end,measured_growth,predicted_growth,first_period_impacts,
 // impact_time_error,max_penetration,consistent,reason.
-struct ForcedValidationRow {
-  int branch = 0;  // 1-based
-  ForcedOrbitValidation v;
-};
 Columns<ForcedValidationRow> ForcedValidationColumns();
 
 // backbone.csv: the conservative twin's 1-ipp mode beside a response,

@@ -37,6 +37,7 @@
 #include "nsmodal/forced_orbit.h"
 #include "nsmodal/model.h"
 #include "nsmodal/orbit.h"
+#include "nsmodal/response.h"
 #include "nsmodal/simulate.h"
 #include "nsmodal/stability.h"
 
@@ -150,6 +151,28 @@ std::vector<ForcedOrbitValidation> ValidateForcedOrbits(const Model& model, cons
                                                         const ValidateOptions& options,
                                                         const std::function<void(long, long)>& progress = {},
                                                         const FieldNames& names = FieldNames("validate."));
+
+// response --validate (Python's response(validate=N)): every point of a
+// response (response.h) simulated N periods with each integrator. A row
+// per point and integrator, with the point's branch: response_validation.csv.
+struct ForcedValidationRow {
+  int branch = 0;  // 1-based
+  ForcedOrbitValidation v;
+};
+struct ResponseValidation {
+  std::vector<ForcedValidationRow> rows;  // point by point, the integrators in order
+  long consistent = 0;                    // rows
+  long failures = 0;                      // admissible points inconsistent with the exact integrator
+};
+// The options of N periods (0: none, which the faces skip; run as 1) with
+// the integrators named: throws InputError naming names("periods") for
+// N < 0, names("integrators") for an unknown name, and as
+// ValidateOptions::Validate. Checked before any work.
+ValidateOptions ResponseValidateOptions(long periods, const std::vector<std::string>& integrators, int threads,
+                                        const FieldNames& names);
+ResponseValidation ValidateResponse(const Model& model, const std::vector<ResponseRow>& rows,
+                                    const ValidateOptions& options, const std::function<void(long, long)>& progress = {},
+                                    const FieldNames& names = FieldNames("validate."));
 
 // The verdict on a batch, and the numbers behind it.
 //
