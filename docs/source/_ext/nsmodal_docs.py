@@ -12,6 +12,7 @@ import os
 import subprocess
 
 from docutils import nodes
+from sphinx import addnodes
 from docutils.parsers.rst import Directive
 from docutils.statemachine import StringList
 
@@ -117,8 +118,29 @@ class SettingsTable(Directive):
         return out
 
 
+def _header_descriptions_without_group_line(app, doctree):
+    """The C++ reference shows each header's description with
+    `doxygengroup ... :desc-only:` (the header's Doxygen group, made by
+    docs/doxygen/comment_filter.py); Breathe signs it "group nsmodal_model_h",
+    a name that exists only for Doxygen. Keep the description and the link
+    target, drop that signature line."""
+    for desc in list(doctree.findall(addnodes.desc)):
+        signatures = [c for c in desc.children if isinstance(c, addnodes.desc_signature)]
+        if len(signatures) != 1:
+            continue
+        # The group's own target, "group__nsmodal__model__h"; its members' are
+        # "group__nsmodal__model__h_1g..." (Doxygen writes "_" as "__").
+        targets = [t for t in signatures[0].findall(nodes.target)
+                   if any(i.startswith("group__") and "_1" not in i for i in t.get("ids", []))]
+        if not targets or signatures[0].astext().split()[:1] != ["group"]:
+            continue
+        content = [c for c in desc.children if isinstance(c, addnodes.desc_content)]
+        desc.replace_self(targets[:1] + [child for c in content for child in c.children])
+
+
 def setup(app):
     app.add_directive("nsmodal-python-api", PythonApi)
     app.add_directive("nsmodal-settings", SettingsTable)
     app.connect("autodoc-process-docstring", _docstring_as_written)
+    app.connect("doctree-read", _header_descriptions_without_group_line)
     return {"parallel_read_safe": True, "parallel_write_safe": True}
