@@ -44,7 +44,7 @@ def check_stored():
                 continue
             if cell.get("outputs") or cell.get("execution_count") is not None:
                 failures.append(f"{name}: cell {index} is stored with its outputs; clear them before committing "
-                                "(Jupyter: Edit > Clear All Outputs, or jupyter nbconvert --clear-output --inplace)")
+                                "(Jupyter: Edit > Clear All Outputs, or python3 -m nbconvert --clear-output --inplace FILE)")
     return failures
 
 

@@ -66,7 +66,8 @@ nbsphinx_prolog = r"""
    {%- if env.config.nbsphinx_execute == "always" %}, executed when this site was built
    {%- else %}, shown without its outputs (this copy of the site was built without the
    Python module){% endif %}. To run it, open it in Jupyter from the clone with the module
-   on ``PYTHONPATH`` and Debian's ``/usr/bin/python3`` (see Installation).
+   on ``PYTHONPATH`` and Debian's ``/usr/bin/python3`` as the kernel
+   (:doc:`/installation`, "Building this documentation").
 
 """
 
