@@ -105,10 +105,19 @@ doxygen_s=$(( $(date +%s) - start ))
 # -E: read every page again (nothing stale from an earlier build).
 # The notebooks run in a python3 kernel of this environment (PYTHONPATH: the
 # module); MPLBACKEND is unset so that the kernel's inline backend shows figures.
+# Jupyter's and IPython's directories are fresh ones under $out, and the user
+# site (~/.local) is off (PYTHONNOUSERSITE): a kernel spec or a startup file in
+# the user's home (say a "python3" kernel of another Python, without NumPy)
+# cannot change what runs.
 left=$(( deadline - $(date +%s) ))
 [ "$left" -gt 0 ] || fail "no time left for Sphinx within ${timeout_s} s (DOCS_TIMEOUT)"
+jupyter_home="$out_abs/jupyter"
+rm -rf "$jupyter_home" && mkdir -p "$jupyter_home"/{config,data,runtime,ipython}
 status=0
-env -u MPLBACKEND PYDEVD_DISABLE_FILE_VALIDATION=1 PYTHONPATH="$pythonpath" NSMODAL_DOXYGEN_XML="$out_abs/doxygen/xml" \
+env -u MPLBACKEND -u JUPYTER_PATH PYTHONNOUSERSITE=1 PYDEVD_DISABLE_FILE_VALIDATION=1 \
+  JUPYTER_CONFIG_DIR="$jupyter_home/config" JUPYTER_DATA_DIR="$jupyter_home/data" \
+  JUPYTER_RUNTIME_DIR="$jupyter_home/runtime" IPYTHONDIR="$jupyter_home/ipython" \
+  PYTHONPATH="$pythonpath" NSMODAL_DOXYGEN_XML="$out_abs/doxygen/xml" \
   NSMODAL_DOCS_EXECUTE="$execute" NSMODAL_DOCS_CELL_TIMEOUT="$cell_timeout_s" \
   timeout --kill-after=10 "$left" \
   "$python" -m sphinx -W --keep-going -E -q -b html -d "$out/doctrees" docs/source "$out/html" || status=$?
