@@ -9,8 +9,12 @@ packages=(build-essential cmake pkg-config libeigen3-dev libsundials-dev libgsl-
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
   gnuplot-nox python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib python3-pandas
   python3-venv python3-setuptools python3-wheel python3-pip
-  python3-sphinx python3-myst-parser python3-sphinx-rtd-theme)
-# (the second-to-last line: pip install . into a venv, offline; the last: the docs, scripts/docs.sh)
+  python3-sphinx python3-myst-parser python3-sphinx-rtd-theme
+  python3-nbsphinx python3-nbconvert python3-ipykernel pandoc python3-breathe doxygen)
+# (the third-to-last line: pip install . into a venv, offline; the last two: the docs,
+# scripts/docs.sh: Sphinx and MyST; the tutorials executed by nbsphinx in a python3
+# kernel (ipykernel), whose Markdown cells pandoc converts; the C++ reference by
+# Doxygen's XML read by Breathe)
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

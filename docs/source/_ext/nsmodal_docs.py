@@ -6,12 +6,15 @@ needs the built module. When `import nsmodal` works, the directive expands to
 full. scripts/docs.sh decides which is acceptable (it fails when it was given a
 module directory that does not import).
 """
+import glob
 import importlib
+import importlib.util
 import json
 import os
 import subprocess
 
 from docutils import nodes
+from sphinx import addnodes
 from docutils.parsers.rst import Directive
 from docutils.statemachine import StringList
 
@@ -117,8 +120,76 @@ class SettingsTable(Directive):
         return out
 
 
+_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+
+
+def _doxygen_group_of(header):
+    """The Doxygen group that docs/doxygen/comment_filter.py gives a header
+    (one definition: the filter's)."""
+    spec = importlib.util.spec_from_file_location(
+        "comment_filter", os.path.join(_ROOT, "docs", "doxygen", "comment_filter.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.group_of(header)
+
+
+class CppHeaders(Directive):
+    """`nsmodal-cpp-headers:: LIB`: a section per public header of LIB
+    (LIB/include/nsmodal/*.h, found when the site is built, so a new header
+    is on its page without anyone listing it), each with the header's
+    description and its declarations (Breathe, over Doxygen's XML of the
+    header's group)."""
+    required_arguments = 1
+    has_content = False
+
+    def run(self):
+        lib = self.arguments[0]
+        headers = sorted(glob.glob(os.path.join(_ROOT, lib, "include", "nsmodal", "*.h")))
+        if not headers:
+            raise self.error(f"nsmodal-cpp-headers: no public header in {lib}/include/nsmodal/")
+        env = self.state.document.settings.env
+        out = []
+        for header in headers:
+            env.note_dependency(header)
+            group, title = _doxygen_group_of(header)
+            section = nodes.section(ids=[nodes.make_id(title)], names=[nodes.fully_normalize_name(title)])
+            section += nodes.title(text=title)
+            lines = [f".. doxygengroup:: {group}", "   :project: nsmodal", "   :desc-only:", "",
+                     f".. doxygengroup:: {group}", "   :project: nsmodal", "   :content-only:", "   :members:",
+                     "   :undoc-members:", ""]
+            container = nodes.container()
+            self.state.nested_parse(StringList(lines, source=f"nsmodal-cpp-headers {lib}"), self.content_offset,
+                                    container)
+            section.extend(container.children)
+            self.state.document.note_implicit_target(section)
+            out.append(section)
+        return out
+
+
+def _header_descriptions_without_group_line(app, doctree):
+    """The C++ reference shows each header's description with
+    `doxygengroup ... :desc-only:` (the header's Doxygen group, made by
+    docs/doxygen/comment_filter.py); Breathe signs it "group nsmodal_model_h",
+    a name that exists only for Doxygen. Keep the description and the link
+    target, drop that signature line."""
+    for desc in list(doctree.findall(addnodes.desc)):
+        signatures = [c for c in desc.children if isinstance(c, addnodes.desc_signature)]
+        if len(signatures) != 1:
+            continue
+        # The group's own target, "group__nsmodal__model__h"; its members' are
+        # "group__nsmodal__model__h_1g..." (Doxygen writes "_" as "__").
+        targets = [t for t in signatures[0].findall(nodes.target)
+                   if any(i.startswith("group__") and "_1" not in i for i in t.get("ids", []))]
+        if not targets or signatures[0].astext().split()[:1] != ["group"]:
+            continue
+        content = [c for c in desc.children if isinstance(c, addnodes.desc_content)]
+        desc.replace_self(targets[:1] + [child for c in content for child in c.children])
+
+
 def setup(app):
     app.add_directive("nsmodal-python-api", PythonApi)
     app.add_directive("nsmodal-settings", SettingsTable)
+    app.add_directive("nsmodal-cpp-headers", CppHeaders)
     app.connect("autodoc-process-docstring", _docstring_as_written)
+    app.connect("doctree-read", _header_descriptions_without_group_line)
     return {"parallel_read_safe": True, "parallel_write_safe": True}
