@@ -466,6 +466,18 @@ auto Interruptible(F&& work) -> decltype(work()) {
   return done.get();  // the work's own exception, if it threw, translated as usual
 }
 
+// A Python callable as a progress callback of the library (None: none):
+// called as progress(done, total) from the worker threads, each call with
+// the GIL. An exception it raises ends the call and reaches the caller.
+std::function<void(long, long)> ProgressOf(const py::object& progress) {
+  if (progress.is_none()) return {};
+  if (!PyCallable_Check(progress.ptr())) throw py::type_error("progress: must be callable, got " + Repr(progress));
+  return [progress](long done, long total) {
+    py::gil_scoped_acquire acquire;
+    progress(done, total);
+  };
+}
+
 PYBIND11_MODULE(nsmodal, mod) {
   mod.doc() = R"doc(nsmodal: nonsmooth modal analysis of vibro-impact oscillators.
 
@@ -688,7 +700,7 @@ directory, a larger file or a path holding a NUL raise ValueError naming
   mod.def(
       "orbits",
       [](const Model& model, Integer<"impacts"> impacts, const py::object& period, const std::string& stability,
-         Integer<"threads"> threads, bool all_multipliers) {
+         Integer<"threads"> threads, bool all_multipliers, const py::object& progress) {
         CheckThreads(threads, "threads");
         const AnalysisBasis b(model);
         const PeriodGrid grid = GridOf(period);
@@ -696,11 +708,12 @@ directory, a larger file or a path holding a NUL raise ValueError naming
         opt.stability = PolicyOf(stability);
         opt.stability_options.all_multipliers = all_multipliers;
         opt.threads = threads;
+        opt.progress = ProgressOf(progress);
         const Sweep sweep = Interruptible([&] { return ComputeSweep(b, grid, impacts, opt); });
         return OrbitsDict(sweep, b.n);
       },
       py::arg("model"), py::arg("impacts") = 1, py::arg("period"), py::arg("stability") = "potential",
-      py::arg("threads") = 0, py::arg("all_multipliers") = true,
+      py::arg("threads") = 0, py::arg("all_multipliers") = true, py::arg("progress") = py::none(),
       R"doc(Potential orbits with 1 or 2 impacts per period over a grid of periods.
 
 period: (from, to, step), "FROM:TO:STEP" or one period T.
@@ -709,6 +722,7 @@ stability: which orbits get Floquet multipliers: "potential" (default),
 all_multipliers: False keeps, for 1 impact, only the verdict, the largest
 modulus and the multipliers off the unit circle (the others are NaN in the
 mu columns): less work for large systems.
+progress: None or a callable progress(done, total), called as periods are done.
 
 Returns a dict of NumPy arrays, one entry per orbit, keyed as the columns of
 orbits.csv: "T", "t2" (NaN for one impact), "energy", "potential",
@@ -767,12 +781,13 @@ transitions.csv); the rows of transitions.csv.)doc");
 
   mod.def(
       "atlas",
-      [](const Model& model, const py::object& period, Integer<"threads"> threads) {
+      [](const Model& model, const py::object& period, Integer<"threads"> threads, const py::object& progress) {
         CheckThreads(threads, "threads");
         const AnalysisBasis b(model);
         const PeriodGrid grid = GridOf(period);
         AtlasOptions opt;
         opt.sweep.threads = threads;
+        opt.sweep.progress = ProgressOf(progress);
         const Atlas a = Interruptible([&] { return ComputeAtlas(b, grid, opt); });
         py::dict d;
         d["one"] = OrbitsDict(a.one, b.n);
@@ -783,11 +798,12 @@ transitions.csv); the rows of transitions.csv.)doc");
         d["notes"] = a.notes;
         return d;
       },
-      py::arg("model"), py::arg("period"), py::arg("threads") = 0,
+      py::arg("model"), py::arg("period"), py::arg("threads") = 0, py::arg("progress") = py::none(),
       R"doc(The whole picture over a grid: dict with "one" and "two" (as orbits(),
 stability of the admissible orbits), "transitions", "bridges" ("T", "t2",
 "energy_min", "energy_max", "s_begin", "s_end", "kind"), "doublings" (the
-periods T* where a 1-ipp orbit has a Floquet multiplier at -1) and "notes".)doc");
+periods T* where a 1-ipp orbit has a Floquet multiplier at -1) and "notes".
+progress: None or a callable progress(done, total).)doc");
 
   mod.def(
       "multipliers",
@@ -817,7 +833,7 @@ period T, or of the 2-ipp orbit at the root (t2, T): eigenvalues of the
 monodromy with the impact saltation matrices. Two are the trivial pair at 1.)doc");
 
   static const std::string simulate_doc =
-      R"doc(simulate(model, x0=None, v0=None, **settings)
+      R"doc(simulate(model, x0=None, v0=None, on_impact=None, progress=None, **settings)
 
 Simulate one initial condition, any restitution 0 <= e <= 1.
 
@@ -832,6 +848,9 @@ Returns the dict of summary.json ("status", "final_time", "final_state",
 "settings", "settings_source", ...) plus "trajectory" (arrays "t",
 "x1".."xN", "v1".."vN", "energy", every sample_dt) and "impact_log" (arrays
 "t", "x1_before".., "x1_after"..), and "truncation" when modes were dropped.
+on_impact: None or a callable on_impact(t, before, after) (the states
+(x, v) just before and after, arrays of 2N) at each impact; progress: None
+or a callable progress(t, t_end) as the run goes.
 A run that stopped early has "status" != "finished" and says why in
 "message".)doc" + KeywordDoc(SimulateSettings(), "simulate");
   mod.def(
@@ -847,6 +866,15 @@ A run that stopped early has "status" != "finished" and says why in
           }
           all[positional[i]] = args[i];
         }
+        // The callables are not settings: taken out before the settings are read.
+        const py::object on_impact = all.contains("on_impact") ? all.attr("pop")("on_impact") : py::none();
+        const py::object progress = all.contains("progress") ? all.attr("pop")("progress") : py::none();
+        for (const py::object& f : {on_impact, progress}) {
+          if (!f.is_none() && !PyCallable_Check(f.ptr())) {
+            throw py::type_error(std::string(f.is(on_impact) ? "on_impact" : "progress") + ": must be callable, got " +
+                                 Repr(f));
+          }
+        }
         const SettingPatch keywords = KeywordPatch(SimulateSettings(), "simulate", all);
         const Configured<SimulationRequest> request = SimulateSettings().Resolve({&keywords});
         const SimulationPlan plan = PlanSimulation(model, request);
@@ -855,7 +883,19 @@ A run that stopped early has "status" != "finished" and says why in
         std::vector<ContactEvent> impacts;
         SimulationObserver obs;
         obs.on_sample = [&](double t, const Eigen::VectorXd& z) { samples.push_back(report::SampleOf(model, t, z)); };
-        obs.on_impact = [&](const ContactEvent& ev) { impacts.push_back(ev); };
+        obs.on_impact = [&](const ContactEvent& ev) {
+          impacts.push_back(ev);
+          if (on_impact.is_none()) return;
+          py::gil_scoped_acquire acquire;
+          on_impact(ev.t, ev.before, ev.after);
+        };
+        if (!progress.is_none()) {
+          const double t_end = request.options.options.t_end;
+          obs.on_progress = [&progress, t_end](double t) {
+            py::gil_scoped_acquire acquire;
+            progress(t, t_end);
+          };
+        }
         const SimulationSummary s = Interruptible([&] { return RunSimulation(model, plan, request.options.options, obs); });
         py::dict d = ToPython(report::SimulationJson(s, request));
         if (plan.truncation) d["truncation"] = ToPython(report::TruncationJson(*plan.truncation, plan.initial_energy));
@@ -866,7 +906,7 @@ A run that stopped early has "status" != "finished" and says why in
       py::arg("model"), simulate_doc.c_str());
 
   static const std::string validate_doc =
-      R"doc(validate(model, period=None, **settings)
+      R"doc(validate(model, period=None, progress=None, **settings)
 
 Validate the potential 1- and/or 2-ipp orbits of a grid by long simulations.
 period: (from, to, step), "FROM:TO:STEP" or one value.
@@ -882,6 +922,7 @@ the summary; no value is ever inf or NaN.)doc" + KeywordDoc(ValidateSettings(), 
       "validate",
       [](const Model& model, const py::args& args, const py::kwargs& kwargs) {
         py::kwargs all = kwargs;
+        const py::object progress = all.contains("progress") ? all.attr("pop")("progress") : py::none();
         if (args.size() > 1) throw py::type_error("validate() takes at most 2 positional arguments (model, period)");
         if (args.size() == 1) {
           if (all.contains("period")) throw py::type_error("validate() got multiple values for argument 'period'");
@@ -898,7 +939,7 @@ the summary; no value is ever inf or NaN.)doc" + KeywordDoc(ValidateSettings(), 
         const Configured<ValidationRequest> request = ValidateSettings().Resolve({&keywords});
         const AnalysisBasis b(model);
         const ValidationPlan plan = PlanValidation(b, request);
-        const GridValidation v = Interruptible([&] { return RunValidation(model, b, plan, {}, request.names); });
+        const GridValidation v = Interruptible([&] { return RunValidation(model, b, plan, ProgressOf(progress), request.names); });
         py::dict d;
         d["rows"] = TableDict(report::ValidationColumns(), Pointers(v.results));
         d["summary"] = ToPython(report::ValidationJson(v.report, v.results, request));

@@ -533,3 +533,21 @@ def test_replace_changes_what_it_names_and_keeps_the_rest():
         m.replace(gap=-1.0)
     with pytest.raises(TypeError, match="gapp"):
         m.replace(gapp=1.0)
+
+
+def test_callables_see_the_work_as_it_goes(paper):
+    seen = []
+    s = nsmodal.simulate(paper, x0=[0.5, 0.0], v0=[0.5, 1.2], t_end=20.0,
+                         on_impact=lambda t, before, after: seen.append((t, before.copy(), after.copy())))
+    assert len(seen) == s["impacts"] > 0
+    t, before, after = seen[0]
+    assert t == s["impact_log"]["t"][0] and before.shape == (4,)
+    # Newton's law on the contact dof (x2: index 1 of x, 3 of (x, v)), e = 1.
+    assert after[3] == pytest.approx(-before[3], rel=1e-12)
+    steps = []
+    nsmodal.orbits(paper, period=(2.0, 12.0, 0.01), progress=lambda done, total: steps.append((done, total)))
+    assert steps and steps[-1][0] == steps[-1][1]
+    with pytest.raises(ZeroDivisionError):  # a callback's exception reaches the caller
+        nsmodal.validate(paper, period=5.0, periods=2, progress=lambda done, total: 1 / 0)
+    with pytest.raises(TypeError, match="on_impact"):
+        nsmodal.simulate(paper, x0=[0.5, 0.0], on_impact=3)

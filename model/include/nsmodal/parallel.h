@@ -49,11 +49,20 @@ inline void ParallelFor(long count, int threads, const std::function<void(long)>
     }
   }
   if (progress) {
-    // The calling thread reports while the pool works, then joins in.
-    while (done.load() < count && !pool.empty()) {
-      progress(done.load(), count);
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      if (next.load() >= count) break;
+    // The calling thread reports while the pool works, then joins in. A
+    // progress callback that throws (a Python callable that raised) ends the
+    // work as a body that throws does: the pool is joined before the
+    // exception goes on (a running thread's destructor would terminate).
+    try {
+      while (done.load() < count && !pool.empty()) {
+        progress(done.load(), count);
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        if (next.load() >= count) break;
+      }
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(error_mutex);
+      if (!error) error = std::current_exception();
+      next = count;
     }
   }
   worker();
