@@ -13,6 +13,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstddef>
+#include <deque>
 #include <future>
 #include <thread>
 #include <functional>
@@ -466,6 +467,49 @@ auto Interruptible(F&& work) -> decltype(work()) {
   return done.get();  // the work's own exception, if it threw, translated as usual
 }
 
+// A docstring that starts with its text signature ("name(args)\n--\n\n"),
+// from which CPython makes __text_signature__, so that inspect.signature()
+// and help() show the arguments (pybind11's own signature lines are off:
+// they are not in that form). Kept for the module's life.
+const char* Signed(const std::string& signature, const std::string& doc) {
+  static std::deque<std::string> docs;
+  docs.push_back(signature + "\n--\n\n" + doc);
+  return docs.back().c_str();
+}
+
+// A setting's default as a Python literal, for a text signature.
+std::string PythonLiteral(const SettingValue& value) {
+  struct Visitor {
+    std::string operator()(std::monostate) const { return "None"; }
+    std::string operator()(double v) const { return FormatSettingValue(v); }
+    std::string operator()(long v) const { return std::to_string(v); }
+    std::string operator()(const std::string& v) const { return "'" + v + "'"; }
+    std::string operator()(const std::vector<double>& v) const { return v.empty() ? "None" : FormatSettingValue(v); }
+    std::string operator()(const std::vector<long>& v) const { return FormatSettingValue(v); }
+    std::string operator()(const std::vector<std::string>& v) const {
+      std::string out = "[";
+      for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", '" : "'") + v[i] + "'";
+      return out + "]";
+    }
+  };
+  return std::visit(Visitor{}, value);
+}
+
+// "name(head, *, keyword=default, ...)": the keywords of `command` in the
+// table's order, those already in `head` left out.
+template <class Options>
+std::string TextSignature(const std::string& name, const std::string& head, const std::vector<std::string>& in_head,
+                          const std::string& extra, const SettingTable<Options>& table, const std::string& command) {
+  std::string sig = name + "(" + head + ", *" + (extra.empty() ? "" : ", " + extra);
+  for (const Setting<Options>& s : table.settings()) {
+    const SettingInfo& i = s.info;
+    if (i.python.empty() || !i.Takes(command)) continue;
+    if (std::find(in_head.begin(), in_head.end(), i.python) != in_head.end()) continue;
+    sig += ", " + i.python + "=" + PythonLiteral(table.Default(s));
+  }
+  return sig + ")";
+}
+
 // A Python callable as a progress callback of the library (None: none):
 // called as progress(done, total) from the worker threads, each call with
 // the GIL. An exception it raises ends the call and reaches the caller.
@@ -479,6 +523,9 @@ std::function<void(long, long)> ProgressOf(const py::object& progress) {
 }
 
 PYBIND11_MODULE(nsmodal, mod) {
+  // Every docstring states its own text signature (Signed).
+  py::options options;
+  options.disable_function_signatures();
   mod.doc() = R"doc(nsmodal: nonsmooth modal analysis of vibro-impact oscillators.
 
 Masses and springs, one rigid obstacle x_c <= d, a Newton impact law
@@ -532,7 +579,11 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
            py::arg("gap"), py::arg("restitution"), py::arg("contact_dof") = py::none(),
            py::arg("rayleigh_damping") = py::none(), py::arg("damping_ratios") = py::none(),
            py::arg("damping_matrix") = py::none(), py::arg("forcing_amplitude") = py::none(),
-           py::arg("forcing_frequency") = py::none(), py::arg("forcing_constant") = py::none())
+           py::arg("forcing_frequency") = py::none(), py::arg("forcing_constant") = py::none(),
+           Signed("__init__(self, /, masses=None, springs=None, mass_matrix=None, stiffness_matrix=None, *, gap, "
+                  "restitution, contact_dof=None, rayleigh_damping=None, damping_ratios=None, damping_matrix=None, "
+                  "forcing_amplitude=None, forcing_frequency=None, forcing_constant=None)",
+                  "A Model from a chain or from matrices (see the class)."))
       .def_property_readonly("damping_matrix", [](const Model& m) { return m.DampingMatrix(); }, "C (N x N; zero: none).")
       .def_property_readonly("forcing_amplitude", [](const Model& m) { return m.ForceAmplitude(); }, "f (zero: none).")
       .def_property_readonly("forcing_frequency", [](const Model& m) { return m.forcing.frequency; }, "w.")
@@ -586,10 +637,10 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
             for (auto [key, value] : changes) kw[key] = value;
             return py::type::of<Model>()(**kw).cast<Model>();
           },
-          R"doc(A copy with some of the constructor's keywords changed: m.replace(gap=0.5),
+          Signed("replace($self, /, **changes)", R"doc(A copy with some of the constructor's keywords changed: m.replace(gap=0.5),
 m.replace(restitution=0.8, rayleigh_damping=(0.0, 0.01)). masses and springs
 replace the matrices; a damping form replaces the damping. Checked as a new
-Model is.)doc")
+Model is.)doc"))
       // Pickling (multiprocessing, joblib, copy): the matrices, the forcing and
       // the contact; a state is checked on the way in as a new Model is.
       .def(py::pickle(
@@ -640,11 +691,11 @@ Model is.)doc")
       py::kw_only(), py::arg("length"), py::arg("youngs_modulus"), py::arg("density"), py::arg("area"),
       py::arg("elements"), py::arg("boundary") = "fixed-free", py::arg("mass") = "consistent",
       py::arg("contact_dof") = py::none(), py::arg("gap"), py::arg("restitution"),
-      R"doc(A uniform elastic bar in axial vibration by linear finite elements (the
+      Signed("bar(*, length, youngs_modulus, density, area, elements, boundary='fixed-free', mass='consistent', contact_dof=None, gap, restitution)", R"doc(A uniform elastic bar in axial vibration by linear finite elements (the
 scene's [system] bar): `elements` elements, one node per element end;
 boundary "fixed-free" (node 0 clamped; dofs = nodes 1..n) or "free-free"
 (dofs = nodes 0..n, one rigid-body mode: simulation only); mass
-"consistent" or "lumped". contact_dof is 1-based (default: the last node).)doc");
+"consistent" or "lumped". contact_dof is 1-based (default: the last node).)doc"));
 
   py::class_<ModalTruncation>(mod, "ModalTruncation", R"doc(The first k linear modes of a model as a model of k
 dofs (truncation.h): `model` (its dof 1 is x_c), `to_physical` (N x k: x =
@@ -660,7 +711,10 @@ full model with energy E.)doc")
       .def_readonly("highest_kept_frequency", &ModalTruncation::highest_kept_frequency)
       .def_readonly("lowest_neglected_frequency", &ModalTruncation::lowest_neglected_frequency)
       .def_readonly("residual_flexibility", &ModalTruncation::residual_flexibility)
-      .def("contact_bound", &ModalTruncation::ContactBound, py::arg("energy"));
+      .def("contact_bound", &ModalTruncation::ContactBound, py::arg("energy"),
+           Signed("contact_bound($self, /, energy)",
+                  "sqrt(2 E f_res): the most the neglected modes can add to x_c in a state of the full model with "
+                  "energy E (J)."));
 
   mod.def(
       "truncate",
@@ -675,18 +729,18 @@ full model with energy E.)doc")
       },
       py::arg("model"), py::kw_only(), py::arg("modes") = py::none(), py::arg("contact_tolerance") = py::none(),
       py::arg("energy") = py::none(),
-      R"doc(Modal truncation: the first `modes` linear modes, or the fewest whose
+      Signed("truncate(model, *, modes=None, contact_tolerance=None, energy=None)", R"doc(Modal truncation: the first `modes` linear modes, or the fewest whose
 contact_bound(energy) is at most contact_tolerance (m). Returns a
-ModalTruncation; simulate its `model` from from_physical @ x0.)doc");
+ModalTruncation; simulate its `model` from from_physical @ x0.)doc"));
 
   mod.def(
       "load_scene", [](const std::string& path) { return LoadScene(path, "path").model; }, py::arg("path"),
-      R"doc(The model of a scene: a file (TOML, the [system] table; see configs/paper.toml)
+      Signed("load_scene(path)", R"doc(The model of a scene: a file (TOML, the [system] table; see configs/paper.toml)
 or the name of an example scene compiled into nsmodal (scenes() lists them:
 load_scene("paper") is the paper's system, wherever nsmodal is installed).
 The CLI's reader: a regular file of at most 16 MiB; a FIFO, a device, a
 directory, a larger file or a path holding a NUL raise ValueError naming
-`path`.)doc");
+`path`.)doc"));
 
   mod.def(
       "scenes",
@@ -695,7 +749,7 @@ directory, a larger file or a path holding a NUL raise ValueError naming
         for (const auto& [name, text] : BuiltinScenes()) names.append(name);
         return names;
       },
-      R"doc(The names of the example scenes compiled into nsmodal (configs/*.toml).)doc");
+      Signed("scenes()", R"doc(The names of the example scenes compiled into nsmodal (configs/*.toml).)doc"));
 
   mod.def(
       "orbits",
@@ -714,7 +768,7 @@ directory, a larger file or a path holding a NUL raise ValueError naming
       },
       py::arg("model"), py::arg("impacts") = 1, py::arg("period"), py::arg("stability") = "potential",
       py::arg("threads") = 0, py::arg("all_multipliers") = true, py::arg("progress") = py::none(),
-      R"doc(Potential orbits with 1 or 2 impacts per period over a grid of periods.
+      Signed("orbits(model, impacts=1, *, period, stability='potential', threads=0, all_multipliers=True, progress=None)", R"doc(Potential orbits with 1 or 2 impacts per period over a grid of periods.
 
 period: (from, to, step), "FROM:TO:STEP" or one period T.
 stability: which orbits get Floquet multipliers: "potential" (default),
@@ -733,7 +787,7 @@ computed), "mu1_re", "mu1_im", ... (sorted by decreasing modulus). Every
 entry is a 1-D array: pandas.DataFrame(o) takes it whole; stack(o, "x"),
 stack(o, "v") and stack(o, "mu") give the state (rows x N) and the
 multipliers (rows x 2N, complex) as matrices.
-Needs restitution = 1 (ValueError naming system.restitution otherwise).)doc");
+Needs restitution = 1 (ValueError naming system.restitution otherwise).)doc"));
 
   mod.def(
       "orbit",
@@ -746,18 +800,18 @@ Needs restitution = 1 (ValueError naming system.restitution otherwise).)doc");
         return out;
       },
       py::arg("model"), py::arg("period"), py::arg("impacts") = 1,
-      R"doc(Every potential orbit of period T as a list of dicts (as `nsmodal orbit --json`):
+      Signed("orbit(model, period, impacts=1)", R"doc(Every potential orbit of period T as a list of dicts (as `nsmodal orbit --json`):
 "T", "impact_times", "t2", "energy", "potential", "admissible", "degenerate",
 residuals, "nc3_margin", "x", "v", "reason", "stable", "max_multiplier",
 "multipliers"; impact_times, x and v float arrays, the multipliers a complex
-array, as in orbits().)doc");
+array, as in orbits().)doc"));
 
   mod.def("stack", &Stack, py::arg("table"), py::arg("name"),
-          R"doc(Columns name1, name2, ... of a table as one matrix (rows x N):
+          Signed("stack(table, name)", R"doc(Columns name1, name2, ... of a table as one matrix (rows x N):
 stack(o, "x"), stack(o, "v") for the state of orbits() or of a trajectory;
 stack(o, "mu") for the Floquet multipliers as a complex matrix (NaN where not
 computed). Every table is a dict of 1-D arrays, so pandas.DataFrame(table)
-takes it whole.)doc");
+takes it whole.)doc"));
 
   mod.def(
       "transitions",
@@ -772,12 +826,12 @@ takes it whole.)doc");
         return TableDict(report::TransitionColumns(), Pointers(tr));
       },
       py::arg("model"), py::arg("period"),
-      R"doc(Transitions of the admissible 1-ipp zones seen on the grid (paper section 2.1),
+      Signed("transitions(model, period)", R"doc(Transitions of the admissible 1-ipp zones seen on the grid (paper section 2.1),
 and the stability changes inside them: dict of arrays "T", "kind" (list of
 "singular", "modal", "grazing" -- the zones' ends -- and "multiplier+1",
 "multiplier-1": a pair of Floquet multipliers through +1 or -1), "energy"
 (NaN at a singular transition, where it diverges: an empty field in
-transitions.csv); the rows of transitions.csv.)doc");
+transitions.csv); the rows of transitions.csv.)doc"));
 
   mod.def(
       "atlas",
@@ -799,11 +853,11 @@ transitions.csv); the rows of transitions.csv.)doc");
         return d;
       },
       py::arg("model"), py::arg("period"), py::arg("threads") = 0, py::arg("progress") = py::none(),
-      R"doc(The whole picture over a grid: dict with "one" and "two" (as orbits(),
+      Signed("atlas(model, period, threads=0, progress=None)", R"doc(The whole picture over a grid: dict with "one" and "two" (as orbits(),
 stability of the admissible orbits), "transitions", "bridges" ("T", "t2",
 "energy_min", "energy_max", "s_begin", "s_end", "kind"), "doublings" (the
 periods T* where a 1-ipp orbit has a Floquet multiplier at -1) and "notes".
-progress: None or a callable progress(done, total).)doc");
+progress: None or a callable progress(done, total).)doc"));
 
   mod.def(
       "multipliers",
@@ -828,14 +882,12 @@ progress: None or a callable progress(done, total).)doc");
         return Eigen::VectorXcd(OrbitStability(b, o).multipliers);
       },
       py::arg("model"), py::arg("period"), py::arg("impacts") = 1, py::arg("t2") = py::none(),
-      R"doc(Floquet multipliers (complex array, decreasing modulus) of the 1-ipp orbit of
+      Signed("multipliers(model, period, impacts=1, t2=None)", R"doc(Floquet multipliers (complex array, decreasing modulus) of the 1-ipp orbit of
 period T, or of the 2-ipp orbit at the root (t2, T): eigenvalues of the
-monodromy with the impact saltation matrices. Two are the trivial pair at 1.)doc");
+monodromy with the impact saltation matrices. Two are the trivial pair at 1.)doc"));
 
   static const std::string simulate_doc =
-      R"doc(simulate(model, x0=None, v0=None, on_impact=None, progress=None, **settings)
-
-Simulate one initial condition, any restitution 0 <= e <= 1.
+      R"doc(Simulate one initial condition, any restitution 0 <= e <= 1.
 
 integrator: "exact" (closed-form flight, guaranteed impact search; root_tol),
 "cvode" (SUNDIALS CVODE with root finding; its tolerances, method "adams"|"bdf")
@@ -903,12 +955,13 @@ A run that stopped early has "status" != "finished" and says why in
         d["impact_log"] = TableDict(report::ImpactColumns(n), Pointers(impacts));
         return d;
       },
-      py::arg("model"), simulate_doc.c_str());
+      py::arg("model"),
+      Signed(TextSignature("simulate", "model, x0=None, v0=None", {"x0", "v0"}, "on_impact=None, progress=None",
+                           SimulateSettings(), "simulate"),
+             simulate_doc));
 
   static const std::string validate_doc =
-      R"doc(validate(model, period=None, progress=None, **settings)
-
-Validate the potential 1- and/or 2-ipp orbits of a grid by long simulations.
+      R"doc(Validate the potential 1- and/or 2-ipp orbits of a grid by long simulations.
 period: (from, to, step), "FROM:TO:STEP" or one value.
 
 Returns {"rows": arrays keyed as validation.csv, one per orbit and
@@ -945,13 +998,15 @@ the summary; no value is ever inf or NaN.)doc" + KeywordDoc(ValidateSettings(), 
         d["summary"] = ToPython(report::ValidationJson(v.report, v.results, request));
         return d;
       },
-      py::arg("model"), validate_doc.c_str());
+      py::arg("model"),
+      Signed(TextSignature("validate", "model, period=None", {"period"}, "progress=None", ValidateSettings(), "validate"),
+             validate_doc));
 
   mod.def(
       "settings", [] { return ToPython(report::SettingsReferenceJson()); },
-      R"doc(Every setting of simulate and validate, as `nsmodal settings --json` prints
+      Signed("settings()", R"doc(Every setting of simulate and validate, as `nsmodal settings --json` prints
 them: a list of dicts with the keys name, scene_key, flag, python, kind,
-default, unit, doc and commands.)doc");
+default, unit, doc and commands.)doc"));
 
   mod.def(
       "load_settings",
@@ -968,8 +1023,8 @@ default, unit, doc and commands.)doc");
         return out;
       },
       py::arg("path"),
-      R"doc(The settings a scene file's [simulate] and [validate] tables give, as keyword
-dicts: simulate(model, **load_settings(path)["simulate"]).)doc");
+      Signed("load_settings(path)", R"doc(The settings a scene file's [simulate] and [validate] tables give, as keyword
+dicts: simulate(model, **load_settings(path)["simulate"]).)doc"));
 
   mod.def(
       "response",
@@ -1010,7 +1065,7 @@ dicts: simulate(model, **load_settings(path)["simulate"]).)doc");
       py::arg("model"), py::arg("impacts") = 1, py::arg("periods") = 1, py::arg("frequency") = py::none(),
       py::arg("amplitude") = py::none(), py::arg("backbone") = true, py::arg("validate") = 0,
       py::arg("integrators") = std::vector<std::string>{"exact"}, py::arg("threads") = 0,
-      R"doc(Forced, damped response curves: the (m, n) = (impacts, periods) families of
+      Signed("response(model, impacts=1, periods=1, frequency=None, amplitude=None, backbone=True, validate=0, integrators=['exact'], threads=0)", R"doc(Forced, damped response curves: the (m, n) = (impacts, periods) families of
 periodic orbits followed through the forcing frequency or amplitude by
 pseudo-arclength continuation (folds passed), with their stability.
 
@@ -1031,7 +1086,7 @@ keyed as backbone.csv (the conservative twin's 1-ipp mode, w = 2 pi / T, over
 the grid's frequencies divided by periods).
 validate > 0: every point simulated that many periods with each of
 `integrators`; "validation": arrays keyed as response_validation.csv (the
-verdicts of validate: consistent, reason, deviation_end, measured_growth...).)doc");
+verdicts of validate: consistent, reason, deviation_end, measured_growth...).)doc"));
 
   mod.attr("__version__") = NSMODAL_VERSION;
 }

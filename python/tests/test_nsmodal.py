@@ -551,3 +551,18 @@ def test_callables_see_the_work_as_it_goes(paper):
         nsmodal.validate(paper, period=5.0, periods=2, progress=lambda done, total: 1 / 0)
     with pytest.raises(TypeError, match="on_impact"):
         nsmodal.simulate(paper, x0=[0.5, 0.0], on_impact=3)
+
+
+def test_every_function_has_a_signature_and_simulates_keywords_come_from_the_table():
+    import inspect
+    for name in dir(nsmodal):
+        f = getattr(nsmodal, name)
+        if callable(f) and not name.startswith("_") and not isinstance(f, type):
+            inspect.signature(f)  # raises ValueError where there is none
+    assert list(inspect.signature(nsmodal.Model).parameters)[:2] == ["masses", "springs"]
+    for command in ("simulate", "validate"):
+        params = inspect.signature(getattr(nsmodal, command)).parameters
+        for s in nsmodal.settings():
+            if s["python"] and command in s["commands"]:
+                assert s["python"] in params, (command, s["python"])
+    assert inspect.signature(nsmodal.simulate).parameters["rtol"].default == 1e-10
