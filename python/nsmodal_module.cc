@@ -271,6 +271,28 @@ PeriodGrid GridOf(const py::object& period, const std::string& field = "period")
     g.Validate(field);
     return g;
   }
+  if (py::isinstance<py::array>(period)) {
+    // A NumPy array holds the periods themselves (np.arange, np.linspace),
+    // evenly spaced: the grid (first, last, spacing). A list or a tuple of
+    // three stays (from, to, step).
+    const py::array_t<double> a = py::array_t<double>::ensure(period);
+    if (!a || a.ndim() != 1 || a.shape(0) < 1) throw InputError(field, "as an array, must be a 1-D array of periods");
+    const auto r = a.unchecked<1>();
+    const py::ssize_t n = a.shape(0);
+    PeriodGrid g{r(0), r(n - 1), n > 1 ? (r(n - 1) - r(0)) / static_cast<double>(n - 1) : 1.0};
+    for (py::ssize_t k = 0; k < n; ++k) {
+      // Evenly spaced to the round-off of np.arange / np.linspace (a few
+      // ulps of the largest value), far below any step that makes sense.
+      if (!(std::abs(r(k) - (g.from + static_cast<double>(k) * g.step)) <= 1e-9 * std::max(std::abs(g.step), 1e-300) +
+                                                                                16 * 2.2e-16 * std::abs(g.to))) {
+        throw InputError(field, "an array of periods must be evenly spaced (a grid), got " + FormatValue(r(k)) +
+                                    " at index " + std::to_string(k));
+      }
+    }
+    g.Validate(field);
+    if (g.Count() != n) throw InputError(field, "an array of " + std::to_string(n) + " periods gives a grid of " + std::to_string(g.Count()));
+    return g;
+  }
   std::vector<double> v;
   try {
     v = period.cast<std::vector<double>>();
@@ -770,7 +792,8 @@ directory, a larger file or a path holding a NUL raise ValueError naming
       py::arg("threads") = 0, py::arg("all_multipliers") = true, py::arg("progress") = py::none(),
       Signed("orbits(model, impacts=1, *, period, stability='potential', threads=0, all_multipliers=True, progress=None)", R"doc(Potential orbits with 1 or 2 impacts per period over a grid of periods.
 
-period: (from, to, step), "FROM:TO:STEP" or one period T.
+period: (from, to, step), "FROM:TO:STEP", one period T, or a NumPy array of
+evenly spaced periods (np.arange, np.linspace).
 stability: which orbits get Floquet multipliers: "potential" (default),
 "admissible" or "none".
 all_multipliers: False keeps, for 1 impact, only the verdict, the largest

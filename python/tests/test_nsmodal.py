@@ -566,3 +566,11 @@ def test_every_function_has_a_signature_and_simulates_keywords_come_from_the_tab
             if s["python"] and command in s["commands"]:
                 assert s["python"] in params, (command, s["python"])
     assert inspect.signature(nsmodal.simulate).parameters["rtol"].default == 1e-10
+
+
+def test_a_period_grid_given_as_an_array(paper):
+    grid = nsmodal.orbits(paper, period=(2.0, 12.0, 0.01))
+    assert np.array_equal(nsmodal.orbits(paper, period=np.linspace(2.0, 12.0, 1001))["energy"], grid["energy"])
+    assert len(nsmodal.orbits(paper, period=np.arange(2.0, 12.0, 0.5))["T"]) == 20
+    with pytest.raises(ValueError, match="evenly spaced"):
+        nsmodal.orbits(paper, period=np.array([2.0, 3.0, 5.0]))
