@@ -4,35 +4,24 @@
 
 #include <chrono>
 #include <cmath>
-#include <complex>
 #include <cstdio>
-#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <optional>
-#include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "nsmodal/atlas.h"
 #include "nsmodal/console.h"
 #include "nsmodal/error.h"
 #include "nsmodal/explore.h"
-#include "nsmodal/stability.h"
-#include "nsmodal/figure_subjects.h"
 #include "nsmodal/figures.h"
-#include "nsmodal/modal_basis.h"
 #include "nsmodal/json.h"
 #include "nsmodal/output.h"
-#include "nsmodal/tables.h"
-#include "nsmodal/transitions.h"
 #include "nsmodal/scene.h"
-#include "nsmodal/simulate.h"
-#include "nsmodal/truncation.h"
-#include "nsmodal/validate.h"
-#include "nsmodal/validate_settings.h"
 #include "nsmodal/simulate_settings.h"
+#include "nsmodal/tables.h"
+#include "nsmodal/truncation.h"
+#include "nsmodal/validate_settings.h"
 #include "nsmodal/work_precision.h"
-#include "common.h"
 
 namespace nsmodal::cli {
 namespace {
@@ -94,76 +83,41 @@ int RunOrbits(const OrbitsArgs& a) {
   // Streamed: one block of periods in memory at a time; the transitions need
   // only the 1-ipp admissibility of each period.
   long orbits = 0, admissible = 0;
-  std::vector<double> periods;
-  std::vector<bool> one_admissible;
+  ZoneScan zones;
   StreamSweep(b, grid, a.impacts, opt, [&](double period, std::vector<OrbitRecord>& list) {
     if (truncation) ToPhysical(*truncation, list);
-    for (OrbitRecord& r : list) {
+    for (const OrbitRecord& r : list) {
       report::WriteCsvRow(out.stream(), columns, r);
       ++orbits;
       admissible += r.orbit.admissible;
     }
-    if (a.impacts == 1) {
-      periods.push_back(period);
-      one_admissible.push_back(list.front().orbit.admissible);
-    }
+    if (a.impacts == 1) zones.Add(period, list);
   });
   out.Commit();
   std::cout << "wrote " << orbits << " orbits (" << admissible << " admissible) to " << a.out << "/orbits.csv\n";
   if (a.impacts == 1) {
     // Zone boundaries and the stability changes inside the zones (issue 13).
-    const std::vector<Transition> transitions = OneImpactTransitionsAndCrossings(b, periods, one_admissible);
-    report::ResultFile tr(dir, "transitions.csv");
-    report::WriteCsv(tr.stream(), report::TransitionColumns(), transitions);
-    tr.Commit();
+    const std::vector<Transition> transitions = zones.Transitions(b);
+    report::WriteCsvFile(dir, "transitions.csv", report::TransitionColumns(), transitions);
     std::cout << "wrote " << transitions.size() << " transitions to " << a.out << "/transitions.csv\n";
   }
   return 0;
 }
 
 int RunBench(const BenchArgs& a) {
-  const Scene scene = LoadScene(a.scene);
-  const Model paper = PaperModel();
-  if (scene.model.mass != paper.mass || scene.model.stiffness != paper.stiffness ||
-      scene.model.contact != paper.contact || scene.model.gap != paper.gap) {
-    throw InputError("scene", "the bench cases (a stable orbit at T = 7.5, the grazing and singular transitions at "
-                              "9.127 and 4.834, a Zeno start) are defined on the paper's system; use "
-                              "configs/paper.toml");
-  }
+  CheckBenchModel(LoadScene(a.scene).model);
   const report::OutputDir dir =
       report::OutputDir::Prepare(a.out, {"work_precision.csv", "grazing.csv", "work_precision_*"});
   WorkPrecisionOptions opt;
   opt.quick = a.quick;
   opt.progress = ProgressBar(a.quick ? "work-precision (quick)" : "work-precision");
   const std::vector<WorkPrecisionRow> rows = RunWorkPrecision(opt);
-  report::ResultFile csv(dir, "work_precision.csv");
-  report::WriteCsv(csv.stream(), report::WorkPrecisionColumns(), rows);
-  csv.Commit();
+  report::WriteCsvFile(dir, "work_precision.csv", report::WorkPrecisionColumns(), rows);
   const std::vector<GrazingRow> grazing = RunGrazingFailures(opt);
-  report::ResultFile gcsv(dir, "grazing.csv");
-  report::WriteCsv(gcsv.stream(), report::GrazingColumns(), grazing);
-  gcsv.Commit();
+  report::WriteCsvFile(dir, "grazing.csv", report::GrazingColumns(), grazing);
   // Written before the charts that read it.
   const int failed_charts = report::DrawWorkPrecisionCharts(dir, rows, std::cerr);
-  // The tables a person reads: error and cost per case, and the grazing limits.
-  std::cout << std::left << std::setw(13) << "case" << std::setw(13) << "integrator" << std::setw(16) << "setting"
-            << std::right << std::setw(10) << "error" << std::setw(11) << "cpu_s" << std::setw(9) << "impacts"
-            << std::setw(12) << "steps" << "\n";
-  for (const WorkPrecisionRow& r : rows) {
-    std::cout << std::left << std::setw(13) << r.case_name << std::setw(13) << r.integrator << std::setw(16)
-              << r.setting << std::right << std::scientific << std::setprecision(2) << std::setw(10) << r.error
-              << std::setw(11) << r.cpu_s << std::defaultfloat << std::setw(9) << r.impacts << std::setw(12)
-              << r.steps << "\n";
-  }
-  std::cout << "\ngrazing (T_G +- delta, one period): the shallowest excursion past d turned into the right impacts,\n"
-               "and the smallest clearance below d without a spurious impact (inf: wrong at the largest tried)\n";
-  std::cout << std::left << std::setw(13) << "integrator" << std::setw(16) << "setting" << std::right << std::setw(14)
-            << "excursion" << std::setw(14) << "clearance" << "\n";
-  for (const GrazingLimit& l : SummarizeGrazing(grazing)) {
-    std::cout << std::left << std::setw(13) << l.integrator << std::setw(16) << l.setting << std::right
-              << std::scientific << std::setprecision(2) << std::setw(14) << l.shallowest_excursion << std::setw(14)
-              << l.smallest_clearance << std::defaultfloat << "\n";
-  }
+  report::PrintBenchTables(std::cout, rows, grazing);
   std::cout.flush();
   std::cerr << "wrote " << rows.size() << " work-precision rows and " << grazing.size() << " grazing rows to " << a.out
             << " (work_precision.csv, grazing.csv, work_precision_*.png/svg)\n";
@@ -286,32 +240,7 @@ int RunOrbit(const OrbitArgs& a) {
     std::cout << nlohmann::json{{"orbits", arr}}.dump(2) << "\n";
     return 0;
   }
-  std::cout << std::setprecision(12);
-  std::cout << orbits.size() << " potential orbit(s) with " << a.impacts << " impact(s) per period, T = " << a.period
-            << "\n";
-  for (std::size_t k = 0; k < orbits.size(); ++k) {
-    const Orbit& o = orbits[k].orbit;
-    std::cout << "\n#" << k + 1 << (o.admissible ? "  admissible" : "  NOT admissible")
-              << (o.potential ? "" : " (not potential)") << (o.degenerate ? " (degenerate: bridge)" : "") << "\n";
-    if (!o.times.empty()) std::cout << "  t2                    " << o.times[0] << "\n";
-    std::cout << "  energy                " << o.energy << "\n"
-              << "  periodicity residual  " << o.periodicity_residual << "\n"
-              << "  NC2 residual          " << o.nc2_residual << "\n"
-              << "  NC3 margin (max x_c-d) " << o.max_excess << "\n";
-    std::cout << "  x(0) =";
-    for (int i = 0; i < b.n; ++i) std::cout << " " << o.z0[i];
-    std::cout << "\n  v(0+) =";
-    for (int i = 0; i < b.n; ++i) std::cout << " " << o.z0[b.n + i];
-    std::cout << "\n";
-    if (const std::optional<Stability>& s = orbits[k].stability) {
-      std::cout << "  " << (s->stable ? "stable" : "unstable") << ", Floquet multipliers";
-      for (const std::complex<double>& mu : s->multipliers) {
-        std::cout << " " << mu.real() << (mu.imag() < 0 ? "-" : "+") << std::abs(mu.imag()) << "i";
-      }
-      std::cout << "\n";
-    }
-    if (!o.reason.empty()) std::cout << "  " << o.reason << "\n";
-  }
+  report::PrintOrbits(std::cout, orbits, a.impacts, a.period);
   return 0;
 }
 
@@ -362,14 +291,7 @@ int RunFigures(const FiguresArgs& a) {
   opt.sweep.threads = a.threads;
   opt.sweep.progress = ProgressBar("1- and 2-ipp sweep");
   const Atlas atlas = ComputeAtlas(b, grid, opt);
-  for (const std::string& note : atlas.notes) std::cout << note << "\n";
-  const std::vector<double>& periods = atlas.one.periods;
-  std::cout << periods.size() << " periods from " << periods.front() << " to " << periods.back() << "; "
-            << atlas.transitions.size() << " transitions, " << atlas.bridges.size() << " bridges\n";
-  for (const Bridge& br : atlas.bridges) {
-    std::cout << "  " << (IsGrazing(br) ? "grazing" : "period-doubling") << " bridge at T = " << br.period
-              << " (t2 = " << br.t2 << "): E from " << br.energy_min << " to " << br.energy_max << "\n";
-  }
+  report::PrintAtlas(std::cout, atlas);
   const report::FiguresResult r = report::DrawPaperFigures(b, scene.model.contact, atlas, dir, std::cout);
   std::cout << r.drawn << " figures drawn" << (r.failed ? ", " + std::to_string(r.failed) + " failed" : "") << "\n";
   if (r.failed) throw report::OutputError(std::to_string(r.failed) + " figure(s) could not be drawn (see above)");

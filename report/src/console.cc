@@ -1,8 +1,13 @@
 #include "nsmodal/console.h"
 
+#include <cmath>
+#include <complex>
+#include <iomanip>
 #include <ios>
 #include <optional>
 #include <string>
+
+#include "nsmodal/figure_subjects.h"
 
 namespace nsmodal::report {
 namespace {
@@ -96,6 +101,69 @@ void PrintInconsistent(std::ostream& out, const ResponseValidation& validation) 
     if (r.v.consistent) continue;
     out << "  inconsistent: w = " << FormatValue(r.v.orbit.frequency) << " (" << ToString(r.v.integrator)
         << "): " << r.v.reason << "\n";
+  }
+}
+
+void PrintOrbits(std::ostream& out, const std::vector<OrbitRecord>& orbits, int impacts, double period) {
+  const FormatGuard guard(out);
+  out << std::setprecision(12);
+  out << orbits.size() << " potential orbit(s) with " << impacts << " impact(s) per period, T = " << period << "\n";
+  for (std::size_t k = 0; k < orbits.size(); ++k) {
+    const Orbit& o = orbits[k].orbit;
+    const long n = o.z0.size() / 2;
+    out << "\n#" << k + 1 << (o.admissible ? "  admissible" : "  NOT admissible")
+        << (o.potential ? "" : " (not potential)") << (o.degenerate ? " (degenerate: bridge)" : "") << "\n";
+    if (!o.times.empty()) out << "  t2                    " << o.times[0] << "\n";
+    out << "  energy                " << o.energy << "\n"
+        << "  periodicity residual  " << o.periodicity_residual << "\n"
+        << "  NC2 residual          " << o.nc2_residual << "\n"
+        << "  NC3 margin (max x_c-d) " << o.max_excess << "\n";
+    out << "  x(0) =";
+    for (long i = 0; i < n; ++i) out << " " << o.z0[i];
+    out << "\n  v(0+) =";
+    for (long i = 0; i < n; ++i) out << " " << o.z0[n + i];
+    out << "\n";
+    if (const std::optional<Stability>& st = orbits[k].stability) {
+      out << "  " << (st->stable ? "stable" : "unstable") << ", Floquet multipliers";
+      for (const std::complex<double>& mu : st->multipliers) {
+        out << " " << mu.real() << (mu.imag() < 0 ? "-" : "+") << std::abs(mu.imag()) << "i";
+      }
+      out << "\n";
+    }
+    if (!o.reason.empty()) out << "  " << o.reason << "\n";
+  }
+}
+
+void PrintAtlas(std::ostream& out, const Atlas& atlas) {
+  for (const std::string& note : atlas.notes) out << note << "\n";
+  const std::vector<double>& periods = atlas.one.periods;
+  out << periods.size() << " periods from " << periods.front() << " to " << periods.back() << "; "
+      << atlas.transitions.size() << " transitions, " << atlas.bridges.size() << " bridges\n";
+  for (const Bridge& br : atlas.bridges) {
+    out << "  " << (IsGrazing(br) ? "grazing" : "period-doubling") << " bridge at T = " << br.period
+        << " (t2 = " << br.t2 << "): E from " << br.energy_min << " to " << br.energy_max << "\n";
+  }
+}
+
+void PrintBenchTables(std::ostream& out, const std::vector<WorkPrecisionRow>& rows,
+                      const std::vector<GrazingRow>& grazing) {
+  const FormatGuard guard(out);
+  out << std::left << std::setw(13) << "case" << std::setw(13) << "integrator" << std::setw(16) << "setting"
+      << std::right << std::setw(10) << "error" << std::setw(11) << "cpu_s" << std::setw(9) << "impacts"
+      << std::setw(12) << "steps" << "\n";
+  for (const WorkPrecisionRow& r : rows) {
+    out << std::left << std::setw(13) << r.case_name << std::setw(13) << r.integrator << std::setw(16) << r.setting
+        << std::right << std::scientific << std::setprecision(2) << std::setw(10) << r.error << std::setw(11)
+        << r.cpu_s << std::defaultfloat << std::setw(9) << r.impacts << std::setw(12) << r.steps << "\n";
+  }
+  out << "\ngrazing (T_G +- delta, one period): the shallowest excursion past d turned into the right impacts,\n"
+         "and the smallest clearance below d without a spurious impact (inf: wrong at the largest tried)\n";
+  out << std::left << std::setw(13) << "integrator" << std::setw(16) << "setting" << std::right << std::setw(14)
+      << "excursion" << std::setw(14) << "clearance" << "\n";
+  for (const GrazingLimit& l : SummarizeGrazing(grazing)) {
+    out << std::left << std::setw(13) << l.integrator << std::setw(16) << l.setting << std::right << std::scientific
+        << std::setprecision(2) << std::setw(14) << l.shallowest_excursion << std::setw(14) << l.smallest_clearance
+        << std::defaultfloat << "\n";
   }
 }
 

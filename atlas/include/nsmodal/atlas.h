@@ -37,6 +37,11 @@ struct PeriodGrid {
   static PeriodGrid Parse(const std::string& text, const std::string& field = "--period");
 };
 
+// "0.3" or "0.1,0.2,0.4": values where a grid FROM:TO:STEP could stand (the
+// fixed parameter of `response`), every one positive and finite; throws
+// InputError naming `field`.
+std::vector<double> ParseValues(const std::string& text, const std::string& field);
+
 // The work limit of the analysis (work.h CheckSweepWork) for the sweeps of
 // `impacts` (1 and/or 2) over the grid, after the range of its periods
 // (AnalysisBasis::CheckPeriod): throws InputError naming `field`.
@@ -109,6 +114,15 @@ std::vector<Orbit> PotentialOrbits(const AnalysisBasis& b, const PeriodGrid& gri
 // The transitions of the admissible 1-ipp zones seen on a 1-ipp sweep and
 // the stability changes inside them (OneImpactTransitionsAndCrossings).
 std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& one);
+
+// The same for a sweep streamed (StreamSweep, the CLI's orbits): each
+// period's 1-ipp admissibility gathered as it comes, nothing else held.
+struct ZoneScan {
+  std::vector<double> periods;
+  std::vector<bool> admissible;
+  void Add(double period, const std::vector<OrbitRecord>& one_impact_orbits);
+  std::vector<Transition> Transitions(const AnalysisBasis& b) const;
+};
 
 struct AtlasOptions {
   SweepOptions sweep{.stability = StabilityPolicy::kAdmissible, .stability_options = {}, .two_impact = {}, .threads = 0, .progress = {}};

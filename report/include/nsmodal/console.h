@@ -6,10 +6,12 @@
 #include <ostream>
 #include <vector>
 
+#include "nsmodal/atlas.h"
 #include "nsmodal/explore.h"
 #include "nsmodal/response.h"
 #include "nsmodal/truncation.h"
 #include "nsmodal/validate.h"
+#include "nsmodal/work_precision.h"
 
 namespace nsmodal::report {
 
@@ -41,5 +43,18 @@ void PrintResponsePeaks(std::ostream& out, const std::vector<SpecialPoint>& poin
 
 // response --validate: a line per inconsistent run.
 void PrintInconsistent(std::ostream& out, const ResponseValidation& validation);
+
+// orbit: every potential orbit at one period, a block each (admissibility,
+// t2, energy, residuals, the NC3 margin, the state after the impact at t = 0,
+// the Floquet multipliers), 12 significant digits.
+void PrintOrbits(std::ostream& out, const std::vector<OrbitRecord>& orbits, int impacts, double period);
+
+// figures: the atlas' notes, its periods, transitions and bridges, a line per bridge.
+void PrintAtlas(std::ostream& out, const Atlas& atlas);
+
+// bench: the two tables a person reads, error and cost per case and
+// integrator setting, and the grazing limits (SummarizeGrazing).
+void PrintBenchTables(std::ostream& out, const std::vector<WorkPrecisionRow>& rows,
+                      const std::vector<GrazingRow>& grazing);
 
 }  // namespace nsmodal::report
