@@ -13,6 +13,7 @@
 #include "nsmodal/console.h"
 #include "nsmodal/error.h"
 #include "nsmodal/explore.h"
+#include "nsmodal/figure_subjects.h"
 #include "nsmodal/figures.h"
 #include "nsmodal/json.h"
 #include "nsmodal/output.h"
@@ -24,6 +25,8 @@
 #include "nsmodal/work_precision.h"
 
 namespace nsmodal::cli {
+
+using report::ProgressBar;
 namespace {
 
 void CheckImpacts(int impacts) {
@@ -34,33 +37,6 @@ void CheckImpacts(int impacts) {
 }
 
 }  // namespace
-
-std::function<void(long, long)> ProgressBar(const std::string& label) {
-  if (!isatty(STDERR_FILENO)) {
-    // A log, not a terminal: a plain line every 10 s and at the end, once a
-    // run has lasted that long (short runs stay quiet).
-    const auto every = std::chrono::seconds(10);
-    const auto start = std::chrono::steady_clock::now();
-    auto last = std::make_shared<std::chrono::steady_clock::time_point>(start);
-    return [label, every, start, last](long done, long count) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now - *last < every && (done < count || now - start < every)) return;
-      *last = now;
-      std::fprintf(stderr, "%s: %ld/%ld (%.0f s)\n", label.c_str(), done, count,
-                   std::chrono::duration<double>(now - start).count());
-      std::fflush(stderr);
-    };
-  }
-  return [label](long done, long count) {
-    const int width = 40;
-    const int filled = count > 0 ? static_cast<int>(width * done / count) : width;
-    std::fprintf(stderr, "\r%s [%s%s] %ld/%ld", label.c_str(), std::string(filled, '#').c_str(),
-                 std::string(width - filled, '.').c_str(), done, count);
-    if (done == count) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
-  };
-}
-
 
 int RunOrbits(const OrbitsArgs& a) {
   CheckImpacts(a.impacts);
@@ -77,27 +53,14 @@ int RunOrbits(const OrbitsArgs& a) {
   opt.stability = StabilityPolicy::kPotential;
   opt.threads = a.threads;
   opt.progress = ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
-  report::ResultFile out(dir, "orbits.csv");
-  const auto columns = report::OrbitColumns(scene.model.dofs(), truncation ? &*truncation : nullptr);
-  report::WriteCsvHeader(out.stream(), columns);
   // Streamed: one block of periods in memory at a time; the transitions need
   // only the 1-ipp admissibility of each period.
-  long orbits = 0, admissible = 0;
-  ZoneScan zones;
-  StreamSweep(b, grid, a.impacts, opt, [&](double period, std::vector<OrbitRecord>& list) {
-    if (truncation) ToPhysical(*truncation, list);
-    for (const OrbitRecord& r : list) {
-      report::WriteCsvRow(out.stream(), columns, r);
-      ++orbits;
-      admissible += r.orbit.admissible;
-    }
-    if (a.impacts == 1) zones.Add(period, list);
-  });
-  out.Commit();
-  std::cout << "wrote " << orbits << " orbits (" << admissible << " admissible) to " << a.out << "/orbits.csv\n";
+  const report::SweepCsv csv =
+      report::WriteSweepCsv(dir, "orbits.csv", b, grid, a.impacts, opt, truncation ? &*truncation : nullptr);
+  std::cout << "wrote " << csv.orbits << " orbits (" << csv.admissible << " admissible) to " << a.out << "/orbits.csv\n";
   if (a.impacts == 1) {
     // Zone boundaries and the stability changes inside the zones (issue 13).
-    const std::vector<Transition> transitions = zones.Transitions(b);
+    const std::vector<Transition> transitions = csv.zones.Transitions(b);
     report::WriteCsvFile(dir, "transitions.csv", report::TransitionColumns(), transitions);
     std::cout << "wrote " << transitions.size() << " transitions to " << a.out << "/transitions.csv\n";
   }
@@ -229,18 +192,14 @@ int RunOrbit(const OrbitArgs& a) {
     throw InputError("--period", "must be positive, got " + FormatValue(a.period));
   }
   const AnalysisBasis b(LoadScene(a.scene).model);
-  b.CheckPeriod(a.period, "--period");
-  CheckSweepWork(b, a.period, 0.0, 1, {a.impacts}, "--period");
   SweepOptions opt;
   opt.stability = StabilityPolicy::kPotential;
-  const std::vector<OrbitRecord> orbits = OrbitsAt(b, a.period, a.impacts, opt);
+  const std::vector<OrbitRecord> orbits = OrbitsAt(b, a.period, a.impacts, opt, "--period");
   if (a.json) {
-    nlohmann::json arr = nlohmann::json::array();
-    for (const OrbitRecord& r : orbits) arr.push_back(report::OrbitJson(r));
-    std::cout << nlohmann::json{{"orbits", arr}}.dump(2) << "\n";
-    return 0;
+    std::cout << report::OrbitsJson(orbits).dump(2) << "\n";
+  } else {
+    report::PrintOrbits(std::cout, orbits, a.impacts, a.period);
   }
-  report::PrintOrbits(std::cout, orbits, a.impacts, a.period);
   return 0;
 }
 
@@ -277,15 +236,7 @@ int RunExplore(const ExploreArgs& a) {
 int RunFigures(const FiguresArgs& a) {
   const Scene scene = LoadScene(a.scene);
   const AnalysisBasis b(scene.model);
-  // Default sweep: T from 0.01 to 4 T_max by 0.01.
-  const double default_step = 0.01;
-  const std::string range = a.period ? *a.period
-                                     : FormatValue(default_step) + ":" +
-                                           FormatValue(std::ceil(4.0 * b.Periods().maxCoeff())) + ":" +
-                                           FormatValue(default_step);
-  const PeriodGrid grid = PeriodGrid::Parse(range);
-  if (grid.Count() < 2) throw InputError("--period", "needs at least two periods, got '" + range + "'");
-  CheckSweepWork(b, grid, {1, 2}, "--period", true);
+  const PeriodGrid grid = FiguresGrid(b, a.period, "--period");
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"fig[01][0-9]_*"});
   AtlasOptions opt;
   opt.sweep.threads = a.threads;

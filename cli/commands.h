@@ -1,6 +1,5 @@
 #pragma once
 // Thin command layer of the nsmodal CLI: parse, call the libraries, write files.
-#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -69,10 +68,6 @@ struct ResponseArgs {
   std::vector<std::string> integrators{"exact"};
   int threads = 0;
 };
-
-// A progress callback for ParallelFor: a bar on stderr when it is a terminal,
-// else a plain line every 10 s once the run has lasted that long.
-std::function<void(long, long)> ProgressBar(const std::string& label);
 
 int RunResponse(const ResponseArgs& a);
 int RunFigures(const FiguresArgs& a);

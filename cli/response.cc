@@ -16,6 +16,8 @@
 
 namespace nsmodal::cli {
 
+using report::ProgressBar;
+
 int RunResponse(const ResponseArgs& a) {
   const Scene scene = LoadScene(a.scene);
   const Model& model = scene.model;

@@ -584,9 +584,7 @@ Needs restitution = 1 (ValueError naming system.restitution otherwise).)doc");
         const AnalysisBasis b(model);
         SweepOptions opt;
         PeriodGrid{period, period, 1.0}.Validate("period");
-        py::list out;
-        for (const OrbitRecord& r : OrbitsAt(b, period, impacts, opt)) out.append(ToPython(report::OrbitJson(r)));
-        return out;
+        return ToPython(report::OrbitsJson(OrbitsAt(b, period, impacts, opt))["orbits"]);
       },
       py::arg("model"), py::arg("period"), py::arg("impacts") = 1,
       R"doc(Every potential orbit of period T as a list of dicts (as `nsmodal orbit --json`):

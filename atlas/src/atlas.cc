@@ -129,10 +129,11 @@ void ToPhysical(const ModalTruncation& t, std::vector<OrbitRecord>& orbits) {
   for (OrbitRecord& r : orbits) r.orbit.z0 = t.PhysicalState(r.orbit.z0);
 }
 
-std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts, const SweepOptions& options) {
+std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts, const SweepOptions& options,
+                                  const std::string& field) {
   CheckImpacts(impacts);
-  b.CheckPeriod(period);
-  CheckSweepWork(b, period, 0.0, 1, {impacts}, "period");
+  b.CheckPeriod(period, field);
+  CheckSweepWork(b, period, 0.0, 1, {impacts}, field);
   std::vector<Orbit> orbits;
   if (impacts == 1) {
     orbits.push_back(OneImpactOrbit(b, period));

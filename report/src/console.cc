@@ -1,9 +1,14 @@
 #include "nsmodal/console.h"
 
+#include <unistd.h>
+
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <complex>
 #include <iomanip>
 #include <ios>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -26,6 +31,32 @@ class FormatGuard {
 };
 
 }  // namespace
+
+std::function<void(long, long)> ProgressBar(const std::string& label) {
+  if (!isatty(STDERR_FILENO)) {
+    // A log, not a terminal: a plain line every 10 s and at the end, once a
+    // run has lasted that long (short runs stay quiet).
+    const auto every = std::chrono::seconds(10);
+    const auto start = std::chrono::steady_clock::now();
+    auto last = std::make_shared<std::chrono::steady_clock::time_point>(start);
+    return [label, every, start, last](long done, long count) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now - *last < every && (done < count || now - start < every)) return;
+      *last = now;
+      std::fprintf(stderr, "%s: %ld/%ld (%.0f s)\n", label.c_str(), done, count,
+                   std::chrono::duration<double>(now - start).count());
+      std::fflush(stderr);
+    };
+  }
+  return [label](long done, long count) {
+    const int width = 40;
+    const int filled = count > 0 ? static_cast<int>(width * done / count) : width;
+    std::fprintf(stderr, "\r%s [%s%s] %ld/%ld", label.c_str(), std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), done, count);
+    if (done == count) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  };
+}
 
 void PrintTruncation(std::ostream& out, const ModalTruncation& t) {
   out << "modal truncation: " << t.kept << " of " << t.dofs << " modes kept (up to " << t.highest_kept_frequency

@@ -102,9 +102,11 @@ void StreamSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, co
 // (the stability stays the truncated model's).
 void ToPhysical(const ModalTruncation& t, std::vector<OrbitRecord>& orbits);
 
-// The orbits of one period, with the policy's stability.
+// The orbits of one period, with the policy's stability. Throws InputError
+// naming `field` for a period outside the range the basis honours or beyond
+// the work limit (CheckSweepWork).
 std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts,
-                                  const SweepOptions& options = {});
+                                  const SweepOptions& options = {}, const std::string& field = "period");
 
 // The potential orbits of the grid with each number of impacts in `impacts`
 // (1 and/or 2), period by period and in that order: what `validate` checks.

@@ -3,7 +3,9 @@
 // print besides their files. Each function writes to `out` (the CLI passes
 // std::cout) and leaves its format flags as it found them.
 #include <cstddef>
+#include <functional>
 #include <ostream>
+#include <string>
 #include <vector>
 
 #include "nsmodal/atlas.h"
@@ -14,6 +16,11 @@
 #include "nsmodal/work_precision.h"
 
 namespace nsmodal::report {
+
+// A progress callback (ParallelFor's, a sweep's): a bar on stderr when it
+// is a terminal, else a plain line every 10 s once the run has lasted that
+// long (a log: short runs stay quiet).
+std::function<void(long done, long count)> ProgressBar(const std::string& label);
 
 // "modal truncation: k of N modes kept (up to w_k rad/s; the first neglected
 // w_k+1 rad/s); residual flexibility f m/N", no end of line: each command
