@@ -1,13 +1,9 @@
-#include "commands.h"
+#include "command_line.h"
 
-#include <unistd.h>
-
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <iostream>
-#include <memory>
 #include <optional>
+#include <string>
 
 #include "nsmodal/atlas.h"
 #include "nsmodal/console.h"
@@ -17,10 +13,12 @@
 #include "nsmodal/figures.h"
 #include "nsmodal/json.h"
 #include "nsmodal/output.h"
+#include "nsmodal/response.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate_settings.h"
 #include "nsmodal/tables.h"
 #include "nsmodal/truncation.h"
+#include "nsmodal/validate.h"
 #include "nsmodal/validate_settings.h"
 #include "nsmodal/work_precision.h"
 
@@ -49,8 +47,7 @@ int RunOrbits(const OrbitsArgs& a) {
   const AnalysisBasis b(truncation ? truncation->model : scene.model);
   CheckSweepWork(b, grid, {a.impacts}, "--period", a.impacts == 1);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"orbits.csv", "transitions.csv"});
-  SweepOptions opt;
-  opt.stability = StabilityPolicy::kPotential;
+  SweepOptions opt;  // stability: potential
   opt.threads = a.threads;
   opt.progress = ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
   // Streamed: one block of periods in memory at a time; the transitions need
@@ -71,9 +68,8 @@ int RunBench(const BenchArgs& a) {
   CheckBenchModel(LoadScene(a.scene).model);
   const report::OutputDir dir =
       report::OutputDir::Prepare(a.out, {"work_precision.csv", "grazing.csv", "work_precision_*"});
-  WorkPrecisionOptions opt;
-  opt.quick = a.quick;
-  opt.progress = ProgressBar(a.quick ? "work-precision (quick)" : "work-precision");
+  const WorkPrecisionOptions opt{
+      .quick = a.quick, .progress = ProgressBar(a.quick ? "work-precision (quick)" : "work-precision")};
   const std::vector<WorkPrecisionRow> rows = RunWorkPrecision(opt);
   report::WriteCsvFile(dir, "work_precision.csv", report::WorkPrecisionColumns(), rows);
   const std::vector<GrazingRow> grazing = RunGrazingFailures(opt);
@@ -192,9 +188,7 @@ int RunOrbit(const OrbitArgs& a) {
     throw InputError("--period", "must be positive, got " + FormatValue(a.period));
   }
   const AnalysisBasis b(LoadScene(a.scene).model);
-  SweepOptions opt;
-  opt.stability = StabilityPolicy::kPotential;
-  const std::vector<OrbitRecord> orbits = OrbitsAt(b, a.period, a.impacts, opt, "--period");
+  const std::vector<OrbitRecord> orbits = OrbitsAt(b, a.period, a.impacts, {}, "--period");  // stability: potential
   if (a.json) {
     std::cout << report::OrbitsJson(orbits).dump(2) << "\n";
   } else {
@@ -215,20 +209,16 @@ int RunExplore(const ExploreArgs& a) {
   if (a.follow) follow = PeriodGrid::Parse(*a.follow, "--follow");
   if (follow) CheckFamilyRange(b, a.impacts, follow->from, follow->to, FieldNames("--"));
   const std::vector<double> periods = range.Values();
-  ExploreOptions opt;
-  opt.impacts = a.impacts;
-  opt.grid = a.grid;
-  opt.progress = ProgressBar("explore");
-  const ExploreReport r = ExploreImpacts(b, periods, opt);
+  const ExploreReport r =
+      ExploreImpacts(b, periods, {.impacts = a.impacts, .grid = a.grid, .progress = ProgressBar("explore")});
   if (a.json) {
     std::cout << report::ExploreJson(r).dump(2) << "\n";
     return 0;
   }
   report::PrintExplore(std::cout, r, periods.size());
   if (follow) {
-    FamilyOptions fo;
-    fo.step = follow->step;
-    report::PrintFamilies(std::cout, FollowNewFamilies(b, r, follow->from, follow->to, fo), fo.step);
+    const auto families = FollowNewFamilies(b, r, follow->from, follow->to, {.step = follow->step});
+    report::PrintFamilies(std::cout, families, follow->step);
   }
   return 0;
 }
@@ -246,6 +236,67 @@ int RunFigures(const FiguresArgs& a) {
   const report::FiguresResult r = report::DrawPaperFigures(b, scene.model.contact, atlas, dir, std::cout);
   std::cout << r.drawn << " figures drawn" << (r.failed ? ", " + std::to_string(r.failed) + " failed" : "") << "\n";
   if (r.failed) throw report::OutputError(std::to_string(r.failed) + " figure(s) could not be drawn (see above)");
+  return 0;
+}
+
+int RunResponse(const ResponseArgs& a) {
+  const Model model = LoadScene(a.scene).model;
+  auto is_grid = [](const std::optional<std::string>& text) { return text && text->find(':') != std::string::npos; };
+  const bool frequency_grid = is_grid(a.frequency), amplitude_grid = is_grid(a.amplitude);
+  if (frequency_grid == amplitude_grid) {
+    throw InputError(a.frequency ? "--frequency" : "--amplitude",
+                     "give exactly one of --frequency and --amplitude as a grid FROM:TO:STEP (the other as values, "
+                     "or from the scene's [forcing])");
+  }
+  if (!model.forcing.HasHarmonic()) {
+    throw InputError("forcing.amplitude", "is needed: the scene's [forcing] gives the direction of f cos(w t)");
+  }
+  // The grid's flag, then the held parameter's values (none: the scene's).
+  const PeriodGrid grid = PeriodGrid::Parse(frequency_grid ? *a.frequency : *a.amplitude,
+                                            frequency_grid ? "--frequency" : "--amplitude");
+  const std::optional<std::string>& held = frequency_grid ? a.amplitude : a.frequency;
+  const ResponseRequest request = MakeResponseRequest(
+      model, frequency_grid ? ResponseParameter::kFrequency : ResponseParameter::kAmplitude, grid,
+      held ? ParseValues(*held, frequency_grid ? "--amplitude" : "--frequency") : std::vector<double>{}, a.impacts,
+      a.periods, FieldNames("--"));
+  const ResponseOptions& base = request.options;
+  // --validate: every point simulated a.validate periods with each
+  // integrator; its options checked now, before any work or file.
+  const FieldNames vnames = FieldNames().Set("periods", "--validate").Set("integrators", "--integrators");
+  const ValidateOptions vopt = ResponseValidateOptions(a.validate, a.integrators, a.threads, vnames);
+  const report::OutputDir dir = report::OutputDir::Prepare(
+      a.out, {"response.csv", "response_points.csv", "backbone.csv", "response_validation.csv", "response_energy*",
+              "response_max_xc*"});
+  const ResponseLevels r = ComputeResponseLevels(
+      model, base, request.levels,
+      [frequency_grid](double level) {
+        return ProgressBar("response " + std::string(frequency_grid ? "a = " : "w = ") + FormatValue(level));
+      },
+      [](const ResponseCurve& curve, int first_branch) { report::PrintResponseCurve(std::cout, curve, first_branch); });
+  report::WriteCsvFile(dir, "response.csv", report::ResponseColumns(model.dofs()), r.rows);
+  report::WriteCsvFile(dir, "response_points.csv", report::ResponsePointColumns(), r.points);
+  std::cout << "wrote " << r.rows.size() << " points on " << r.branches << " branches to " << a.out
+            << "/response.csv, " << r.points.size() << " special points to " << a.out << "/response_points.csv\n";
+  if (frequency_grid) {
+    // The nonsmooth mode of the conservative twin over the same frequencies.
+    const BackboneMatch match = MatchBackbone(model, base, r.points, ProgressBar("backbone"));
+    std::vector<OrbitRecord> records;
+    for (const auto& list : match.backbone.at) records.insert(records.end(), list.begin(), list.end());
+    report::WriteCsvFile(dir, "backbone.csv", report::BackboneColumns(), records);
+    report::PrintResponsePeaks(std::cout, r.points, match, base.periods);
+  }
+  report::DrawResponseCharts(dir, r.rows, model.dofs(), frequency_grid, frequency_grid, base.periods, std::cout);
+  if (a.validate == 0) return 0;
+  const ResponseValidation v = ValidateResponse(
+      model, r.rows, vopt, ProgressBar("validating " + std::to_string(r.rows.size()) + " orbits"), vnames);
+  report::PrintInconsistent(std::cout, v);
+  report::WriteCsvFile(dir, "response_validation.csv", report::ForcedValidationColumns(), v.rows);
+  std::cout << "validated " << r.rows.size() << " orbits over " << a.validate << " periods: " << v.consistent << "/"
+            << v.rows.size() << " runs consistent; wrote " << a.out << "/response_validation.csv\n";
+  if (v.failures > 0) {
+    std::cerr << "error: " << v.failures << " admissible orbit(s) failed to validate with the exact integrator\n";
+    return 4;
+  }
   return 0;
 }
 
