@@ -39,29 +39,24 @@ struct SimulateArgs {
   std::string scene, out;
   SettingPatch flags;
 };
-
 struct ValidateArgs {
   std::string scene, out;
   SettingPatch flags;
 };
-
 struct SettingsArgs {
   bool json = false;
 };
-
 struct BenchArgs {
   std::string scene, out;
   bool quick = false;
 };
-
-// Flags of `figures`: the paper's Figs. 2-15 redrawn (figures.cc).
+// Flags of `figures`: the paper's Figs. 2-15 redrawn (commands.cc, report/figures.h).
 struct FiguresArgs {
   std::string scene, out;
   std::optional<std::string> period;  // FROM:TO:STEP of the sweeps (default step:4 T_max:0.01)
   int threads = 0;
 };
-
-// Flags of `response` (response.cc): one of frequency and amplitude is a
+// Flags of `response` (commands.cc): one of frequency and amplitude is a
 // grid FROM:TO:STEP, the other one value or a list a,b,c (default: the
 // scene's [forcing]).
 struct ResponseArgs {

@@ -50,8 +50,6 @@ int RunOrbits(const OrbitsArgs& a) {
   SweepOptions opt;  // stability: potential
   opt.threads = a.threads;
   opt.progress = ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
-  // Streamed: one block of periods in memory at a time; the transitions need
-  // only the 1-ipp admissibility of each period.
   const report::SweepCsv csv =
       report::WriteSweepCsv(dir, "orbits.csv", b, grid, a.impacts, opt, truncation ? &*truncation : nullptr);
   std::cout << "wrote " << csv.orbits << " orbits (" << csv.admissible << " admissible) to " << a.out << "/orbits.csv\n";
@@ -74,7 +72,6 @@ int RunBench(const BenchArgs& a) {
   report::WriteCsvFile(dir, "work_precision.csv", report::WorkPrecisionColumns(), rows);
   const std::vector<GrazingRow> grazing = RunGrazingFailures(opt);
   report::WriteCsvFile(dir, "grazing.csv", report::GrazingColumns(), grazing);
-  // Written before the charts that read it.
   const int failed_charts = report::DrawWorkPrecisionCharts(dir, rows, std::cerr);
   report::PrintBenchTables(std::cout, rows, grazing);
   std::cout.flush();
@@ -208,14 +205,13 @@ int RunExplore(const ExploreArgs& a) {
   std::optional<PeriodGrid> follow;
   if (a.follow) follow = PeriodGrid::Parse(*a.follow, "--follow");
   if (follow) CheckFamilyRange(b, a.impacts, follow->from, follow->to, FieldNames("--"));
-  const std::vector<double> periods = range.Values();
   const ExploreReport r =
-      ExploreImpacts(b, periods, {.impacts = a.impacts, .grid = a.grid, .progress = ProgressBar("explore")});
+      ExploreImpacts(b, range.Values(), {.impacts = a.impacts, .grid = a.grid, .progress = ProgressBar("explore")});
   if (a.json) {
     std::cout << report::ExploreJson(r).dump(2) << "\n";
     return 0;
   }
-  report::PrintExplore(std::cout, r, periods.size());
+  report::PrintExplore(std::cout, r, range.Count());
   if (follow) {
     const auto families = FollowNewFamilies(b, r, follow->from, follow->to, {.step = follow->step});
     report::PrintFamilies(std::cout, families, follow->step);
@@ -234,7 +230,6 @@ int RunFigures(const FiguresArgs& a) {
   const Atlas atlas = ComputeAtlas(b, grid, opt);
   report::PrintAtlas(std::cout, atlas);
   const report::FiguresResult r = report::DrawPaperFigures(b, scene.model.contact, atlas, dir, std::cout);
-  std::cout << r.drawn << " figures drawn" << (r.failed ? ", " + std::to_string(r.failed) + " failed" : "") << "\n";
   if (r.failed) throw report::OutputError(std::to_string(r.failed) + " figure(s) could not be drawn (see above)");
   return 0;
 }
@@ -259,16 +254,14 @@ int RunResponse(const ResponseArgs& a) {
       model, frequency_grid ? ResponseParameter::kFrequency : ResponseParameter::kAmplitude, grid,
       held ? ParseValues(*held, frequency_grid ? "--amplitude" : "--frequency") : std::vector<double>{}, a.impacts,
       a.periods, FieldNames("--"));
-  const ResponseOptions& base = request.options;
-  // --validate: every point simulated a.validate periods with each
-  // integrator; its options checked now, before any work or file.
+  // --validate's options checked now, before any work or file.
   const FieldNames vnames = FieldNames().Set("periods", "--validate").Set("integrators", "--integrators");
   const ValidateOptions vopt = ResponseValidateOptions(a.validate, a.integrators, a.threads, vnames);
   const report::OutputDir dir = report::OutputDir::Prepare(
       a.out, {"response.csv", "response_points.csv", "backbone.csv", "response_validation.csv", "response_energy*",
               "response_max_xc*"});
   const ResponseLevels r = ComputeResponseLevels(
-      model, base, request.levels,
+      model, request.options, request.levels,
       [frequency_grid](double level) {
         return ProgressBar("response " + std::string(frequency_grid ? "a = " : "w = ") + FormatValue(level));
       },
@@ -278,21 +271,19 @@ int RunResponse(const ResponseArgs& a) {
   std::cout << "wrote " << r.rows.size() << " points on " << r.branches << " branches to " << a.out
             << "/response.csv, " << r.points.size() << " special points to " << a.out << "/response_points.csv\n";
   if (frequency_grid) {
-    // The nonsmooth mode of the conservative twin over the same frequencies.
-    const BackboneMatch match = MatchBackbone(model, base, r.points, ProgressBar("backbone"));
+    const BackboneMatch match = MatchBackbone(model, request.options, r.points, ProgressBar("backbone"));
     std::vector<OrbitRecord> records;
     for (const auto& list : match.backbone.at) records.insert(records.end(), list.begin(), list.end());
     report::WriteCsvFile(dir, "backbone.csv", report::BackboneColumns(), records);
-    report::PrintResponsePeaks(std::cout, r.points, match, base.periods);
+    report::PrintResponsePeaks(std::cout, r.points, match, a.periods);
   }
-  report::DrawResponseCharts(dir, r.rows, model.dofs(), frequency_grid, frequency_grid, base.periods, std::cout);
+  report::DrawResponseCharts(dir, r.rows, model.dofs(), frequency_grid, frequency_grid, a.periods, std::cout);
   if (a.validate == 0) return 0;
   const ResponseValidation v = ValidateResponse(
       model, r.rows, vopt, ProgressBar("validating " + std::to_string(r.rows.size()) + " orbits"), vnames);
   report::PrintInconsistent(std::cout, v);
   report::WriteCsvFile(dir, "response_validation.csv", report::ForcedValidationColumns(), v.rows);
-  std::cout << "validated " << r.rows.size() << " orbits over " << a.validate << " periods: " << v.consistent << "/"
-            << v.rows.size() << " runs consistent; wrote " << a.out << "/response_validation.csv\n";
+  report::PrintResponseValidation(std::cout, v, r.rows.size(), a.validate, a.out + "/response_validation.csv");
   if (v.failures > 0) {
     std::cerr << "error: " << v.failures << " admissible orbit(s) failed to validate with the exact integrator\n";
     return 4;

@@ -70,7 +70,7 @@ void PrintSweepTruncation(std::ostream& out, const ModalTruncation& t) {
   out << ": the neglected modes carry at most sqrt(2 E f_res) of x_c at energy E (orbits.csv, neglected_xc_bound)\n";
 }
 
-void PrintExplore(std::ostream& out, const ExploreReport& r, std::size_t periods) {
+void PrintExplore(std::ostream& out, const ExploreReport& r, long periods) {
   out << "m = " << r.impacts << ": " << r.samples << " grid samples over " << periods << " periods\n";
   out << "dim ker A_m " << (r.impacts % 2 ? "at grid samples" : "at roots found") << ":";
   for (auto [k, v] : r.kernel_dimension_histogram) out << "  " << k << " -> " << v;
@@ -133,6 +133,12 @@ void PrintInconsistent(std::ostream& out, const ResponseValidation& validation) 
     out << "  inconsistent: w = " << FormatValue(r.v.orbit.frequency) << " (" << ToString(r.v.integrator)
         << "): " << r.v.reason << "\n";
   }
+}
+
+void PrintResponseValidation(std::ostream& out, const ResponseValidation& validation, std::size_t orbits, int periods,
+                             const std::string& path) {
+  out << "validated " << orbits << " orbits over " << periods << " periods: " << validation.consistent << "/"
+      << validation.rows.size() << " runs consistent; wrote " << path << "\n";
 }
 
 void PrintOrbits(std::ostream& out, const std::vector<OrbitRecord>& orbits, int impacts, double period) {

@@ -34,7 +34,7 @@ void PrintSweepTruncation(std::ostream& out, const ModalTruncation& t);
 // explore's summary: the grid samples, dim ker A_m, the potential orbits by
 // kind, the smallest defect, the paper's conjecture, and a line per new
 // orbit; `periods`: how many periods were searched.
-void PrintExplore(std::ostream& out, const ExploreReport& report, std::size_t periods);
+void PrintExplore(std::ostream& out, const ExploreReport& report, long periods);
 
 // explore --follow: a line per family (FollowNewFamilies) followed at `step`.
 void PrintFamilies(std::ostream& out, const std::vector<FamilySummary>& families, double step);
@@ -50,6 +50,10 @@ void PrintResponsePeaks(std::ostream& out, const std::vector<SpecialPoint>& poin
 
 // response --validate: a line per inconsistent run.
 void PrintInconsistent(std::ostream& out, const ResponseValidation& validation);
+// response --validate: how many of the runs of `orbits` points over
+// `periods` periods were consistent, and the file written (`path`).
+void PrintResponseValidation(std::ostream& out, const ResponseValidation& validation, std::size_t orbits, int periods,
+                             const std::string& path);
 
 // orbit: every potential orbit at one period, a block each (admissibility,
 // t2, energy, residuals, the NC3 margin, the state after the impact at t = 0,
