@@ -61,6 +61,23 @@ void AddSettingFlags(CLI::App* app, const std::string& command, const SettingTab
   }
 }
 
+// "error: what" on stderr; the exit status.
+int Failed(const std::exception& e, int status) {
+  std::cerr << "error: " << e.what() << "\n";
+  return status;
+}
+
+// SIGINT and SIGTERM ask the work to stop at its next poll (stop.h); the
+// handler is reset by its first call, so a second signal ends the process at
+// once (a stuck run can still be killed with a second Ctrl-C).
+void InstallStopHandlers() {
+  struct sigaction action {};
+  action.sa_handler = [](int signal) { RequestStop(signal); };
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND | SA_RESTART;
+  for (int signal : {SIGINT, SIGTERM}) sigaction(signal, &action, nullptr);
+}
+
 }  // namespace
 
 CommandLine::CommandLine() {
@@ -148,37 +165,17 @@ int CommandLine::Run() const {
     std::cerr << "error: " << e.what() << ": stopped, no result written\n";
     return 128 + e.signal();
   } catch (const InputError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    return Failed(e, 2);
   } catch (const report::OutputError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 5;
+    return Failed(e, 5);
   } catch (const std::bad_alloc&) {
     std::cerr << "error: out of memory: the run asked for more than this machine has (a smaller grid, fewer "
                  "samples or fewer periods)\n";
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
+    return Failed(e, 1);
   }
 }
-
-namespace {
-
-void OnStopSignal(int signal) { RequestStop(signal); }
-
-// SIGINT and SIGTERM ask the work to stop at its next poll (stop.h); the
-// handler is reset by its first call, so a second signal ends the process at
-// once (a stuck run can still be killed with a second Ctrl-C).
-void InstallStopHandlers() {
-  struct sigaction action {};
-  action.sa_handler = OnStopSignal;
-  sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESETHAND | SA_RESTART;
-  for (int signal : {SIGINT, SIGTERM}) sigaction(signal, &action, nullptr);
-}
-
-}  // namespace
 
 int Main(int argc, char** argv) {
   InstallStopHandlers();

@@ -1,12 +1,82 @@
 #pragma once
-// The nsmodal command line: every subcommand's flags (CLI11) bound to its
-// argument struct, and the dispatch to the command. main() parses and runs
-// it; the fuzz target (fuzz/fuzz_cli.cc) parses it with arbitrary arguments.
+// The nsmodal command line, a thin face: every subcommand's flags (CLI11)
+// bound to its argument struct, and its command (commands.cc) that calls the
+// libraries and writes files. main() parses and runs it; the fuzz target
+// (fuzz/fuzz_cli.cc) parses it with arbitrary arguments.
 #include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+#include <vector>
 
-#include "commands.h"
+#include "nsmodal/settings.h"
 
 namespace nsmodal::cli {
+
+struct OrbitsArgs {
+  std::string scene, out, period;
+  int impacts = 1;
+  int threads = 0;
+  std::optional<double> modes;  // analyse the first K linear modes only
+};
+struct OrbitArgs {
+  std::string scene;
+  int impacts = 1;
+  double period = 0.0;
+  bool json = false;
+};
+struct ExploreArgs {
+  std::string scene, period;
+  int impacts = 3;
+  int grid = 24;
+  bool json = false;
+  std::optional<std::string> follow;  // FROM:TO:STEP: follow each admissible new family (odd m) over that range
+};
+
+// `simulate` and `validate`: their settings' flags (made from the tables,
+// simulate_settings.h and validate_settings.h) fill `flags`; a setting not
+// given there falls back to the scene's table, then to its default.
+struct SimulateArgs {
+  std::string scene, out;
+  SettingPatch flags;
+};
+struct ValidateArgs {
+  std::string scene, out;
+  SettingPatch flags;
+};
+struct SettingsArgs {
+  bool json = false;
+};
+struct BenchArgs {
+  std::string scene, out;
+  bool quick = false;
+};
+// Flags of `figures`: the paper's Figs. 2-15 redrawn (commands.cc, report/figures.h).
+struct FiguresArgs {
+  std::string scene, out;
+  std::optional<std::string> period;  // FROM:TO:STEP of the sweeps (default step:4 T_max:0.01)
+  int threads = 0;
+};
+// Flags of `response` (commands.cc): one of frequency and amplitude is a
+// grid FROM:TO:STEP, the other one value or a list a,b,c (default: the
+// scene's [forcing]).
+struct ResponseArgs {
+  std::string scene, out;
+  int impacts = 1, periods = 1;
+  std::optional<std::string> frequency, amplitude;
+  int validate = 0;  // periods simulated per orbit (0: no validation)
+  std::vector<std::string> integrators{"exact"};
+  int threads = 0;
+};
+
+int RunResponse(const ResponseArgs& a);
+int RunFigures(const FiguresArgs& a);
+int RunOrbits(const OrbitsArgs& a);
+int RunBench(const BenchArgs& a);
+int RunValidate(const ValidateArgs& a);
+int RunSimulate(const SimulateArgs& a);
+int RunOrbit(const OrbitArgs& a);
+int RunExplore(const ExploreArgs& a);
+int RunSettings(const SettingsArgs& a);
 
 struct CommandLine {
   CommandLine();

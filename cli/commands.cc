@@ -1,40 +1,30 @@
-#include "commands.h"
+#include "command_line.h"
 
-#include <unistd.h>
-
-#include <chrono>
 #include <cmath>
-#include <complex>
-#include <cstdio>
-#include <iomanip>
 #include <iostream>
-#include <memory>
 #include <optional>
-#include <nlohmann/json.hpp>
-#include <sstream>
+#include <string>
 
 #include "nsmodal/atlas.h"
 #include "nsmodal/console.h"
 #include "nsmodal/error.h"
 #include "nsmodal/explore.h"
-#include "nsmodal/stability.h"
 #include "nsmodal/figure_subjects.h"
 #include "nsmodal/figures.h"
-#include "nsmodal/modal_basis.h"
 #include "nsmodal/json.h"
 #include "nsmodal/output.h"
-#include "nsmodal/tables.h"
-#include "nsmodal/transitions.h"
+#include "nsmodal/response.h"
 #include "nsmodal/scene.h"
-#include "nsmodal/simulate.h"
+#include "nsmodal/simulate_settings.h"
+#include "nsmodal/tables.h"
 #include "nsmodal/truncation.h"
 #include "nsmodal/validate.h"
 #include "nsmodal/validate_settings.h"
-#include "nsmodal/simulate_settings.h"
 #include "nsmodal/work_precision.h"
-#include "common.h"
 
 namespace nsmodal::cli {
+
+using report::ProgressBar;
 namespace {
 
 void CheckImpacts(int impacts) {
@@ -45,33 +35,6 @@ void CheckImpacts(int impacts) {
 }
 
 }  // namespace
-
-std::function<void(long, long)> ProgressBar(const std::string& label) {
-  if (!isatty(STDERR_FILENO)) {
-    // A log, not a terminal: a plain line every 10 s and at the end, once a
-    // run has lasted that long (short runs stay quiet).
-    const auto every = std::chrono::seconds(10);
-    const auto start = std::chrono::steady_clock::now();
-    auto last = std::make_shared<std::chrono::steady_clock::time_point>(start);
-    return [label, every, start, last](long done, long count) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now - *last < every && (done < count || now - start < every)) return;
-      *last = now;
-      std::fprintf(stderr, "%s: %ld/%ld (%.0f s)\n", label.c_str(), done, count,
-                   std::chrono::duration<double>(now - start).count());
-      std::fflush(stderr);
-    };
-  }
-  return [label](long done, long count) {
-    const int width = 40;
-    const int filled = count > 0 ? static_cast<int>(width * done / count) : width;
-    std::fprintf(stderr, "\r%s [%s%s] %ld/%ld", label.c_str(), std::string(filled, '#').c_str(),
-                 std::string(width - filled, '.').c_str(), done, count);
-    if (done == count) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
-  };
-}
-
 
 int RunOrbits(const OrbitsArgs& a) {
   CheckImpacts(a.impacts);
@@ -84,86 +47,33 @@ int RunOrbits(const OrbitsArgs& a) {
   const AnalysisBasis b(truncation ? truncation->model : scene.model);
   CheckSweepWork(b, grid, {a.impacts}, "--period", a.impacts == 1);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"orbits.csv", "transitions.csv"});
-  SweepOptions opt;
-  opt.stability = StabilityPolicy::kPotential;
+  SweepOptions opt;  // stability: potential
   opt.threads = a.threads;
   opt.progress = ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
-  report::ResultFile out(dir, "orbits.csv");
-  const auto columns = report::OrbitColumns(scene.model.dofs(), truncation ? &*truncation : nullptr);
-  report::WriteCsvHeader(out.stream(), columns);
-  // Streamed: one block of periods in memory at a time; the transitions need
-  // only the 1-ipp admissibility of each period.
-  long orbits = 0, admissible = 0;
-  std::vector<double> periods;
-  std::vector<bool> one_admissible;
-  StreamSweep(b, grid, a.impacts, opt, [&](double period, std::vector<OrbitRecord>& list) {
-    if (truncation) ToPhysical(*truncation, list);
-    for (OrbitRecord& r : list) {
-      report::WriteCsvRow(out.stream(), columns, r);
-      ++orbits;
-      admissible += r.orbit.admissible;
-    }
-    if (a.impacts == 1) {
-      periods.push_back(period);
-      one_admissible.push_back(list.front().orbit.admissible);
-    }
-  });
-  out.Commit();
-  std::cout << "wrote " << orbits << " orbits (" << admissible << " admissible) to " << a.out << "/orbits.csv\n";
+  const report::SweepCsv csv =
+      report::WriteSweepCsv(dir, "orbits.csv", b, grid, a.impacts, opt, truncation ? &*truncation : nullptr);
+  std::cout << "wrote " << csv.orbits << " orbits (" << csv.admissible << " admissible) to " << a.out << "/orbits.csv\n";
   if (a.impacts == 1) {
     // Zone boundaries and the stability changes inside the zones (issue 13).
-    const std::vector<Transition> transitions = OneImpactTransitionsAndCrossings(b, periods, one_admissible);
-    report::ResultFile tr(dir, "transitions.csv");
-    report::WriteCsv(tr.stream(), report::TransitionColumns(), transitions);
-    tr.Commit();
+    const std::vector<Transition> transitions = csv.zones.Transitions(b);
+    report::WriteCsvFile(dir, "transitions.csv", report::TransitionColumns(), transitions);
     std::cout << "wrote " << transitions.size() << " transitions to " << a.out << "/transitions.csv\n";
   }
   return 0;
 }
 
 int RunBench(const BenchArgs& a) {
-  const Scene scene = LoadScene(a.scene);
-  const Model paper = PaperModel();
-  if (scene.model.mass != paper.mass || scene.model.stiffness != paper.stiffness ||
-      scene.model.contact != paper.contact || scene.model.gap != paper.gap) {
-    throw InputError("scene", "the bench cases (a stable orbit at T = 7.5, the grazing and singular transitions at "
-                              "9.127 and 4.834, a Zeno start) are defined on the paper's system; use "
-                              "configs/paper.toml");
-  }
+  CheckBenchModel(LoadScene(a.scene).model);
   const report::OutputDir dir =
       report::OutputDir::Prepare(a.out, {"work_precision.csv", "grazing.csv", "work_precision_*"});
-  WorkPrecisionOptions opt;
-  opt.quick = a.quick;
-  opt.progress = ProgressBar(a.quick ? "work-precision (quick)" : "work-precision");
+  const WorkPrecisionOptions opt{
+      .quick = a.quick, .progress = ProgressBar(a.quick ? "work-precision (quick)" : "work-precision")};
   const std::vector<WorkPrecisionRow> rows = RunWorkPrecision(opt);
-  report::ResultFile csv(dir, "work_precision.csv");
-  report::WriteCsv(csv.stream(), report::WorkPrecisionColumns(), rows);
-  csv.Commit();
+  report::WriteCsvFile(dir, "work_precision.csv", report::WorkPrecisionColumns(), rows);
   const std::vector<GrazingRow> grazing = RunGrazingFailures(opt);
-  report::ResultFile gcsv(dir, "grazing.csv");
-  report::WriteCsv(gcsv.stream(), report::GrazingColumns(), grazing);
-  gcsv.Commit();
-  // Written before the charts that read it.
+  report::WriteCsvFile(dir, "grazing.csv", report::GrazingColumns(), grazing);
   const int failed_charts = report::DrawWorkPrecisionCharts(dir, rows, std::cerr);
-  // The tables a person reads: error and cost per case, and the grazing limits.
-  std::cout << std::left << std::setw(13) << "case" << std::setw(13) << "integrator" << std::setw(16) << "setting"
-            << std::right << std::setw(10) << "error" << std::setw(11) << "cpu_s" << std::setw(9) << "impacts"
-            << std::setw(12) << "steps" << "\n";
-  for (const WorkPrecisionRow& r : rows) {
-    std::cout << std::left << std::setw(13) << r.case_name << std::setw(13) << r.integrator << std::setw(16)
-              << r.setting << std::right << std::scientific << std::setprecision(2) << std::setw(10) << r.error
-              << std::setw(11) << r.cpu_s << std::defaultfloat << std::setw(9) << r.impacts << std::setw(12)
-              << r.steps << "\n";
-  }
-  std::cout << "\ngrazing (T_G +- delta, one period): the shallowest excursion past d turned into the right impacts,\n"
-               "and the smallest clearance below d without a spurious impact (inf: wrong at the largest tried)\n";
-  std::cout << std::left << std::setw(13) << "integrator" << std::setw(16) << "setting" << std::right << std::setw(14)
-            << "excursion" << std::setw(14) << "clearance" << "\n";
-  for (const GrazingLimit& l : SummarizeGrazing(grazing)) {
-    std::cout << std::left << std::setw(13) << l.integrator << std::setw(16) << l.setting << std::right
-              << std::scientific << std::setprecision(2) << std::setw(14) << l.shallowest_excursion << std::setw(14)
-              << l.smallest_clearance << std::defaultfloat << "\n";
-  }
+  report::PrintBenchTables(std::cout, rows, grazing);
   std::cout.flush();
   std::cerr << "wrote " << rows.size() << " work-precision rows and " << grazing.size() << " grazing rows to " << a.out
             << " (work_precision.csv, grazing.csv, work_precision_*.png/svg)\n";
@@ -275,42 +185,11 @@ int RunOrbit(const OrbitArgs& a) {
     throw InputError("--period", "must be positive, got " + FormatValue(a.period));
   }
   const AnalysisBasis b(LoadScene(a.scene).model);
-  b.CheckPeriod(a.period, "--period");
-  CheckSweepWork(b, a.period, 0.0, 1, {a.impacts}, "--period");
-  SweepOptions opt;
-  opt.stability = StabilityPolicy::kPotential;
-  const std::vector<OrbitRecord> orbits = OrbitsAt(b, a.period, a.impacts, opt);
+  const std::vector<OrbitRecord> orbits = OrbitsAt(b, a.period, a.impacts, {}, "--period");  // stability: potential
   if (a.json) {
-    nlohmann::json arr = nlohmann::json::array();
-    for (const OrbitRecord& r : orbits) arr.push_back(report::OrbitJson(r));
-    std::cout << nlohmann::json{{"orbits", arr}}.dump(2) << "\n";
-    return 0;
-  }
-  std::cout << std::setprecision(12);
-  std::cout << orbits.size() << " potential orbit(s) with " << a.impacts << " impact(s) per period, T = " << a.period
-            << "\n";
-  for (std::size_t k = 0; k < orbits.size(); ++k) {
-    const Orbit& o = orbits[k].orbit;
-    std::cout << "\n#" << k + 1 << (o.admissible ? "  admissible" : "  NOT admissible")
-              << (o.potential ? "" : " (not potential)") << (o.degenerate ? " (degenerate: bridge)" : "") << "\n";
-    if (!o.times.empty()) std::cout << "  t2                    " << o.times[0] << "\n";
-    std::cout << "  energy                " << o.energy << "\n"
-              << "  periodicity residual  " << o.periodicity_residual << "\n"
-              << "  NC2 residual          " << o.nc2_residual << "\n"
-              << "  NC3 margin (max x_c-d) " << o.max_excess << "\n";
-    std::cout << "  x(0) =";
-    for (int i = 0; i < b.n; ++i) std::cout << " " << o.z0[i];
-    std::cout << "\n  v(0+) =";
-    for (int i = 0; i < b.n; ++i) std::cout << " " << o.z0[b.n + i];
-    std::cout << "\n";
-    if (const std::optional<Stability>& s = orbits[k].stability) {
-      std::cout << "  " << (s->stable ? "stable" : "unstable") << ", Floquet multipliers";
-      for (const std::complex<double>& mu : s->multipliers) {
-        std::cout << " " << mu.real() << (mu.imag() < 0 ? "-" : "+") << std::abs(mu.imag()) << "i";
-      }
-      std::cout << "\n";
-    }
-    if (!o.reason.empty()) std::cout << "  " << o.reason << "\n";
+    std::cout << report::OrbitsJson(orbits).dump(2) << "\n";
+  } else {
+    report::PrintOrbits(std::cout, orbits, a.impacts, a.period);
   }
   return 0;
 }
@@ -326,21 +205,16 @@ int RunExplore(const ExploreArgs& a) {
   std::optional<PeriodGrid> follow;
   if (a.follow) follow = PeriodGrid::Parse(*a.follow, "--follow");
   if (follow) CheckFamilyRange(b, a.impacts, follow->from, follow->to, FieldNames("--"));
-  const std::vector<double> periods = range.Values();
-  ExploreOptions opt;
-  opt.impacts = a.impacts;
-  opt.grid = a.grid;
-  opt.progress = ProgressBar("explore");
-  const ExploreReport r = ExploreImpacts(b, periods, opt);
+  const ExploreReport r =
+      ExploreImpacts(b, range.Values(), {.impacts = a.impacts, .grid = a.grid, .progress = ProgressBar("explore")});
   if (a.json) {
     std::cout << report::ExploreJson(r).dump(2) << "\n";
     return 0;
   }
-  report::PrintExplore(std::cout, r, periods.size());
+  report::PrintExplore(std::cout, r, range.Count());
   if (follow) {
-    FamilyOptions fo;
-    fo.step = follow->step;
-    report::PrintFamilies(std::cout, FollowNewFamilies(b, r, follow->from, follow->to, fo), fo.step);
+    const auto families = FollowNewFamilies(b, r, follow->from, follow->to, {.step = follow->step});
+    report::PrintFamilies(std::cout, families, follow->step);
   }
   return 0;
 }
@@ -348,31 +222,72 @@ int RunExplore(const ExploreArgs& a) {
 int RunFigures(const FiguresArgs& a) {
   const Scene scene = LoadScene(a.scene);
   const AnalysisBasis b(scene.model);
-  // Default sweep: T from 0.01 to 4 T_max by 0.01.
-  const double default_step = 0.01;
-  const std::string range = a.period ? *a.period
-                                     : FormatValue(default_step) + ":" +
-                                           FormatValue(std::ceil(4.0 * b.Periods().maxCoeff())) + ":" +
-                                           FormatValue(default_step);
-  const PeriodGrid grid = PeriodGrid::Parse(range);
-  if (grid.Count() < 2) throw InputError("--period", "needs at least two periods, got '" + range + "'");
-  CheckSweepWork(b, grid, {1, 2}, "--period", true);
+  const PeriodGrid grid = FiguresGrid(b, a.period, "--period");
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"fig[01][0-9]_*"});
   AtlasOptions opt;
   opt.sweep.threads = a.threads;
   opt.sweep.progress = ProgressBar("1- and 2-ipp sweep");
   const Atlas atlas = ComputeAtlas(b, grid, opt);
-  for (const std::string& note : atlas.notes) std::cout << note << "\n";
-  const std::vector<double>& periods = atlas.one.periods;
-  std::cout << periods.size() << " periods from " << periods.front() << " to " << periods.back() << "; "
-            << atlas.transitions.size() << " transitions, " << atlas.bridges.size() << " bridges\n";
-  for (const Bridge& br : atlas.bridges) {
-    std::cout << "  " << (IsGrazing(br) ? "grazing" : "period-doubling") << " bridge at T = " << br.period
-              << " (t2 = " << br.t2 << "): E from " << br.energy_min << " to " << br.energy_max << "\n";
-  }
+  report::PrintAtlas(std::cout, atlas);
   const report::FiguresResult r = report::DrawPaperFigures(b, scene.model.contact, atlas, dir, std::cout);
-  std::cout << r.drawn << " figures drawn" << (r.failed ? ", " + std::to_string(r.failed) + " failed" : "") << "\n";
   if (r.failed) throw report::OutputError(std::to_string(r.failed) + " figure(s) could not be drawn (see above)");
+  return 0;
+}
+
+int RunResponse(const ResponseArgs& a) {
+  const Model model = LoadScene(a.scene).model;
+  auto is_grid = [](const std::optional<std::string>& text) { return text && text->find(':') != std::string::npos; };
+  const bool frequency_grid = is_grid(a.frequency), amplitude_grid = is_grid(a.amplitude);
+  if (frequency_grid == amplitude_grid) {
+    throw InputError(a.frequency ? "--frequency" : "--amplitude",
+                     "give exactly one of --frequency and --amplitude as a grid FROM:TO:STEP (the other as values, "
+                     "or from the scene's [forcing])");
+  }
+  if (!model.forcing.HasHarmonic()) {
+    throw InputError("forcing.amplitude", "is needed: the scene's [forcing] gives the direction of f cos(w t)");
+  }
+  // The grid's flag, then the held parameter's values (none: the scene's).
+  const PeriodGrid grid = PeriodGrid::Parse(frequency_grid ? *a.frequency : *a.amplitude,
+                                            frequency_grid ? "--frequency" : "--amplitude");
+  const std::optional<std::string>& held = frequency_grid ? a.amplitude : a.frequency;
+  const ResponseRequest request = MakeResponseRequest(
+      model, frequency_grid ? ResponseParameter::kFrequency : ResponseParameter::kAmplitude, grid,
+      held ? ParseValues(*held, frequency_grid ? "--amplitude" : "--frequency") : std::vector<double>{}, a.impacts,
+      a.periods, FieldNames("--"));
+  // --validate's options checked now, before any work or file.
+  const FieldNames vnames = FieldNames().Set("periods", "--validate").Set("integrators", "--integrators");
+  const ValidateOptions vopt = ResponseValidateOptions(a.validate, a.integrators, a.threads, vnames);
+  const report::OutputDir dir = report::OutputDir::Prepare(
+      a.out, {"response.csv", "response_points.csv", "backbone.csv", "response_validation.csv", "response_energy*",
+              "response_max_xc*"});
+  const ResponseLevels r = ComputeResponseLevels(
+      model, request.options, request.levels,
+      [frequency_grid](double level) {
+        return ProgressBar("response " + std::string(frequency_grid ? "a = " : "w = ") + FormatValue(level));
+      },
+      [](const ResponseCurve& curve, int first_branch) { report::PrintResponseCurve(std::cout, curve, first_branch); });
+  report::WriteCsvFile(dir, "response.csv", report::ResponseColumns(model.dofs()), r.rows);
+  report::WriteCsvFile(dir, "response_points.csv", report::ResponsePointColumns(), r.points);
+  std::cout << "wrote " << r.rows.size() << " points on " << r.branches << " branches to " << a.out
+            << "/response.csv, " << r.points.size() << " special points to " << a.out << "/response_points.csv\n";
+  if (frequency_grid) {
+    const BackboneMatch match = MatchBackbone(model, request.options, r.points, ProgressBar("backbone"));
+    std::vector<OrbitRecord> records;
+    for (const auto& list : match.backbone.at) records.insert(records.end(), list.begin(), list.end());
+    report::WriteCsvFile(dir, "backbone.csv", report::BackboneColumns(), records);
+    report::PrintResponsePeaks(std::cout, r.points, match, a.periods);
+  }
+  report::DrawResponseCharts(dir, r.rows, model.dofs(), frequency_grid, frequency_grid, a.periods, std::cout);
+  if (a.validate == 0) return 0;
+  const ResponseValidation v = ValidateResponse(
+      model, r.rows, vopt, ProgressBar("validating " + std::to_string(r.rows.size()) + " orbits"), vnames);
+  report::PrintInconsistent(std::cout, v);
+  report::WriteCsvFile(dir, "response_validation.csv", report::ForcedValidationColumns(), v.rows);
+  report::PrintResponseValidation(std::cout, v, r.rows.size(), a.validate, a.out + "/response_validation.csv");
+  if (v.failures > 0) {
+    std::cerr << "error: " << v.failures << " admissible orbit(s) failed to validate with the exact integrator\n";
+    return 4;
+  }
   return 0;
 }
 

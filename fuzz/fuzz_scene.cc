@@ -17,6 +17,7 @@
 #include "nsmodal/forced_orbit.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate.h"
+#include "nsmodal/simulate_settings.h"
 #include "nsmodal/truncation.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -31,7 +32,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // A modal truncation the scene asks for (simulate.modes, a whole number
     // as the CLI demands): the reduced model passed Validate inside, and its
     // maps and bound are finite.
-    if (const std::optional<double> k = scene.simulate.modes; k && *k == std::floor(*k) && std::abs(*k) <= 64) {
+    // The [simulate] table resolved as the commands resolve it (settings.h).
+    const auto request = nsmodal::SimulateSettings().Resolve({&scene.simulate});
+    if (const std::optional<long> k = request.options.modes; k && std::abs(*k) <= 64) {
       const nsmodal::ModalTruncation t = nsmodal::TruncateModes(scene.model, static_cast<int>(*k), "simulate.modes");
       if (!t.to_physical.allFinite() || !t.from_physical.allFinite() || !(t.residual_flexibility >= 0.0) ||
           !std::isfinite(t.ContactBound(1.0))) {

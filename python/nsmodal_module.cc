@@ -430,21 +430,14 @@ ResponseOptions ResponseOptionsOf(const Model& model, int impacts, int periods, 
     throw InputError("frequency", "give exactly one of frequency and amplitude as a grid (from, to, step) or "
                                   "'FROM:TO:STEP', the other as one value (or None: the model's forcing)");
   }
-  ResponseOptions o;
-  o.impacts = impacts;
-  o.periods = periods;
-  if (is_grid(frequency)) {
-    o.parameter = ResponseParameter::kFrequency;
-    o.grid = GridOf(frequency, "frequency");
-    o.fixed = amplitude.is_none() ? (model.forcing.amplitude.size() > 0 ? model.forcing.amplitude.cwiseAbs().maxCoeff() : 0.0)
-                                  : amplitude.cast<double>();
-  } else {
-    o.parameter = ResponseParameter::kAmplitude;
-    o.grid = GridOf(amplitude, "amplitude");
-    o.fixed = frequency.is_none() ? model.forcing.frequency : frequency.cast<double>();
-  }
-  o.Validate();
-  return o;
+  const bool f = is_grid(frequency);
+  const PeriodGrid grid = GridOf(f ? frequency : amplitude, f ? "frequency" : "amplitude");
+  const py::object& held = f ? amplitude : frequency;
+  std::vector<double> level;
+  if (!held.is_none()) level.push_back(held.cast<double>());
+  return MakeResponseRequest(model, f ? ResponseParameter::kFrequency : ResponseParameter::kAmplitude, grid, level,
+                             impacts, periods)
+      .options;
 }
 
 }  // namespace

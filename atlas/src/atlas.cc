@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "nsmodal/error.h"
@@ -12,18 +13,23 @@
 namespace nsmodal {
 namespace {
 
-double ParseNumber(const std::string& s, const std::string& field, const std::string& whole) {
+// The whole text as one finite number, else nullopt.
+std::optional<double> NumberOf(const std::string& s) {
   std::size_t used = 0;
   double v = 0.0;
   try {
     v = std::stod(s, &used);
   } catch (const std::exception&) {
-    used = 0;
+    return std::nullopt;
   }
-  if (used != s.size() || s.empty() || !std::isfinite(v)) {
-    throw InputError(field, "expects FROM:TO:STEP with numbers, got '" + whole + "'");
-  }
+  if (used != s.size() || !std::isfinite(v)) return std::nullopt;
   return v;
+}
+
+double ParseNumber(const std::string& s, const std::string& field, const std::string& whole) {
+  const std::optional<double> v = NumberOf(s);
+  if (!v) throw InputError(field, "expects FROM:TO:STEP with numbers, got '" + whole + "'");
+  return *v;
 }
 
 void CheckImpacts(int impacts) {
@@ -83,6 +89,21 @@ PeriodGrid PeriodGrid::Parse(const std::string& text, const std::string& field) 
   return g;
 }
 
+std::vector<double> ParseValues(const std::string& text, const std::string& field) {
+  std::vector<double> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    const std::optional<double> v = NumberOf(item);
+    if (!v || !(*v > 0.0)) {
+      throw InputError(field, "must be a positive number, a list of them (a,b,c) or a grid FROM:TO:STEP, got '" +
+                                  text + "'");
+    }
+    out.push_back(*v);
+  }
+  if (out.empty()) throw InputError(field, "is empty");
+  return out;
+}
+
 long Sweep::Count() const {
   long n = 0;
   for (const auto& list : at) n += static_cast<long>(list.size());
@@ -108,10 +129,11 @@ void ToPhysical(const ModalTruncation& t, std::vector<OrbitRecord>& orbits) {
   for (OrbitRecord& r : orbits) r.orbit.z0 = t.PhysicalState(r.orbit.z0);
 }
 
-std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts, const SweepOptions& options) {
+std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts, const SweepOptions& options,
+                                  const std::string& field) {
   CheckImpacts(impacts);
-  b.CheckPeriod(period);
-  CheckSweepWork(b, period, 0.0, 1, {impacts}, "period");
+  b.CheckPeriod(period, field);
+  CheckSweepWork(b, period, 0.0, 1, {impacts}, field);
   std::vector<Orbit> orbits;
   if (impacts == 1) {
     orbits.push_back(OneImpactOrbit(b, period));
@@ -184,10 +206,18 @@ std::vector<Orbit> PotentialOrbits(const AnalysisBasis& b, const PeriodGrid& gri
 
 std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& one) {
   if (one.impacts != 1) throw InputError("impacts", "transitions are those of the 1-ipp family; got a 2-ipp sweep");
-  std::vector<bool> admissible;
-  admissible.reserve(one.at.size());
-  for (const auto& list : one.at) admissible.push_back(list.front().orbit.admissible);
-  return OneImpactTransitionsAndCrossings(b, one.periods, admissible);
+  ZoneScan zones;
+  for (std::size_t i = 0; i < one.at.size(); ++i) zones.Add(one.periods[i], one.at[i]);
+  return zones.Transitions(b);
+}
+
+void ZoneScan::Add(double period, const std::vector<OrbitRecord>& one_impact_orbits) {
+  periods.push_back(period);
+  admissible.push_back(one_impact_orbits.front().orbit.admissible);
+}
+
+std::vector<Transition> ZoneScan::Transitions(const AnalysisBasis& b) const {
+  return OneImpactTransitionsAndCrossings(b, periods, admissible);
 }
 
 Atlas ComputeAtlas(const AnalysisBasis& b, const PeriodGrid& grid, const AtlasOptions& options) {

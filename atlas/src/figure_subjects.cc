@@ -5,10 +5,22 @@
 
 #include "nsmodal/admissibility.h"
 #include "nsmodal/check.h"
+#include "nsmodal/error.h"
 #include "nsmodal/one_impact.h"
 #include "nsmodal/two_impact.h"
 
 namespace nsmodal {
+
+PeriodGrid FiguresGrid(const AnalysisBasis& b, const std::optional<std::string>& text, const std::string& field) {
+  const double step = 0.01;
+  const std::string range = text ? *text
+                                 : FormatValue(step) + ":" + FormatValue(std::ceil(4.0 * b.Periods().maxCoeff())) +
+                                       ":" + FormatValue(step);
+  const PeriodGrid grid = PeriodGrid::Parse(range, field);
+  if (grid.Count() < 2) throw InputError(field, "needs at least two periods, got '" + range + "'");
+  CheckSweepWork(b, grid, {1, 2}, field, true);
+  return grid;
+}
 
 bool AtHalfPeriod(double t, double period) { return std::abs(t - 0.5 * period) <= 1e-9 * period; }
 bool IsHalfPeriodRoot(const Orbit& o) { return AtHalfPeriod(o.times[0], o.period); }

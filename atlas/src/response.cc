@@ -5,6 +5,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "nsmodal/error.h"
 #include "nsmodal/one_impact.h"
@@ -501,6 +502,24 @@ ResponseCurve ComputeResponse(const Model& model, const ResponseOptions& options
                          FormatValue(shortest));
   }
   return Responder(model, options).Run();
+}
+
+ResponseRequest MakeResponseRequest(const Model& model, ResponseParameter swept, const PeriodGrid& grid,
+                                    std::vector<double> levels, int impacts, int periods, const FieldNames& names) {
+  if (levels.empty()) {
+    const Eigen::VectorXd& f = model.forcing.amplitude;
+    levels.push_back(swept == ResponseParameter::kFrequency ? (f.size() > 0 ? f.cwiseAbs().maxCoeff() : 0.0)
+                                                            : model.forcing.frequency);
+  }
+  ResponseRequest r;
+  r.options.impacts = impacts;
+  r.options.periods = periods;
+  r.options.parameter = swept;
+  r.options.grid = grid;
+  r.options.fixed = levels.front();
+  r.levels = std::move(levels);
+  r.options.Validate(names);
+  return r;
 }
 
 ResponseLevels ComputeResponseLevels(const Model& model, const ResponseOptions& options,

@@ -1,8 +1,18 @@
 #include "nsmodal/console.h"
 
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <complex>
+#include <iomanip>
 #include <ios>
+#include <memory>
 #include <optional>
 #include <string>
+
+#include "nsmodal/figure_subjects.h"
 
 namespace nsmodal::report {
 namespace {
@@ -22,6 +32,32 @@ class FormatGuard {
 
 }  // namespace
 
+std::function<void(long, long)> ProgressBar(const std::string& label) {
+  if (!isatty(STDERR_FILENO)) {
+    // A log, not a terminal: a plain line every 10 s and at the end, once a
+    // run has lasted that long (short runs stay quiet).
+    const auto every = std::chrono::seconds(10);
+    const auto start = std::chrono::steady_clock::now();
+    auto last = std::make_shared<std::chrono::steady_clock::time_point>(start);
+    return [label, every, start, last](long done, long count) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now - *last < every && (done < count || now - start < every)) return;
+      *last = now;
+      std::fprintf(stderr, "%s: %ld/%ld (%.0f s)\n", label.c_str(), done, count,
+                   std::chrono::duration<double>(now - start).count());
+      std::fflush(stderr);
+    };
+  }
+  return [label](long done, long count) {
+    const int width = 40;
+    const int filled = count > 0 ? static_cast<int>(width * done / count) : width;
+    std::fprintf(stderr, "\r%s [%s%s] %ld/%ld", label.c_str(), std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), done, count);
+    if (done == count) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  };
+}
+
 void PrintTruncation(std::ostream& out, const ModalTruncation& t) {
   out << "modal truncation: " << t.kept << " of " << t.dofs << " modes kept (up to " << t.highest_kept_frequency
       << " rad/s; " << (t.kept < t.dofs ? "the first neglected " : "none neglected");
@@ -34,7 +70,7 @@ void PrintSweepTruncation(std::ostream& out, const ModalTruncation& t) {
   out << ": the neglected modes carry at most sqrt(2 E f_res) of x_c at energy E (orbits.csv, neglected_xc_bound)\n";
 }
 
-void PrintExplore(std::ostream& out, const ExploreReport& r, std::size_t periods) {
+void PrintExplore(std::ostream& out, const ExploreReport& r, long periods) {
   out << "m = " << r.impacts << ": " << r.samples << " grid samples over " << periods << " periods\n";
   out << "dim ker A_m " << (r.impacts % 2 ? "at grid samples" : "at roots found") << ":";
   for (auto [k, v] : r.kernel_dimension_histogram) out << "  " << k << " -> " << v;
@@ -96,6 +132,75 @@ void PrintInconsistent(std::ostream& out, const ResponseValidation& validation) 
     if (r.v.consistent) continue;
     out << "  inconsistent: w = " << FormatValue(r.v.orbit.frequency) << " (" << ToString(r.v.integrator)
         << "): " << r.v.reason << "\n";
+  }
+}
+
+void PrintResponseValidation(std::ostream& out, const ResponseValidation& validation, std::size_t orbits, int periods,
+                             const std::string& path) {
+  out << "validated " << orbits << " orbits over " << periods << " periods: " << validation.consistent << "/"
+      << validation.rows.size() << " runs consistent; wrote " << path << "\n";
+}
+
+void PrintOrbits(std::ostream& out, const std::vector<OrbitRecord>& orbits, int impacts, double period) {
+  const FormatGuard guard(out);
+  out << std::setprecision(12);
+  out << orbits.size() << " potential orbit(s) with " << impacts << " impact(s) per period, T = " << period << "\n";
+  for (std::size_t k = 0; k < orbits.size(); ++k) {
+    const Orbit& o = orbits[k].orbit;
+    const long n = o.z0.size() / 2;
+    out << "\n#" << k + 1 << (o.admissible ? "  admissible" : "  NOT admissible")
+        << (o.potential ? "" : " (not potential)") << (o.degenerate ? " (degenerate: bridge)" : "") << "\n";
+    if (!o.times.empty()) out << "  t2                    " << o.times[0] << "\n";
+    out << "  energy                " << o.energy << "\n"
+        << "  periodicity residual  " << o.periodicity_residual << "\n"
+        << "  NC2 residual          " << o.nc2_residual << "\n"
+        << "  NC3 margin (max x_c-d) " << o.max_excess << "\n";
+    out << "  x(0) =";
+    for (long i = 0; i < n; ++i) out << " " << o.z0[i];
+    out << "\n  v(0+) =";
+    for (long i = 0; i < n; ++i) out << " " << o.z0[n + i];
+    out << "\n";
+    if (const std::optional<Stability>& st = orbits[k].stability) {
+      out << "  " << (st->stable ? "stable" : "unstable") << ", Floquet multipliers";
+      for (const std::complex<double>& mu : st->multipliers) {
+        out << " " << mu.real() << (mu.imag() < 0 ? "-" : "+") << std::abs(mu.imag()) << "i";
+      }
+      out << "\n";
+    }
+    if (!o.reason.empty()) out << "  " << o.reason << "\n";
+  }
+}
+
+void PrintAtlas(std::ostream& out, const Atlas& atlas) {
+  for (const std::string& note : atlas.notes) out << note << "\n";
+  const std::vector<double>& periods = atlas.one.periods;
+  out << periods.size() << " periods from " << periods.front() << " to " << periods.back() << "; "
+      << atlas.transitions.size() << " transitions, " << atlas.bridges.size() << " bridges\n";
+  for (const Bridge& br : atlas.bridges) {
+    out << "  " << (IsGrazing(br) ? "grazing" : "period-doubling") << " bridge at T = " << br.period
+        << " (t2 = " << br.t2 << "): E from " << br.energy_min << " to " << br.energy_max << "\n";
+  }
+}
+
+void PrintBenchTables(std::ostream& out, const std::vector<WorkPrecisionRow>& rows,
+                      const std::vector<GrazingRow>& grazing) {
+  const FormatGuard guard(out);
+  out << std::left << std::setw(13) << "case" << std::setw(13) << "integrator" << std::setw(16) << "setting"
+      << std::right << std::setw(10) << "error" << std::setw(11) << "cpu_s" << std::setw(9) << "impacts"
+      << std::setw(12) << "steps" << "\n";
+  for (const WorkPrecisionRow& r : rows) {
+    out << std::left << std::setw(13) << r.case_name << std::setw(13) << r.integrator << std::setw(16) << r.setting
+        << std::right << std::scientific << std::setprecision(2) << std::setw(10) << r.error << std::setw(11)
+        << r.cpu_s << std::defaultfloat << std::setw(9) << r.impacts << std::setw(12) << r.steps << "\n";
+  }
+  out << "\ngrazing (T_G +- delta, one period): the shallowest excursion past d turned into the right impacts,\n"
+         "and the smallest clearance below d without a spurious impact (inf: wrong at the largest tried)\n";
+  out << std::left << std::setw(13) << "integrator" << std::setw(16) << "setting" << std::right << std::setw(14)
+      << "excursion" << std::setw(14) << "clearance" << "\n";
+  for (const GrazingLimit& l : SummarizeGrazing(grazing)) {
+    out << std::left << std::setw(13) << l.integrator << std::setw(16) << l.setting << std::right << std::scientific
+        << std::setprecision(2) << std::setw(14) << l.shallowest_excursion << std::setw(14) << l.smallest_clearance
+        << std::defaultfloat << "\n";
   }
 }
 

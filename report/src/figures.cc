@@ -908,6 +908,7 @@ FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas&
   Figures13To15(c);
   Figure16(c);
   Figure17(c);
+  c.log << c.drawn << " figures drawn" << (c.failed ? ", " + std::to_string(c.failed) + " failed" : "") << "\n";
   return {c.drawn, c.failed};
 }
 

@@ -64,6 +64,12 @@ nlohmann::json OrbitJson(const OrbitRecord& record) {
   return Checked(std::move(j), "orbit");
 }
 
+nlohmann::json OrbitsJson(const std::vector<OrbitRecord>& records) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const OrbitRecord& r : records) list.push_back(OrbitJson(r));
+  return nlohmann::json{{"orbits", list}};
+}
+
 nlohmann::json ExploreJson(const ExploreReport& r) {
   nlohmann::json j;
   j["impacts"] = r.impacts;

@@ -61,6 +61,25 @@ Columns<OrbitRecord> OrbitColumns(int dofs, const ModalTruncation* truncation) {
   return c;
 }
 
+SweepCsv WriteSweepCsv(const OutputDir& dir, const std::string& name, const AnalysisBasis& b, const PeriodGrid& grid,
+                       int impacts, const SweepOptions& options, const ModalTruncation* truncation) {
+  ResultFile out(dir, name);
+  const auto columns = OrbitColumns(truncation ? truncation->dofs : b.n, truncation);
+  WriteCsvHeader(out.stream(), columns);
+  SweepCsv counts;
+  StreamSweep(b, grid, impacts, options, [&](double period, std::vector<OrbitRecord>& list) {
+    if (truncation) ToPhysical(*truncation, list);
+    for (const OrbitRecord& r : list) {
+      WriteCsvRow(out.stream(), columns, r);
+      ++counts.orbits;
+      counts.admissible += r.orbit.admissible;
+    }
+    if (impacts == 1) counts.zones.Add(period, list);
+  });
+  out.Commit();
+  return counts;
+}
+
 Columns<ResponseRow> ResponseColumns(int dofs) {
   using R = ResponseRow;
   Columns<R> c{

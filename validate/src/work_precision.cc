@@ -9,6 +9,7 @@
 #include <set>
 
 #include "nsmodal/admissibility.h"
+#include "nsmodal/error.h"
 #include "nsmodal/flow.h"
 #include "nsmodal/one_impact.h"
 #include "nsmodal/parallel.h"
@@ -123,6 +124,16 @@ std::string Label(const Setting& s) {
 }
 
 }  // namespace
+
+void CheckBenchModel(const Model& model, const std::string& field) {
+  const Model paper = PaperModel();
+  if (model.mass != paper.mass || model.stiffness != paper.stiffness || model.contact != paper.contact ||
+      model.gap != paper.gap) {
+    throw InputError(field, "the bench cases (a stable orbit at T = 7.5, the grazing and singular transitions at "
+                            "9.127 and 4.834, a Zeno start) are defined on the paper's system; use "
+                            "configs/paper.toml");
+  }
+}
 
 std::vector<WorkPrecisionRow> RunWorkPrecision(const WorkPrecisionOptions& options) {
   const std::vector<Case> cases = Cases(options.quick);

@@ -37,6 +37,11 @@ struct PeriodGrid {
   static PeriodGrid Parse(const std::string& text, const std::string& field = "--period");
 };
 
+// "0.3" or "0.1,0.2,0.4": values where a grid FROM:TO:STEP could stand (the
+// fixed parameter of `response`), every one positive and finite; throws
+// InputError naming `field`.
+std::vector<double> ParseValues(const std::string& text, const std::string& field);
+
 // The work limit of the analysis (work.h CheckSweepWork) for the sweeps of
 // `impacts` (1 and/or 2) over the grid, after the range of its periods
 // (AnalysisBasis::CheckPeriod): throws InputError naming `field`.
@@ -97,9 +102,11 @@ void StreamSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, co
 // (the stability stays the truncated model's).
 void ToPhysical(const ModalTruncation& t, std::vector<OrbitRecord>& orbits);
 
-// The orbits of one period, with the policy's stability.
+// The orbits of one period, with the policy's stability. Throws InputError
+// naming `field` for a period outside the range the basis honours or beyond
+// the work limit (CheckSweepWork).
 std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts,
-                                  const SweepOptions& options = {});
+                                  const SweepOptions& options = {}, const std::string& field = "period");
 
 // The potential orbits of the grid with each number of impacts in `impacts`
 // (1 and/or 2), period by period and in that order: what `validate` checks.
@@ -109,6 +116,15 @@ std::vector<Orbit> PotentialOrbits(const AnalysisBasis& b, const PeriodGrid& gri
 // The transitions of the admissible 1-ipp zones seen on a 1-ipp sweep and
 // the stability changes inside them (OneImpactTransitionsAndCrossings).
 std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& one);
+
+// The same for a sweep streamed (StreamSweep, the CLI's orbits): each
+// period's 1-ipp admissibility gathered as it comes, nothing else held.
+struct ZoneScan {
+  std::vector<double> periods;
+  std::vector<bool> admissible;
+  void Add(double period, const std::vector<OrbitRecord>& one_impact_orbits);
+  std::vector<Transition> Transitions(const AnalysisBasis& b) const;
+};
 
 struct AtlasOptions {
   SweepOptions sweep{.stability = StabilityPolicy::kAdmissible, .stability_options = {}, .two_impact = {}, .threads = 0, .progress = {}};

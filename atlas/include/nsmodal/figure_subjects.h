@@ -12,6 +12,13 @@
 
 namespace nsmodal {
 
+// The grid of the figures' sweeps (figures --period): `text`, FROM:TO:STEP,
+// or by default T from 0.01 to 4 T_max (rounded up) by 0.01; at least two
+// periods, within the range and the work limit of both sweeps and the
+// transitions (CheckSweepWork). Throws InputError naming `field`.
+PeriodGrid FiguresGrid(const AnalysisBasis& b, const std::optional<std::string>& text,
+                       const std::string& field = "period");
+
 // t = T/2 to round-off of the roots (~1e-15 relative): the 2-ipp root that is
 // always there (eq. 26), or a graze at half the period.
 bool AtHalfPeriod(double t, double period);

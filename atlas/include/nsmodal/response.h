@@ -95,6 +95,19 @@ Sweep BackboneSweep(const Model& model, double w_from, double w_to, long points,
 // stretch of the sweep reaches that energy.
 std::optional<double> BackboneFrequency(const Model& model, const Sweep& backbone, double energy, double near);
 
+// A response request as the faces take it: the parameter `swept` over
+// `grid`, the other one held at each of `levels` (none given: the model's
+// own, max |f_i| of its force beside a frequency grid, 0 without one, its w
+// beside an amplitude grid), m = impacts, n = periods. The options hold the
+// first level, checked (ResponseOptions::Validate(names)).
+struct ResponseRequest {
+  ResponseOptions options;
+  std::vector<double> levels;
+};
+ResponseRequest MakeResponseRequest(const Model& model, ResponseParameter swept, const PeriodGrid& grid,
+                                    std::vector<double> levels, int impacts, int periods,
+                                    const FieldNames& names = FieldNames());
+
 // A point of a response with the number of its branch (1-based): a row of
 // response.csv (report/tables.h), of Python's response()["rows"].
 struct ResponseRow {

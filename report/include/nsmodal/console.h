@@ -3,15 +3,24 @@
 // print besides their files. Each function writes to `out` (the CLI passes
 // std::cout) and leaves its format flags as it found them.
 #include <cstddef>
+#include <functional>
 #include <ostream>
+#include <string>
 #include <vector>
 
+#include "nsmodal/atlas.h"
 #include "nsmodal/explore.h"
 #include "nsmodal/response.h"
 #include "nsmodal/truncation.h"
 #include "nsmodal/validate.h"
+#include "nsmodal/work_precision.h"
 
 namespace nsmodal::report {
+
+// A progress callback (ParallelFor's, a sweep's): a bar on stderr when it
+// is a terminal, else a plain line every 10 s once the run has lasted that
+// long (a log: short runs stay quiet).
+std::function<void(long done, long count)> ProgressBar(const std::string& label);
 
 // "modal truncation: k of N modes kept (up to w_k rad/s; the first neglected
 // w_k+1 rad/s); residual flexibility f m/N", no end of line: each command
@@ -25,7 +34,7 @@ void PrintSweepTruncation(std::ostream& out, const ModalTruncation& t);
 // explore's summary: the grid samples, dim ker A_m, the potential orbits by
 // kind, the smallest defect, the paper's conjecture, and a line per new
 // orbit; `periods`: how many periods were searched.
-void PrintExplore(std::ostream& out, const ExploreReport& report, std::size_t periods);
+void PrintExplore(std::ostream& out, const ExploreReport& report, long periods);
 
 // explore --follow: a line per family (FollowNewFamilies) followed at `step`.
 void PrintFamilies(std::ostream& out, const std::vector<FamilySummary>& families, double step);
@@ -41,5 +50,22 @@ void PrintResponsePeaks(std::ostream& out, const std::vector<SpecialPoint>& poin
 
 // response --validate: a line per inconsistent run.
 void PrintInconsistent(std::ostream& out, const ResponseValidation& validation);
+// response --validate: how many of the runs of `orbits` points over
+// `periods` periods were consistent, and the file written (`path`).
+void PrintResponseValidation(std::ostream& out, const ResponseValidation& validation, std::size_t orbits, int periods,
+                             const std::string& path);
+
+// orbit: every potential orbit at one period, a block each (admissibility,
+// t2, energy, residuals, the NC3 margin, the state after the impact at t = 0,
+// the Floquet multipliers), 12 significant digits.
+void PrintOrbits(std::ostream& out, const std::vector<OrbitRecord>& orbits, int impacts, double period);
+
+// figures: the atlas' notes, its periods, transitions and bridges, a line per bridge.
+void PrintAtlas(std::ostream& out, const Atlas& atlas);
+
+// bench: the two tables a person reads, error and cost per case and
+// integrator setting, and the grazing limits (SummarizeGrazing).
+void PrintBenchTables(std::ostream& out, const std::vector<WorkPrecisionRow>& rows,
+                      const std::vector<GrazingRow>& grazing);
 
 }  // namespace nsmodal::report

@@ -19,8 +19,9 @@ struct FiguresResult {
   int drawn = 0, failed = 0;  // charts drawn, charts gnuplot could not draw
 };
 
-// contact: 0-based index of the contact dof. Throws OutputError when a data
-// file cannot be written.
+// contact: 0-based index of the contact dof. Writes to `log` a line per
+// figure and the count drawn. Throws OutputError when a data file cannot be
+// written.
 FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas& atlas, const OutputDir& dir,
                                std::ostream& log);
 

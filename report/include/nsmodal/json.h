@@ -20,6 +20,8 @@ namespace nsmodal::report {
 // admissible, degenerate, residuals, nc3_margin (null when not finite), x, v,
 // reason, and with stability: stable, max_multiplier, multipliers [[re, im]].
 nlohmann::json OrbitJson(const OrbitRecord& record);
+// orbit --json, Python's orbit(): {"orbits": [OrbitJson of each]}.
+nlohmann::json OrbitsJson(const std::vector<OrbitRecord>& records);
 
 // explore --json: impacts, samples, kernel_dimension_histogram (dimension ->
 // count), findings (OrbitJson of each, with kind, kernel_dimension and

@@ -23,6 +23,8 @@
 #include <variant>
 #include <vector>
 
+#include "nsmodal/output.h"
+
 namespace nsmodal::report {
 
 enum class ColumnKind { kReal, kInteger, kBool, kText };
@@ -74,6 +76,15 @@ template <class Row>
 void WriteCsv(std::ostream& os, const Columns<Row>& columns, const std::vector<Row>& rows) {
   WriteCsvHeader(os, columns);
   for (const Row& r : rows) WriteCsvRow(os, columns, r);
+}
+
+// DIR/NAME written whole or not at all (ResultFile): the CSV of `rows`.
+template <class Row>
+void WriteCsvFile(const OutputDir& dir, const std::string& name, const Columns<Row>& columns,
+                  const std::vector<Row>& rows) {
+  ResultFile file(dir, name);
+  WriteCsv(file.stream(), columns, rows);
+  file.Commit();
 }
 
 }  // namespace nsmodal::report

@@ -23,6 +23,18 @@ namespace nsmodal::report {
 // neglected modes can carry of x_c. The truncation must outlive the columns.
 Columns<OrbitRecord> OrbitColumns(int dofs, const ModalTruncation* truncation = nullptr);
 
+// orbits.csv of a sweep streamed (StreamSweep: a block of periods in memory
+// at a time; the CLI's orbits), written whole or not at all. With a
+// truncation the basis is of its model: each state mapped back to the full
+// model's dofs (ToPhysical) and the bound's column added (OrbitColumns).
+// Returns the counts and, of a 1-ipp sweep, each period's admissibility.
+struct SweepCsv {
+  long orbits = 0, admissible = 0;
+  ZoneScan zones;  // 1 impact only
+};
+SweepCsv WriteSweepCsv(const OutputDir& dir, const std::string& name, const AnalysisBasis& b, const PeriodGrid& grid,
+                       int impacts, const SweepOptions& options, const ModalTruncation* truncation = nullptr);
+
 // transitions.csv: T,kind,energy.
 Columns<Transition> TransitionColumns();
 

@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "nsmodal/model.h"
+
 namespace nsmodal {
 
 struct WorkPrecisionRow {
@@ -60,6 +62,12 @@ struct GrazingLimit {
   double smallest_clearance = 0.0;
 };
 std::vector<GrazingLimit> SummarizeGrazing(const std::vector<GrazingRow>& rows);
+
+// The cases are defined on the paper's system (PaperModel: a stable orbit
+// at T = 7.5, the grazing and singular transitions at 9.127 and 4.834, a
+// Zeno start): InputError naming `field` for a model with another M, K,
+// contact or gap.
+void CheckBenchModel(const Model& model, const std::string& field = "scene");
 
 std::vector<WorkPrecisionRow> RunWorkPrecision(const WorkPrecisionOptions& options = {});
 std::vector<GrazingRow> RunGrazingFailures(const WorkPrecisionOptions& options = {});
