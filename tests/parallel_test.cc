@@ -40,5 +40,24 @@ TEST(ParallelFor, AProgressCallbackThatThrowsReachesTheCaller) {
   EXPECT_LT(visited.load(), 50);  // the work stopped early
 }
 
+// With a progress callback the calling thread works too: every item runs on
+// one of `threads` threads, the caller among them. (It used to only report,
+// leaving one core of two idle in every CLI sweep: the 100-mass 1-ipp sweep
+// took 3.8 s instead of 2.0.) Items sleep so that both threads get some.
+TEST(ParallelFor, TheCallerWorksWhileItReportsProgress) {
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<long> by_caller{0};
+  long reports = 0;
+  ParallelFor(
+      40, 2,
+      [&](long) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        if (std::this_thread::get_id() == caller) ++by_caller;
+      },
+      [&](long, long) { ++reports; });
+  EXPECT_GT(by_caller.load(), 0);
+  EXPECT_GE(reports, 2);  // the start and the end at least
+}
+
 }  // namespace
 }  // namespace nsmodal

@@ -27,45 +27,54 @@ inline void ParallelFor(long count, int threads, const std::function<void(long)>
   std::atomic<long> done{0};
   std::exception_ptr error;
   std::mutex error_mutex;
-  auto worker = [&] {
+  auto fail = [&] {
+    std::lock_guard<std::mutex> lock(error_mutex);
+    if (!error) error = std::current_exception();
+    next = count;  // stop handing out work
+  };
+  // The calling thread works too, and between its own items reports
+  // progress at most every 100 ms. (It used to only report while the pool
+  // worked, sleeping 100 ms at a time: one core in `threads` idle, and up to
+  // 100 ms lost at the end of every call, which a streamed sweep makes once a
+  // block.) A progress callback that throws (a Python callable that raised)
+  // ends the work as a body that throws does: the pool is joined before the
+  // exception goes on (a running thread's destructor would terminate).
+  auto last = std::chrono::steady_clock::now();
+  auto worker = [&](bool reports) {
     for (long i = next++; i < count; i = next++) {
       try {
         ThrowIfStopRequested();
         body(i);
       } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = count;  // stop handing out work
+        fail();
       }
       ++done;
+      if (reports && progress && std::chrono::steady_clock::now() - last >= std::chrono::milliseconds(100)) {
+        last = std::chrono::steady_clock::now();
+        try {
+          progress(done.load(), count);
+        } catch (...) {
+          fail();
+        }
+      }
     }
   };
   std::vector<std::thread> pool;
   for (int t = 1; t < threads; ++t) {
     try {
-      pool.emplace_back(worker);
+      pool.emplace_back(worker, false);
     } catch (const std::exception&) {  // no thread (a system error) or no memory for it
       break;
     }
   }
   if (progress) {
-    // The calling thread reports while the pool works, then joins in. A
-    // progress callback that throws (a Python callable that raised) ends the
-    // work as a body that throws does: the pool is joined before the
-    // exception goes on (a running thread's destructor would terminate).
     try {
-      while (done.load() < count && !pool.empty()) {
-        progress(done.load(), count);
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-        if (next.load() >= count) break;
-      }
+      progress(0, count);
     } catch (...) {
-      std::lock_guard<std::mutex> lock(error_mutex);
-      if (!error) error = std::current_exception();
-      next = count;
+      fail();
     }
   }
-  worker();
+  worker(true);
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);
   if (progress) progress(count, count);
