@@ -78,6 +78,10 @@ void InstallStopHandlers() {
   for (int signal : {SIGINT, SIGTERM}) sigaction(signal, &action, nullptr);
 }
 
+void AddFormat(CLI::App* app, std::string& format) {
+  app->add_option("--format", format, "Tables as csv (default) or hdf5 (NAME.h5: a dataset per column, for large work)");
+}
+
 }  // namespace
 
 CommandLine::CommandLine() {
@@ -90,6 +94,7 @@ CommandLine::CommandLine() {
   c_orbits->add_option("--period", orbits.period, "Period grid FROM:TO:STEP")->required();
   c_orbits->add_option("--out", orbits.out, "Output directory")->required();
   c_orbits->add_option("--threads", orbits.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, kMaxThreads));
+  AddFormat(c_orbits, orbits.format);
   c_orbits->add_option("--modes", orbits.modes,
                        "Analyse the first K linear modes only (modal truncation; a column bounds what the others carry)");
 
@@ -111,11 +116,13 @@ CommandLine::CommandLine() {
   c_sim = app.add_subcommand("simulate", "Simulate an initial condition (exact, cvode or moreau-jean)");
   c_sim->add_option("scene", simulate.scene, "Scene file (TOML) with a [simulate] table")->required();
   c_sim->add_option("--out", simulate.out, "Output directory")->required();
+  AddFormat(c_sim, simulate.format);
   AddSettingFlags(c_sim, "simulate", SimulateSettings(), simulate.flags);
 
   c_val = app.add_subcommand("validate", "Validate analytic orbits by long simulations (batch)");
   c_val->add_option("scene", validate.scene, "Scene file (TOML); an optional [validate] table")->required();
   c_val->add_option("--out", validate.out, "Output directory")->required();
+  AddFormat(c_val, validate.format);
   AddSettingFlags(c_val, "validate", ValidateSettings(), validate.flags);
 
   c_resp = app.add_subcommand("response", "Forced, damped response curves beside the nonsmooth modes (CSV, charts)");

@@ -17,6 +17,7 @@ struct OrbitsArgs {
   int impacts = 1;
   int threads = 0;
   std::optional<double> modes;  // analyse the first K linear modes only
+  std::string format = "csv";   // the tables' format: csv or hdf5
 };
 struct OrbitArgs {
   std::string scene;
@@ -36,11 +37,11 @@ struct ExploreArgs {
 // simulate_settings.h and validate_settings.h) fill `flags`; a setting not
 // given there falls back to the scene's table, then to its default.
 struct SimulateArgs {
-  std::string scene, out;
+  std::string scene, out, format = "csv";
   SettingPatch flags;
 };
 struct ValidateArgs {
-  std::string scene, out;
+  std::string scene, out, format = "csv";
   SettingPatch flags;
 };
 struct SettingsArgs {

@@ -46,18 +46,20 @@ int RunOrbits(const OrbitsArgs& a) {
   if (truncation) report::PrintSweepTruncation(std::cout, *truncation);
   const AnalysisBasis b(truncation ? truncation->model : scene.model);
   CheckSweepWork(b, grid, {a.impacts}, "--period", a.impacts == 1);
-  const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"orbits.csv", "transitions.csv"});
+  const report::TableFormat format = report::ParseTableFormat(a.format);
+  const report::OutputDir dir = report::OutputDir::Prepare(a.out, report::TableFileNames({"orbits", "transitions"}));
   SweepOptions opt;  // stability: potential
   opt.threads = a.threads;
   opt.progress = ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
   const report::SweepCsv csv =
-      report::WriteSweepCsv(dir, "orbits.csv", b, grid, a.impacts, opt, truncation ? &*truncation : nullptr);
-  std::cout << "wrote " << csv.orbits << " orbits (" << csv.admissible << " admissible) to " << a.out << "/orbits.csv\n";
+      report::WriteSweepTable(dir, "orbits", b, grid, a.impacts, opt, truncation ? &*truncation : nullptr, format);
+  std::cout << "wrote " << csv.orbits << " orbits (" << csv.admissible << " admissible) to " << a.out << "/"
+            << report::TableFileName("orbits", format) << "\n";
   if (a.impacts == 1) {
     // Zone boundaries and the stability changes inside the zones (issue 13).
     const std::vector<Transition> transitions = csv.zones.Transitions(b);
-    report::WriteCsvFile(dir, "transitions.csv", report::TransitionColumns(), transitions);
-    std::cout << "wrote " << transitions.size() << " transitions to " << a.out << "/transitions.csv\n";
+    std::cout << "wrote " << transitions.size() << " transitions to " << a.out << "/"
+              << report::WriteTableFile(dir, "transitions", report::TransitionColumns(), transitions, format) << "\n";
   }
   return 0;
 }
@@ -87,13 +89,13 @@ int RunValidate(const ValidateArgs& a) {
   const Configured<ValidationRequest> request = ValidateSettings().Resolve({&scene.validate, &a.flags});
   const ValidationPlan plan = PlanValidation(b, request);
   const ValidateOptions& opt = plan.options;
-  const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"validation.csv", "summary.json"});
+  const report::TableFormat format = report::ParseTableFormat(a.format);
+  std::vector<std::string> owned = report::TableFileNames({"validation"});
+  owned.push_back("summary.json");
+  const report::OutputDir dir = report::OutputDir::Prepare(a.out, owned);
   const GridValidation v = RunValidation(scene.model, b, plan, ProgressBar("validate"), request.names);
   const ValidationReport& report = v.report;
-
-  report::ResultFile csv(dir, "validation.csv");
-  report::WriteCsv(csv.stream(), report::ValidationColumns(), v.results);
-  csv.Commit();
+  const std::string table = report::WriteTableFile(dir, "validation", report::ValidationColumns(), v.results, format);
   report::WriteResult(dir, "summary.json", report::ValidationJson(report, v.results, request).dump(2) + "\n");
   if (report.stable_perturbed + report.unstable_rated > 0) {
     std::cout << "perturbed by " << opt.perturbation << " |y| in the nontrivial Floquet subspace (exact): "
@@ -107,7 +109,7 @@ int RunValidate(const ValidateArgs& a) {
   for (const auto& [integrator, t] : report.integrators) {
     std::cout << "  " << ToString(integrator) << " " << t.consistent << "/" << t.checked << " consistent";
   }
-  std::cout << "\nwrote " << a.out << "/validation.csv and " << a.out << "/summary.json\n";
+  std::cout << "\nwrote " << a.out << "/" << table << " and " << a.out << "/summary.json\n";
   for (std::size_t i : report.inconsistent) {
     const OrbitValidation& r = v.results[i];
     std::cout << "  inconsistent: T = " << r.orbit.period
@@ -128,27 +130,16 @@ int RunSimulate(const SimulateArgs& a) {
   const Configured<SimulationRequest> request = SimulateSettings().Resolve({&scene.simulate, &a.flags});
   const SimulateOptions& opt = request.options.options;
   const SimulationPlan plan = PlanSimulation(m, request);
-  if (const std::optional<ModalTruncation>& t = plan.truncation) {
-    report::PrintTruncation(std::cout, *t);
-    std::cout << ": at the initial energy " << plan.initial_energy << " J the neglected modes carry at most "
-              << t->ContactBound(plan.initial_energy)
-              << " m of x_c in the full model (for as long as the energy does not grow: unforced, e <= 1); "
-              << "the run starts from the kept modes' part of the initial state (x_c "
-              << (t->from_physical * plan.x0)[0] << " of " << plan.x0[m.contact] << ")\n";
-  }
-  const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"trajectory.csv", "impacts.csv", "summary.json"});
-  report::ResultFile traj(dir, "trajectory.csv");
-  report::ResultFile imp(dir, "impacts.csv");
-  const int n = m.dofs();
-  const auto trajectory_columns = report::TrajectoryColumns(n);
-  const auto impact_columns = report::ImpactColumns(n);
-  report::WriteCsvHeader(traj.stream(), trajectory_columns);
-  report::WriteCsvHeader(imp.stream(), impact_columns);
+  report::PrintSimulationTruncation(std::cout, plan, m.contact);
+  const report::TableFormat format = report::ParseTableFormat(a.format);
+  std::vector<std::string> owned = report::TableFileNames({"trajectory", "impacts"});
+  owned.push_back("summary.json");
+  const report::OutputDir dir = report::OutputDir::Prepare(a.out, owned);
+  report::TableWriter<report::Sample> traj(dir, "trajectory", report::TrajectoryColumns(m.dofs()), format);
+  report::TableWriter<ContactEvent> imp(dir, "impacts", report::ImpactColumns(m.dofs()), format);
   SimulationObserver obs;
-  obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
-    report::WriteCsvRow(traj.stream(), trajectory_columns, report::SampleOf(m, t, z));
-  };
-  obs.on_impact = [&](const ContactEvent& ev) { report::WriteCsvRow(imp.stream(), impact_columns, ev); };
+  obs.on_sample = [&](double t, const Eigen::VectorXd& z) { traj.Append(report::SampleOf(m, t, z)); };
+  obs.on_impact = [&](const ContactEvent& ev) { imp.Append(ev); };
   const auto bar = ProgressBar("simulate");
   if (bar) {
     obs.on_progress = [&](double t) { bar(static_cast<long>(1000.0 * t / opt.t_end), 1000); };
@@ -162,7 +153,8 @@ int RunSimulate(const SimulateArgs& a) {
   report::WriteResult(dir, "summary.json", summary.dump(2) + "\n");
   std::cout << ToString(opt.integrator) << ": t = " << s.final_time << ", " << s.impacts << " impacts, " << s.grazes
             << " grazes, " << s.zeno_events << " Zeno sequences, sticking " << s.sticking_time << ", energy drift "
-            << s.energy_drift << ", " << s.wall_time_s << " s; wrote " << a.out << "/{trajectory.csv,impacts.csv,summary.json}\n";
+            << s.energy_drift << ", " << s.wall_time_s << " s; wrote " << a.out << "/{" << traj.file_name() << ","
+            << imp.file_name() << ",summary.json}\n";
   if (s.status != SimulationStatus::kFinished) {
     std::cerr << "error: simulation stopped: " << s.message << "\n";
     return 3;

@@ -70,6 +70,17 @@ void PrintSweepTruncation(std::ostream& out, const ModalTruncation& t) {
   out << ": the neglected modes carry at most sqrt(2 E f_res) of x_c at energy E (orbits.csv, neglected_xc_bound)\n";
 }
 
+void PrintSimulationTruncation(std::ostream& out, const SimulationPlan& plan, int contact) {
+  if (!plan.truncation) return;
+  const ModalTruncation& t = *plan.truncation;
+  PrintTruncation(out, t);
+  out << ": at the initial energy " << plan.initial_energy << " J the neglected modes carry at most "
+      << t.ContactBound(plan.initial_energy)
+      << " m of x_c in the full model (for as long as the energy does not grow: unforced, e <= 1); "
+      << "the run starts from the kept modes' part of the initial state (x_c " << (t.from_physical * plan.x0)[0]
+      << " of " << plan.x0[contact] << ")\n";
+}
+
 void PrintExplore(std::ostream& out, const ExploreReport& r, long periods) {
   out << "m = " << r.impacts << ": " << r.samples << " grid samples over " << periods << " periods\n";
   out << "dim ker A_m " << (r.impacts % 2 ? "at grid samples" : "at roots found") << ":";

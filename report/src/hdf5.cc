@@ -1,5 +1,7 @@
 #include "nsmodal/hdf5.h"
 
+#include "nsmodal/error.h"
+
 #include <fcntl.h>
 #include <hdf5.h>
 #include <sys/stat.h>
@@ -687,5 +689,24 @@ void Hdf5Writer::Commit() {
 const std::filesystem::path& Hdf5Writer::path() const { return impl_->final; }
 std::size_t Hdf5Writer::rows() const { return impl_->written + impl_->pending; }
 std::size_t Hdf5Writer::block_rows() const { return impl_->block; }
+
+TableFormat ParseTableFormat(const std::string& text, const std::string& field) {
+  if (text == "csv") return TableFormat::kCsv;
+  if (text == "hdf5") return TableFormat::kHdf5;
+  throw InputError(field, "must be csv or hdf5, got '" + text + "'");
+}
+
+std::string TableFileName(const std::string& table, TableFormat format) {
+  return format == TableFormat::kHdf5 ? Hdf5FileName(table) : table + ".csv";
+}
+
+std::vector<std::string> TableFileNames(const std::vector<std::string>& tables) {
+  std::vector<std::string> names;
+  for (const std::string& t : tables) {
+    names.push_back(TableFileName(t, TableFormat::kCsv));
+    names.push_back(TableFileName(t, TableFormat::kHdf5));
+  }
+  return names;
+}
 
 }  // namespace nsmodal::report

@@ -61,16 +61,15 @@ Columns<OrbitRecord> OrbitColumns(int dofs, const ModalTruncation* truncation) {
   return c;
 }
 
-SweepCsv WriteSweepCsv(const OutputDir& dir, const std::string& name, const AnalysisBasis& b, const PeriodGrid& grid,
-                       int impacts, const SweepOptions& options, const ModalTruncation* truncation) {
-  ResultFile out(dir, name);
-  const auto columns = OrbitColumns(truncation ? truncation->dofs : b.n, truncation);
-  WriteCsvHeader(out.stream(), columns);
+SweepCsv WriteSweepTable(const OutputDir& dir, const std::string& name, const AnalysisBasis& b, const PeriodGrid& grid,
+                         int impacts, const SweepOptions& options, const ModalTruncation* truncation,
+                         TableFormat format) {
+  TableWriter<OrbitRecord> out(dir, name, OrbitColumns(truncation ? truncation->dofs : b.n, truncation), format);
   SweepCsv counts;
   StreamSweep(b, grid, impacts, options, [&](double period, std::vector<OrbitRecord>& list) {
     if (truncation) ToPhysical(*truncation, list);
     for (const OrbitRecord& r : list) {
-      WriteCsvRow(out.stream(), columns, r);
+      out.Append(r);
       ++counts.orbits;
       counts.admissible += r.orbit.admissible;
     }

@@ -11,6 +11,7 @@
 #include "nsmodal/atlas.h"
 #include "nsmodal/explore.h"
 #include "nsmodal/response.h"
+#include "nsmodal/simulate_settings.h"
 #include "nsmodal/truncation.h"
 #include "nsmodal/validate.h"
 #include "nsmodal/work_precision.h"
@@ -30,6 +31,11 @@ void PrintTruncation(std::ostream& out, const ModalTruncation& t);
 // The line of a sweep on the kept modes (orbits --modes): PrintTruncation
 // and the bound's column in orbits.csv.
 void PrintSweepTruncation(std::ostream& out, const ModalTruncation& t);
+
+// The line of a simulation on the kept modes (simulate --modes or
+// --contact-tolerance): PrintTruncation, the bound at the initial energy and
+// the kept modes' part of the start; nothing when the plan keeps every dof.
+void PrintSimulationTruncation(std::ostream& out, const SimulationPlan& plan, int contact);
 
 // explore's summary: the grid samples, dim ker A_m, the potential orbits by
 // kind, the smallest defect, the paper's conjecture, and a line per new

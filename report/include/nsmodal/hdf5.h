@@ -58,6 +58,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -154,5 +155,65 @@ class Hdf5Table {
   Columns<Row> columns_;
   Hdf5Writer writer_;
 };
+
+// The format of a command's tables (--format): CSV, the default, or HDF5 for
+// large work (one NAME.h5 a table, each column a dataset under its CSV name).
+enum class TableFormat { kCsv, kHdf5 };
+// "csv" or "hdf5"; throws InputError naming `field` and the text otherwise.
+TableFormat ParseTableFormat(const std::string& text, const std::string& field = "--format");
+// "orbits" -> "orbits.csv" or "orbits.h5".
+std::string TableFileName(const std::string& table, TableFormat format);
+// Both formats' names of each table: what OutputDir::Prepare removes (a run
+// in one format leaves no older run's file of the other beside its own).
+std::vector<std::string> TableFileNames(const std::vector<std::string>& tables);
+
+// One table of a run, streamed row by row in the chosen format, complete or
+// absent (ResultFile, Hdf5Table): the CSV and the HDF5 file hold the same
+// columns from the one declaration (table.h).
+template <class Row>
+class TableWriter {
+ public:
+  TableWriter(const OutputDir& dir, const std::string& table, Columns<Row> columns, TableFormat format)
+      : name_(TableFileName(table, format)) {
+    if (format == TableFormat::kHdf5) {
+      h5_.emplace(dir, table, std::move(columns));
+    } else {
+      columns_ = std::move(columns);
+      csv_.emplace(dir, name_);
+      WriteCsvHeader(csv_->stream(), columns_);
+    }
+  }
+  void Append(const Row& row) {
+    if (h5_) {
+      h5_->Append(row);
+    } else {
+      WriteCsvRow(csv_->stream(), columns_, row);
+    }
+  }
+  void Commit() {
+    if (h5_) {
+      h5_->Commit();
+    } else {
+      csv_->Commit();
+    }
+  }
+  const std::string& file_name() const { return name_; }  // "orbits.csv" / "orbits.h5"
+
+ private:
+  std::string name_;
+  Columns<Row> columns_;
+  std::optional<ResultFile> csv_;
+  std::optional<Hdf5Table<Row>> h5_;
+};
+
+// A whole table in the chosen format (WriteCsvFile's twin); returns its file name.
+template <class Row>
+std::string WriteTableFile(const OutputDir& dir, const std::string& table, const Columns<Row>& columns,
+                           const std::vector<Row>& rows, TableFormat format) {
+  TableWriter<Row> w(dir, table, columns, format);
+  for (const Row& r : rows) w.Append(r);
+  w.Commit();
+  return w.file_name();
+}
 
 }  // namespace nsmodal::report

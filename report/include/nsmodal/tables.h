@@ -6,6 +6,7 @@
 #include "nsmodal/atlas.h"
 #include "nsmodal/response.h"
 #include "nsmodal/simulate.h"
+#include "nsmodal/hdf5.h"
 #include "nsmodal/table.h"
 #include "nsmodal/truncation.h"
 #include "nsmodal/validate.h"
@@ -32,8 +33,10 @@ struct SweepCsv {
   long orbits = 0, admissible = 0;
   ZoneScan zones;  // 1 impact only
 };
-SweepCsv WriteSweepCsv(const OutputDir& dir, const std::string& name, const AnalysisBasis& b, const PeriodGrid& grid,
-                       int impacts, const SweepOptions& options, const ModalTruncation* truncation = nullptr);
+// The table `name` ("orbits") in `format`: NAME.csv or NAME.h5.
+SweepCsv WriteSweepTable(const OutputDir& dir, const std::string& name, const AnalysisBasis& b, const PeriodGrid& grid,
+                         int impacts, const SweepOptions& options, const ModalTruncation* truncation = nullptr,
+                         TableFormat format = TableFormat::kCsv);
 
 // transitions.csv: T,kind,energy.
 Columns<Transition> TransitionColumns();
