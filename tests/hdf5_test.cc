@@ -3,7 +3,10 @@
 // a failed or abandoned write leaves no result.
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -720,8 +723,30 @@ TEST(Hdf5Table, ThousandMassOrbitsTable) {
 // byte for byte: the types are the ones h5py maps to float64, int64, bool
 // and str, and the attribute "columns" gives the order (h5py 3.7 lists a
 // group's members by name, whatever order the group tracks).
+// Runs a program with its arguments, no shell between (a path is an
+// argument, never a command); its output to /dev/null when `quiet`. Returns
+// its exit status, -1 when it could not run.
+int RunProgram(const std::vector<std::string>& args, bool quiet = false) {
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  if (quiet) {
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  }
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return -1;
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid || !WIFEXITED(status)) return -1;
+  return WEXITSTATUS(status);
+}
+
 TEST(Hdf5Table, H5pyRebuildsTheCsv) {
-  if (std::system("/usr/bin/python3 -c 'import h5py' >/dev/null 2>&1") != 0) GTEST_SKIP() << "no h5py";
+  if (RunProgram({"/usr/bin/python3", "-c", "import h5py"}, true) != 0) GTEST_SKIP() << "no h5py";
   const fs::path d = Scratch();
   const report::OutputDir dir = report::OutputDir::Prepare(d.string(), {"*.csv", "*.h5", "*.py", "*.out"});
   std::vector<OrbitRecord> orbits;
@@ -757,9 +782,9 @@ with open(sys.argv[2], "w", newline="") as out:
 )");
   for (const std::string name : {"orbits", "mixed"}) {
     SCOPED_TRACE(name);
-    const std::string command = "/usr/bin/python3 " + (d / "rebuild.py").string() + " " +
-                                (d / (name + ".h5")).string() + " " + (d / (name + ".out")).string();
-    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    const std::vector<std::string> command{"/usr/bin/python3", (d / "rebuild.py").string(),
+                                           (d / (name + ".h5")).string(), (d / (name + ".out")).string()};
+    ASSERT_EQ(RunProgram(command), 0) << command[1];
     EXPECT_EQ(ReadText(d / (name + ".out")), ReadText(d / (name + ".csv")));
   }
   fs::remove_all(d);
