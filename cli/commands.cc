@@ -51,13 +51,13 @@ int RunOrbits(const OrbitsArgs& a) {
   SweepOptions opt;  // stability: potential
   opt.threads = a.threads;
   opt.progress = ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
-  const report::SweepCsv csv =
+  const report::SweepWritten written =
       report::WriteSweepTable(dir, "orbits", b, grid, a.impacts, opt, truncation ? &*truncation : nullptr, format);
-  std::cout << "wrote " << csv.orbits << " orbits (" << csv.admissible << " admissible) to " << a.out << "/"
+  std::cout << "wrote " << written.orbits << " orbits (" << written.admissible << " admissible) to " << a.out << "/"
             << report::TableFileName("orbits", format) << "\n";
   if (a.impacts == 1) {
     // Zone boundaries and the stability changes inside the zones (issue 13).
-    const std::vector<Transition> transitions = csv.zones.Transitions(b);
+    const std::vector<Transition> transitions = written.zones.Transitions(b);
     std::cout << "wrote " << transitions.size() << " transitions to " << a.out << "/"
               << report::WriteTableFile(dir, "transitions", report::TransitionColumns(), transitions, format) << "\n";
   }

@@ -61,11 +61,11 @@ Columns<OrbitRecord> OrbitColumns(int dofs, const ModalTruncation* truncation) {
   return c;
 }
 
-SweepCsv WriteSweepTable(const OutputDir& dir, const std::string& name, const AnalysisBasis& b, const PeriodGrid& grid,
+SweepWritten WriteSweepTable(const OutputDir& dir, const std::string& name, const AnalysisBasis& b, const PeriodGrid& grid,
                          int impacts, const SweepOptions& options, const ModalTruncation* truncation,
                          TableFormat format) {
   TableWriter<OrbitRecord> out(dir, name, OrbitColumns(truncation ? truncation->dofs : b.n, truncation), format);
-  SweepCsv counts;
+  SweepWritten counts;
   StreamSweep(b, grid, impacts, options, [&](double period, std::vector<OrbitRecord>& list) {
     if (truncation) ToPhysical(*truncation, list);
     for (const OrbitRecord& r : list) {

@@ -24,17 +24,17 @@ namespace nsmodal::report {
 // neglected modes can carry of x_c. The truncation must outlive the columns.
 Columns<OrbitRecord> OrbitColumns(int dofs, const ModalTruncation* truncation = nullptr);
 
-// orbits.csv of a sweep streamed (StreamSweep: a block of periods in memory
+// The orbits table of a sweep streamed (StreamSweep: a block of periods in memory
 // at a time; the CLI's orbits), written whole or not at all. With a
 // truncation the basis is of its model: each state mapped back to the full
 // model's dofs (ToPhysical) and the bound's column added (OrbitColumns).
 // Returns the counts and, of a 1-ipp sweep, each period's admissibility.
-struct SweepCsv {
+struct SweepWritten {
   long orbits = 0, admissible = 0;
   ZoneScan zones;  // 1 impact only
 };
 // The table `name` ("orbits") in `format`: NAME.csv or NAME.h5.
-SweepCsv WriteSweepTable(const OutputDir& dir, const std::string& name, const AnalysisBasis& b, const PeriodGrid& grid,
+SweepWritten WriteSweepTable(const OutputDir& dir, const std::string& name, const AnalysisBasis& b, const PeriodGrid& grid,
                          int impacts, const SweepOptions& options, const ModalTruncation* truncation = nullptr,
                          TableFormat format = TableFormat::kCsv);
 
