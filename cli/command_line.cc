@@ -43,7 +43,7 @@ void AddSettingFlags(CLI::App* app, const std::string& command, const SettingTab
         app->add_option_function<double>(info.flag, store, help);
         break;
       case SettingKind::kInteger:  // read as a real: WholeNumberOf refuses 1.5 naming the flag
-        app->add_option_function<double>(info.flag, store, help);
+        app->add_option_function<double>(info.flag, store, help)->type_name("INT");
         break;
       case SettingKind::kText:
         app->add_option_function<std::string>(info.flag, store, help);
@@ -52,7 +52,7 @@ void AddSettingFlags(CLI::App* app, const std::string& command, const SettingTab
         app->add_option_function<std::vector<double>>(info.flag, store, help)->expected(1, kMaxDofs);
         break;
       case SettingKind::kIntegerList:
-        app->add_option_function<std::vector<double>>(info.flag, store, help)->expected(1, 1000);
+        app->add_option_function<std::vector<double>>(info.flag, store, help)->expected(1, 1000)->type_name("INT");
         break;
       case SettingKind::kTextList:
         app->add_option_function<std::vector<std::string>>(info.flag, store, help)->expected(1, 1000);
