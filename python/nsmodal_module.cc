@@ -236,7 +236,8 @@ py::array Stack(const py::dict& table, const std::string& name) {
     py::array_t<double> out({rows, static_cast<py::ssize_t>(n)});
     auto w = out.mutable_unchecked<2>();
     for (int k = 0; k < n; ++k) {
-      const auto c = column(key(k + 1, "")).unchecked<1>();
+      const py::array_t<double> held = column(key(k + 1, ""));  // alive while read (a converted copy)
+      const auto c = held.unchecked<1>();
       for (py::ssize_t i = 0; i < rows; ++i) w(i, k) = c(i);
     }
     return out;
@@ -244,8 +245,9 @@ py::array Stack(const py::dict& table, const std::string& name) {
   py::array_t<std::complex<double>> out({rows, static_cast<py::ssize_t>(n)});
   auto w = out.mutable_unchecked<2>();
   for (int k = 0; k < n; ++k) {
-    const auto re = column(key(k + 1, "_re")).unchecked<1>();
-    const auto im = column(key(k + 1, "_im")).unchecked<1>();
+    const py::array_t<double> re_held = column(key(k + 1, "_re")), im_held = column(key(k + 1, "_im"));
+    const auto re = re_held.unchecked<1>();
+    const auto im = im_held.unchecked<1>();
     for (py::ssize_t i = 0; i < rows; ++i) w(i, k) = {re(i), im(i)};
   }
   return out;
@@ -339,7 +341,7 @@ SettingValue KeywordValue(py::handle h, const SettingInfo& info) {
 // raises for an unexpected keyword. `convert` may take a keyword first (a
 // period given as a number or a tuple), returning no value to decline it.
 template <class Options>
-SettingPatch KeywordPatch(const SettingTable<Options>& table, const std::string& command, const py::kwargs& kwargs,
+SettingPatch KeywordPatch(const SettingTable<Options>& table, const std::string& command, const py::dict& kwargs,
                           const std::function<std::optional<SettingValue>(const std::string&, py::handle)>& convert = {}) {
   SettingPatch patch;
   for (auto [key, value] : kwargs) {
@@ -450,7 +452,9 @@ ResponseOptions ResponseOptionsOf(const Model& model, int impacts, int periods, 
 // within a fraction of a second), awaited, and the KeyboardInterrupt raised.
 // The stop request is cleared, so the next call runs. Called from another
 // Python thread, PyErr_CheckSignals never reports a signal: the call then
-// runs to its end, as any call without this did.
+// runs to its end, as any call without this did. The stop request is the
+// process's (stop.h): a Ctrl-C stops every call running at that moment, in
+// any Python thread, not only the one that saw it.
 template <class F>
 auto Interruptible(F&& work) -> decltype(work()) {
   using R = decltype(work());
@@ -925,7 +929,7 @@ A run that stopped early has "status" != "finished" and says why in
       "simulate",
       [](const Model& model, const py::args& args, const py::kwargs& kwargs) {
         // x0 and v0 may come by position, as before the settings table.
-        py::kwargs all = kwargs;
+        py::dict all = kwargs.attr("copy")();  // the caller's dict is left as it was
         const char* positional[] = {"x0", "v0"};
         if (args.size() > 2) throw py::type_error("simulate() takes at most 3 positional arguments (model, x0, v0)");
         for (std::size_t i = 0; i < args.size(); ++i) {
@@ -990,7 +994,7 @@ the summary; no value is ever inf or NaN.)doc" + KeywordDoc(ValidateSettings(), 
   mod.def(
       "validate",
       [](const Model& model, const py::args& args, const py::kwargs& kwargs) {
-        py::kwargs all = kwargs;
+        py::dict all = kwargs.attr("copy")();  // the caller's dict is left as it was
         const py::object progress = all.contains("progress") ? all.attr("pop")("progress") : py::none();
         if (args.size() > 1) throw py::type_error("validate() takes at most 2 positional arguments (model, period)");
         if (args.size() == 1) {
@@ -1008,7 +1012,9 @@ the summary; no value is ever inf or NaN.)doc" + KeywordDoc(ValidateSettings(), 
         const Configured<ValidationRequest> request = ValidateSettings().Resolve({&keywords});
         const AnalysisBasis b(model);
         const ValidationPlan plan = PlanValidation(b, request);
-        const GridValidation v = Interruptible([&] { return RunValidation(model, b, plan, ProgressOf(progress), request.names); });
+        // Made here, with the GIL (it checks and copies a Python object).
+        const std::function<void(long, long)> report = ProgressOf(progress);
+        const GridValidation v = Interruptible([&] { return RunValidation(model, b, plan, report, request.names); });
         py::dict d;
         d["rows"] = TableDict(report::ValidationColumns(), Pointers(v.results));
         d["summary"] = ToPython(report::ValidationJson(v.report, v.results, request));

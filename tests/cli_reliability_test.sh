@@ -133,7 +133,7 @@ expect_error "\-\-periods: 420 orbits over 100000000 periods" t "$bin" validate 
 [ -z "$(ls -A "$tmp/w7" 2>/dev/null)" ] && ok || bad "refused validate wrote $(ls -A "$tmp/w7")"
 # explore: m = 6 on a grid of 200 (2.5e9 samples a period) refused at once.
 expect_error "grid: 2472258789 samples a period" t "$bin" explore "$paper" --impacts 6 --period 5:5:1 --grid 200
-expect_error "\-\-validate: is 100000000: a validation samples every period, at most 1e+07 periods" t "$bin" response "$src/configs/forced.toml" --frequency 0.5:0.55:0.05 --validate 100000000 --out "$tmp/w8"
+expect_error "\-\-validate: is 100000000: a validation samples every period, fewer than 1e+07 periods" t "$bin" response "$src/configs/forced.toml" --frequency 0.5:0.55:0.05 --validate 100000000 --out "$tmp/w8"
 [ -s "$tmp/w6/orbits.csv" ] && ok || bad "2-ipp orbits at T = 1000 were refused: $(cat "$tmp/err")"
 
 # 7. Issue 29. (1) No inf or nan as a value in any table or document a run

@@ -88,14 +88,17 @@ long WholeNumberOf(const SettingValue& v, long lo, long hi, const std::string& f
   long x = 0;
   if (const double* d = std::get_if<double>(&v)) {
     // Range first: casting a non-finite or huge value to an integer is undefined.
-    if (!(std::abs(*d) <= 9.007199254740992e15) || *d != std::floor(*d)) {
-      throw InputError(field, "must be a whole number, got " + FormatValue(*d));
+    if (!std::isfinite(*d) || *d != std::floor(*d)) throw InputError(field, "must be a whole number, got " + FormatValue(*d));
+    if (!(std::abs(*d) <= 9.007199254740992e15)) {
+      throw InputError(field, FormatValue(*d) + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     }
     x = static_cast<long>(*d);
   } else {
     x = IntegerOf(v);
   }
-  if (x < lo || x > hi) throw InputError(field, std::to_string(x) + " is out of range");
+  if (x < lo || x > hi) {
+    throw InputError(field, std::to_string(x) + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
   return x;
 }
 

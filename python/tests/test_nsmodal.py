@@ -574,3 +574,20 @@ def test_a_period_grid_given_as_an_array(paper):
     assert len(nsmodal.orbits(paper, period=np.arange(2.0, 12.0, 0.5))["T"]) == 20
     with pytest.raises(ValueError, match="evenly spaced"):
         nsmodal.orbits(paper, period=np.array([2.0, 3.0, 5.0]))
+
+
+def test_review_findings_stay_fixed(paper):
+    # stack() of columns that need a conversion (lists, ints): the converted
+    # arrays are kept alive while read (they were read after being freed).
+    np.testing.assert_array_equal(nsmodal.stack({"x1": [1, 2], "x2": [3.0, 4.0]}, "x"), [[1.0, 3.0], [2.0, 4.0]])
+    # validate(progress=...) checks the callable on the calling thread, with the GIL.
+    with pytest.raises(TypeError, match="progress"):
+        nsmodal.validate(paper, period=5.0, periods=2, progress=1)
+
+
+def test_a_built_in_name_is_taken_unless_a_regular_file_has_it(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "paper").mkdir()  # a directory of that name is not a scene
+    assert nsmodal.load_scene("paper").dofs == 2
+    with pytest.raises(ValueError, match="empty"):
+        nsmodal.load_scene("")

@@ -308,15 +308,23 @@ std::string ReadSceneFile(const std::string& path, const std::string& field) {
 }
 
 Scene LoadScene(const std::string& path, const std::string& field) {
-  struct stat st {};
-  if (path.find('/') == std::string::npos && path.find('\0') == std::string::npos && ::stat(path.c_str(), &st) != 0 &&
-      errno == ENOENT) {
-    for (const auto& [name, text] : BuiltinScenes()) {
-      if (name == path) return ParseScene(text, "builtin:" + name);
+  // A built-in name ("paper") when no regular file of that name is here: a
+  // path with a slash never is a name; an empty path or one with a NUL gets
+  // ReadSceneFile's own message.
+  if (!path.empty() && path.find('/') == std::string::npos && path.find('\0') == std::string::npos) {
+    struct stat st {};
+    const int found = ::stat(path.c_str(), &st);
+    const int error = errno;
+    if (found != 0 || !S_ISREG(st.st_mode)) {
+      for (const auto& [name, text] : BuiltinScenes()) {
+        if (name == path) return ParseScene(text, "builtin:" + name);
+      }
+      if (found != 0 && error == ENOENT) {
+        std::string names;
+        for (const auto& [name, text] : BuiltinScenes()) names += (names.empty() ? "" : ", ") + name;
+        throw InputError(field, "no file '" + Printable(path) + "', and no built-in scene of that name (" + names + ")");
+      }
     }
-    std::string names;
-    for (const auto& [name, text] : BuiltinScenes()) names += (names.empty() ? "" : ", ") + name;
-    throw InputError(field, "no file '" + Printable(path) + "', and no built-in scene of that name (" + names + ")");
   }
   return ParseScene(ReadSceneFile(path, field), path);
 }

@@ -381,8 +381,9 @@ void CheckValidationWork(const Model& model, double simulated_time, long orbits,
     // state once a period (its deviation), and a simulation takes at most
     // 1e7 samples (SimulateOptions::Validate), which would otherwise refuse
     // it naming sample_dt, a setting the user never gave.
-    if (options.periods > kMaxValidationPeriods) {
-      throw InputError(names("periods"), "is " + std::to_string(options.periods) + ": a validation samples every period, at most " +
+    // At the bound itself (periods T) / T can round above 1e7: so below it.
+    if (options.periods >= kMaxValidationPeriods) {
+      throw InputError(names("periods"), "is " + std::to_string(options.periods) + ": a validation samples every period, fewer than " +
                                              FormatEstimate(kMaxValidationPeriods) + " periods (use fewer periods)");
     }
     return;

@@ -110,8 +110,9 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
 // CheckValidationWork throws InputError naming names("periods") with the
 // estimate and how to lower it.
 inline constexpr double kMaxValidationSeconds = 3600.0;
-// Within that time, at most kMaxValidationPeriods periods (each is a sample
-// of the deviation, and a simulation takes at most 1e7 samples).
+// Within that time, fewer than kMaxValidationPeriods periods (each is a
+// sample of the deviation, and a simulation takes at most 1e7 samples: at
+// 1e7 periods, (1e7 T) / T can round above it).
 inline constexpr long kMaxValidationPeriods = 10000000;
 double ValidationSeconds(const Model& model, double simulated_time, const ValidateOptions& options);
 void CheckValidationWork(const Model& model, double simulated_time, long orbits, const ValidateOptions& options,
