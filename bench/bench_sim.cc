@@ -209,7 +209,7 @@ void BM_ExactBarImpacts(benchmark::State& state) {
     const auto start = std::chrono::steady_clock::now();
     const ModalTruncation t = TruncateModes(full, k);
     state.counters["truncate_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    state.counters["contact_bound_over_d"] = t.ContactBound(0.5 * v.dot(full.mass * v)) / full.gap;
+    state.counters["contact_bound_over_d"] = t.ContactBound(0.5 * v.dot(full.mass * v)) / full.FirstContact().gap;
     m = t.model;
     x0 = t.from_physical * x0;
     v0 = t.from_physical * v0;

@@ -130,7 +130,7 @@ int RunSimulate(const SimulateArgs& a) {
   const Configured<SimulationRequest> request = SimulateSettings().Resolve({&scene.simulate, &a.flags});
   const SimulateOptions& opt = request.options.options;
   const SimulationPlan plan = PlanSimulation(m, request);
-  report::PrintSimulationTruncation(std::cout, plan, m.contact);
+  report::PrintSimulationTruncation(std::cout, plan, m.FirstContact().dof);
   const report::TableFormat format = report::ParseTableFormat(a.format);
   std::vector<std::string> owned = report::TableFileNames({"trajectory", "impacts"});
   owned.push_back("summary.json");
@@ -221,7 +221,7 @@ int RunFigures(const FiguresArgs& a) {
   opt.sweep.progress = ProgressBar("1- and 2-ipp sweep");
   const Atlas atlas = ComputeAtlas(b, grid, opt);
   report::PrintAtlas(std::cout, atlas);
-  const report::FiguresResult r = report::DrawPaperFigures(b, scene.model.contact, atlas, dir, std::cout);
+  const report::FiguresResult r = report::DrawPaperFigures(b, scene.model.FirstContact().dof, atlas, dir, std::cout);
   if (r.failed) throw report::OutputError(std::to_string(r.failed) + " figure(s) could not be drawn (see above)");
   return 0;
 }

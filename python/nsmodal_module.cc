@@ -389,12 +389,73 @@ FieldNames ModelKeywordNames() {
                           "forcing.amplitude", "forcing.frequency"}) {
     names.Set(key, key);
   }
+  names.Set("contact", "contacts");
   return names.Set("form", "masses");
+}
+
+// contacts=[dict(dof=2, side="upper", gap=1.0, restitution=1.0), ...]: each
+// dict a scene's [[contact]] table (model_spec.h), its keys checked here.
+std::optional<std::vector<ContactSpec>> ContactSpecs(const std::optional<py::list>& contacts) {
+  if (!contacts) return std::nullopt;
+  std::vector<ContactSpec> specs;
+  for (std::size_t j = 0; j < contacts->size(); ++j) {
+    const std::string at = "contacts[" + std::to_string(j) + "]";
+    const py::handle item = (*contacts)[j];
+    if (!py::isinstance<py::dict>(item)) {
+      throw py::type_error(at + ": must be a dict (dof=, side=, between=, normal=, gap=, restitution=), got " +
+                           Repr(item));
+    }
+    ContactSpec c;
+    for (auto [key, value] : item.cast<py::dict>()) {
+      const std::string k = py::str(key);
+      const std::string name = at + "['" + k + "']";
+      auto list = [&] {
+        std::vector<double> v;
+        for (py::handle x : value.cast<py::iterable>()) v.push_back(RealOf(x, name.c_str()));
+        return v;
+      };
+      if (k == "dof") {
+        c.dof = IntOf(value, name.c_str());
+      } else if (k == "side") {
+        if (!py::isinstance<py::str>(value)) throw py::type_error(name + ": must be \"upper\" or \"lower\", got " + Repr(value));
+        c.side = value.cast<std::string>();
+      } else if (k == "between") {
+        c.between = list();
+      } else if (k == "normal") {
+        c.normal = list();
+      } else if (k == "gap") {
+        c.gap = RealOf(value, name.c_str());
+      } else if (k == "restitution") {
+        c.restitution = RealOf(value, name.c_str());
+      } else {
+        throw py::type_error(at + ": unexpected key '" + k + "' (dof, side, between, normal, gap, restitution)");
+      }
+    }
+    specs.push_back(std::move(c));
+  }
+  return specs;
+}
+
+// A contact as the dict contacts= takes (its form as written).
+py::dict ContactDict(const Contact& c) {
+  py::dict d;
+  switch (c.form) {
+    case Contact::Form::kDof:
+      d["dof"] = c.dof + 1;
+      d["side"] = c.upper ? "upper" : "lower";
+      break;
+    case Contact::Form::kBetween: d["between"] = py::make_tuple(c.dof + 1, c.other + 1); break;
+    case Contact::Form::kNormal: d["normal"] = c.normal; break;
+  }
+  d["gap"] = c.gap;
+  d["restitution"] = c.restitution;
+  return d;
 }
 
 Model MakeModel(std::optional<std::vector<double>> masses, std::optional<std::vector<double>> springs,
                 std::optional<Eigen::MatrixXd> mass_matrix, std::optional<Eigen::MatrixXd> stiffness_matrix,
-                Real<"gap"> gap, Real<"restitution"> restitution, std::optional<Integer<"contact_dof">> contact_dof,
+                std::optional<Real<"gap">> gap, std::optional<Real<"restitution">> restitution,
+                std::optional<Integer<"contact_dof">> contact_dof, std::optional<py::list> contacts,
                 std::optional<std::vector<double>> rayleigh_damping, std::optional<std::vector<double>> damping_ratios,
                 std::optional<Eigen::MatrixXd> damping_matrix, std::optional<std::vector<double>> forcing_amplitude,
                 std::optional<Real<"forcing_frequency">> forcing_frequency,
@@ -405,8 +466,9 @@ Model MakeModel(std::optional<std::vector<double>> masses, std::optional<std::ve
                  .stiffness_matrix = std::move(stiffness_matrix),
                  .bar = std::nullopt,
                  .contact_dof = contact_dof ? std::optional<double>(*contact_dof) : std::nullopt,
-                 .gap = gap,
-                 .restitution = restitution,
+                 .gap = gap ? std::optional<double>(*gap) : std::nullopt,
+                 .restitution = restitution ? std::optional<double>(*restitution) : std::nullopt,
+                 .contacts = ContactSpecs(contacts),
                  .rayleigh_damping = std::move(rayleigh_damping),
                  .damping_ratios = std::move(damping_ratios),
                  .damping_matrix = std::move(damping_matrix),
@@ -578,29 +640,35 @@ a document's dict; never inf or NaN as a value.)doc";
   });
 
   py::class_<Model>(mod, "Model", R"doc(A vibro-impact system: M x'' + C x' + K x = f0 + f cos(w t) in flight,
-x_c <= d, Newton's law.
+contacts g_j = d_j - n_j . x >= 0, each with Newton's law.
 
 Model(masses=None, springs=None, mass_matrix=None, stiffness_matrix=None, *,
-      gap, restitution, contact_dof=None,
+      gap=None, restitution=None, contact_dof=None, contacts=None,
       rayleigh_damping=None, damping_ratios=None, damping_matrix=None,
       forcing_amplitude=None, forcing_frequency=None, forcing_constant=None)
 
 Either a chain (masses m_1..m_N and springs ground-m_1, m_1-m_2, ...) or
-symmetric positive-definite mass and stiffness matrices. contact_dof is
-1-based (default: the last dof); gap d > 0; restitution e in [0, 1]
-(nonsmooth-mode analysis needs e = 1, no damping, no force; simulation takes
-any e). Damping, at most one of: rayleigh_damping (a, b): C = a M + b K;
+symmetric positive-definite mass and stiffness matrices. One stop x_c <= d:
+gap d > 0, restitution e in [0, 1], contact_dof 1-based (default: the last
+dof). Or several contacts, numbered from 1 in the order given:
+contacts=[dict(dof=2, side="upper", gap=1.0, restitution=1.0),
+dict(dof=2, side="lower", gap=1.0, restitution=1.0),
+dict(between=(1, 2), gap=0.2, restitution=0.6),
+dict(normal=[...], gap=..., restitution=...)], as the scene's [[contact]]
+tables ("lower": x >= -gap; between=(a, b): x_a - x_b <= gap). Nonsmooth-mode
+analysis needs e = 1 (one contact, for now), no damping, no force; simulation
+takes any e and any number of contacts. Damping, at most one of: rayleigh_damping (a, b): C = a M + b K;
 damping_ratios: one per linear mode; damping_matrix: any symmetric positive
 semi-definite C. Forcing: f = forcing_amplitude (N values) at
 w = forcing_frequency, f0 = forcing_constant.)doc")
       .def(py::init(&MakeModel), py::arg("masses") = py::none(), py::arg("springs") = py::none(),
            py::arg("mass_matrix") = py::none(), py::arg("stiffness_matrix") = py::none(), py::kw_only(),
-           py::arg("gap"), py::arg("restitution"), py::arg("contact_dof") = py::none(),
-           py::arg("rayleigh_damping") = py::none(), py::arg("damping_ratios") = py::none(),
+           py::arg("gap") = py::none(), py::arg("restitution") = py::none(), py::arg("contact_dof") = py::none(),
+           py::arg("contacts") = py::none(), py::arg("rayleigh_damping") = py::none(), py::arg("damping_ratios") = py::none(),
            py::arg("damping_matrix") = py::none(), py::arg("forcing_amplitude") = py::none(),
            py::arg("forcing_frequency") = py::none(), py::arg("forcing_constant") = py::none(),
-           Signed("__init__(self, /, masses=None, springs=None, mass_matrix=None, stiffness_matrix=None, *, gap, "
-                  "restitution, contact_dof=None, rayleigh_damping=None, damping_ratios=None, damping_matrix=None, "
+           Signed("__init__(self, /, masses=None, springs=None, mass_matrix=None, stiffness_matrix=None, *, gap=None, "
+                  "restitution=None, contact_dof=None, contacts=None, rayleigh_damping=None, damping_ratios=None, damping_matrix=None, "
                   "forcing_amplitude=None, forcing_frequency=None, forcing_constant=None)",
                   "A Model from a chain or from matrices (see the class)."))
       .def_property_readonly("damping_matrix", [](const Model& m) { return m.DampingMatrix(); }, "C (N x N; zero: none).")
@@ -610,9 +678,19 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
       .def_property_readonly("dofs", &Model::dofs, "Number of degrees of freedom N.")
       .def_property_readonly("mass_matrix", [](const Model& m) { return m.mass; }, "M (N x N).")
       .def_property_readonly("stiffness_matrix", [](const Model& m) { return m.stiffness; }, "K (N x N).")
-      .def_property_readonly("contact_dof", [](const Model& m) { return m.contact + 1; }, "c, 1-based.")
-      .def_property_readonly("gap", [](const Model& m) { return m.gap; }, "d.")
-      .def_property_readonly("restitution", [](const Model& m) { return m.restitution; }, "e.")
+      .def_property_readonly("contact_dof", [](const Model& m) { return m.FirstContact().PlotDof() + 1; },
+                             "c, 1-based: contact 1's dof.")
+      .def_property_readonly("gap", [](const Model& m) { return m.FirstContact().gap; }, "d: contact 1's gap.")
+      .def_property_readonly("restitution", [](const Model& m) { return m.FirstContact().restitution; },
+                             "e: contact 1's restitution.")
+      .def_property_readonly(
+          "contacts",
+          [](const Model& m) {
+            py::list out;
+            for (const Contact& c : m.contacts) out.append(ContactDict(c));
+            return out;
+          },
+          "The contacts as dicts (the contacts= keyword's form), contact 1 first.")
       .def_property_readonly(
           "linear_periods",
           [](const Model& m) {
@@ -627,7 +705,7 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
             // The constructor's keywords; the current model's matrices,
             // contact and forcing are the defaults a change overrides.
             static const char* keywords[] = {"masses", "springs", "mass_matrix", "stiffness_matrix", "gap",
-                                             "restitution", "contact_dof", "rayleigh_damping", "damping_ratios",
+                                             "restitution", "contact_dof", "contacts", "rayleigh_damping", "damping_ratios",
                                              "damping_matrix", "forcing_amplitude", "forcing_frequency",
                                              "forcing_constant"};
             for (auto [key, value] : changes) {
@@ -642,9 +720,29 @@ w = forcing_frequency, f0 = forcing_constant.)doc")
               kw["mass_matrix"] = m.mass;
               kw["stiffness_matrix"] = m.stiffness;
             }
-            kw["gap"] = m.gap;
-            kw["restitution"] = m.restitution;
-            kw["contact_dof"] = m.contact + 1;
+            // The contacts as they were written (the shorthand's keys
+            // override one by one; contacts= replaces them all).
+            const bool shorthand = m.NumContacts() == 1 && m.FirstContact().shorthand;
+            const bool new_shorthand = changes.contains("gap") || changes.contains("restitution") ||
+                                       changes.contains("contact_dof");
+            if (changes.contains("contacts") && new_shorthand) {
+              throw InputError("contacts", "give either contacts= or the one-contact keywords (gap, restitution, "
+                                           "contact_dof), not both");
+            }
+            if (!changes.contains("contacts")) {
+              if (shorthand) {
+                kw["gap"] = m.FirstContact().gap;
+                kw["restitution"] = m.FirstContact().restitution;
+                kw["contact_dof"] = m.FirstContact().dof + 1;
+              } else if (new_shorthand) {
+                throw InputError("contacts", "this model's contacts were given as contacts=[...]: change them with "
+                                             "contacts=, not with gap, restitution or contact_dof");
+              } else {
+                py::list list;
+                for (const Contact& c : m.contacts) list.append(ContactDict(c));
+                kw["contacts"] = list;
+              }
+            }
             const bool new_damping = changes.contains("rayleigh_damping") || changes.contains("damping_ratios") ||
                                      changes.contains("damping_matrix");
             if (m.HasDamping() && !new_damping) kw["damping_matrix"] = m.damping;
@@ -661,14 +759,19 @@ m.replace(restitution=0.8, rayleigh_damping=(0.0, 0.01)). masses and springs
 replace the matrices; a damping form replaces the damping. Checked as a new
 Model is.)doc"))
       // Pickling (multiprocessing, joblib, copy): the matrices, the forcing and
-      // the contact; a state is checked on the way in as a new Model is.
+      // the contacts; a state is checked on the way in as a new Model is.
       .def(py::pickle(
           [](const Model& m) {
-            return py::make_tuple(1, m.mass, m.stiffness, m.damping, m.forcing.constant, m.forcing.amplitude,
-                                  m.forcing.frequency, m.contact, m.gap, m.restitution);
+            py::list contacts;
+            for (const Contact& c : m.contacts) {
+              contacts.append(py::make_tuple(static_cast<int>(c.form), c.dof, c.other, c.upper, c.normal, c.gap,
+                                             c.restitution, c.shorthand));
+            }
+            return py::make_tuple(2, m.mass, m.stiffness, m.damping, m.forcing.constant, m.forcing.amplitude,
+                                  m.forcing.frequency, contacts);
           },
           [](const py::tuple& t) {
-            if (t.size() != 10 || t[0].cast<int>() != 1) throw InputError("state", "is not a pickled nsmodal.Model");
+            if (t.size() != 8 || t[0].cast<int>() != 2) throw InputError("state", "is not a pickled nsmodal.Model");
             Model m;
             m.mass = t[1].cast<Eigen::MatrixXd>();
             m.stiffness = t[2].cast<Eigen::MatrixXd>();
@@ -676,22 +779,42 @@ Model is.)doc"))
             m.forcing.constant = t[4].cast<Eigen::VectorXd>();
             m.forcing.amplitude = t[5].cast<Eigen::VectorXd>();
             m.forcing.frequency = t[6].cast<double>();
-            m.contact = t[7].cast<int>();
-            m.gap = t[8].cast<double>();
-            m.restitution = t[9].cast<double>();
+            for (py::handle h : t[7].cast<py::list>()) {
+              const py::tuple c = h.cast<py::tuple>();
+              const int form = c[0].cast<int>();
+              if (c.size() != 8 || form < 0 || form > 2) throw InputError("state", "is not a pickled nsmodal.Model");
+              Contact k;
+              k.form = static_cast<Contact::Form>(form);
+              k.dof = c[1].cast<int>();
+              k.other = c[2].cast<int>();
+              k.upper = c[3].cast<bool>();
+              k.normal = c[4].cast<Eigen::VectorXd>();
+              k.gap = c[5].cast<double>();
+              k.restitution = c[6].cast<double>();
+              k.shorthand = c[7].cast<bool>();
+              m.contacts.push_back(std::move(k));
+            }
             Validate(m);
             return m;
           }))
       .def("__repr__", [](const Model& m) {
-        return "<nsmodal.Model: " + std::to_string(m.dofs()) + " dofs, contact_dof " + std::to_string(m.contact + 1) +
-               ", gap " + FormatValue(m.gap) + ", restitution " + FormatValue(m.restitution) + ">";
+        if (m.NumContacts() > 1 || !m.FirstContact().shorthand) {
+          std::string text = "<nsmodal.Model: " + std::to_string(m.dofs()) + " dofs, contacts";
+          for (const Contact& c : m.contacts) text += " " + c.Describe() + " (e = " + FormatValue(c.restitution) + ");";
+          text.back() = '>';
+          return text;
+        }
+        return "<nsmodal.Model: " + std::to_string(m.dofs()) + " dofs, contact_dof " +
+               std::to_string(m.FirstContact().dof + 1) + ", gap " + FormatValue(m.FirstContact().gap) +
+               ", restitution " + FormatValue(m.FirstContact().restitution) + ">";
       });
 
   mod.def(
       "bar",
       [](Real<"length"> length, Real<"youngs_modulus"> youngs_modulus, Real<"density"> density, Real<"area"> area,
          Integer<"elements"> elements, const std::string& boundary, const std::string& mass,
-         std::optional<Integer<"contact_dof">> contact_dof, Real<"gap"> gap, Real<"restitution"> restitution) {
+         std::optional<Integer<"contact_dof">> contact_dof, std::optional<Real<"gap">> gap,
+         std::optional<Real<"restitution">> restitution, std::optional<py::list> contacts) {
         BarSpec bar;
         bar.length = length;
         bar.youngs_modulus = youngs_modulus;
@@ -703,18 +826,22 @@ Model is.)doc"))
         ModelSpec spec;
         spec.bar = bar;
         if (contact_dof) spec.contact_dof = *contact_dof;
-        spec.gap = gap;
-        spec.restitution = restitution;
+        if (gap) spec.gap = *gap;
+        if (restitution) spec.restitution = *restitution;
+        spec.contacts = ContactSpecs(contacts);
         return AssembleModel(spec, ModelKeywordNames());
       },
       py::kw_only(), py::arg("length"), py::arg("youngs_modulus"), py::arg("density"), py::arg("area"),
       py::arg("elements"), py::arg("boundary") = "fixed-free", py::arg("mass") = "consistent",
-      py::arg("contact_dof") = py::none(), py::arg("gap"), py::arg("restitution"),
-      Signed("bar(*, length, youngs_modulus, density, area, elements, boundary='fixed-free', mass='consistent', contact_dof=None, gap, restitution)", R"doc(A uniform elastic bar in axial vibration by linear finite elements (the
+      py::arg("contact_dof") = py::none(), py::arg("gap") = py::none(), py::arg("restitution") = py::none(),
+      py::arg("contacts") = py::none(),
+      Signed("bar(*, length, youngs_modulus, density, area, elements, boundary='fixed-free', mass='consistent', "
+             "contact_dof=None, gap=None, restitution=None, contacts=None)", R"doc(A uniform elastic bar in axial vibration by linear finite elements (the
 scene's [system] bar): `elements` elements, one node per element end;
 boundary "fixed-free" (node 0 clamped; dofs = nodes 1..n) or "free-free"
 (dofs = nodes 0..n, one rigid-body mode: simulation only); mass
-"consistent" or "lumped". contact_dof is 1-based (default: the last node).)doc"));
+"consistent" or "lumped". contact_dof is 1-based (default: the last node);
+contacts=[...] gives several contacts instead, as Model's.)doc"));
 
   py::class_<ModalTruncation>(mod, "ModalTruncation", R"doc(The first k linear modes of a model as a model of k
 dofs (truncation.h): `model` (its dof 1 is x_c), `to_physical` (N x k: x =

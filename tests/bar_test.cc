@@ -71,12 +71,12 @@ TEST(Bar, SceneBuildsTheBarWithItsContactOnTheFreeEnd) {
       "[system]\nbar = { length = 1.0, youngs_modulus = 210e9, density = 7800, area = 3.14e-4, elements = 10 }\n"
       "gap = 1e-4\nrestitution = 1.0\n");
   EXPECT_EQ(s.model.dofs(), 10);
-  EXPECT_EQ(s.model.contact, 9);
+  EXPECT_EQ(s.model.FirstContact().dof, 9);
   EXPECT_LT((s.model.stiffness - MakeBar(Steel(10), 9, 1e-4, 1.0).stiffness).norm(), 1e-6);
   const Scene mid = ParseScene(
       "[system]\nbar = { length = 1.0, youngs_modulus = 210e9, density = 7800, area = 3.14e-4, elements = 10, "
       "mass = \"lumped\" }\ncontact_dof = 5\ngap = 1e-4\nrestitution = 1.0\n");
-  EXPECT_EQ(mid.model.contact, 4);
+  EXPECT_EQ(mid.model.FirstContact().dof, 4);
   EXPECT_EQ(mid.model.mass(4, 5), 0.0);
 }
 

@@ -67,7 +67,7 @@ fi
 sim=$src/configs/paper-simulate.toml
 if "$bin" simulate "$sim" --out "$tmp/sim" --t-end 20 >/dev/null 2>&1; then
   head -1 "$tmp/sim/trajectory.csv" | grep -qx 't,x1,x2,v1,v2,energy' && ok || bad "trajectory.csv header"
-  head -1 "$tmp/sim/impacts.csv" | grep -qx 't,x1_before,x2_before,v1_before,v2_before,x1_after,x2_after,v1_after,v2_after' && ok || bad "impacts.csv header"
+  head -1 "$tmp/sim/impacts.csv" | grep -qx 't,contact,x1_before,x2_before,v1_before,v2_before,x1_after,x2_after,v1_after,v2_after' && ok || bad "impacts.csv header"
   python3 -c "
 import json; d=json.load(open('$tmp/sim/summary.json'))
 for k in ('final_time','final_state','impacts','sticking_time','energy_drift','wall_time_s','steps'): assert k in d, k

@@ -90,13 +90,13 @@ TEST(Explore, AdmissibleThreeImpactOrbitThatIsNotALowerOrbit) {
       max_interior = std::max(max_interior, w[1]);
     }
     z = testing::PhysicalFlow(m, t - prev) * z;
-    EXPECT_NEAR(z[1], m.gap, 1e-12);  // NC2
+    EXPECT_NEAR(z[1], m.FirstContact().gap, 1e-12);  // NC2
     min_impact_speed = std::min(min_impact_speed, z[3]);
     z[3] = -z[3];  // Newton law, e = 1, diagonal M
     prev = t;
   }
   EXPECT_LT((z - found->orbit.z0).norm(), 1e-12 * found->orbit.z0.norm());  // periodic
-  EXPECT_LT(max_interior, m.gap - 1e-5);                                     // NC3 with margin
+  EXPECT_LT(max_interior, m.FirstContact().gap - 1e-5);                                     // NC3 with margin
   EXPECT_GT(min_impact_speed, 0.1);                                          // real impacts
 }
 

@@ -18,6 +18,8 @@ inline Model PaperPlusUncoupledMass() {
   m.stiffness = Eigen::Matrix3d::Zero();
   m.stiffness.topLeftCorner(2, 2) = PaperModel().stiffness;
   m.stiffness(2, 2) = 5.0;
+  m.contacts = {DofContact(3, 1, true, 1.0, 1.0)};  // the paper's x2 <= 1 in 3 dofs
+  m.FirstContact().shorthand = true;
   return m;
 }
 
@@ -28,9 +30,8 @@ inline Model CoupledThreeDof() {
   m.mass << 2.0, 0.3, 0.1, 0.3, 1.5, 0.2, 0.1, 0.2, 1.0;
   m.stiffness.resize(3, 3);
   m.stiffness << 3.0, -1.0, 0.0, -1.0, 2.5, -0.8, 0.0, -0.8, 1.2;
-  m.contact = 1;
-  m.gap = 0.7;
-  m.restitution = 1.0;
+  m.contacts = {DofContact(m.dofs(), 1, true, 0.7, 1.0)};
+  m.FirstContact().shorthand = true;
   return m;
 }
 

@@ -31,7 +31,7 @@ inline Eigen::VectorXd ReceptanceState(const Model& m, double t) {
 // impact per forcing period.
 inline Model DampedForcedPaper() {
   Model m = PaperModel();
-  m.restitution = 0.8;
+  m.FirstContact().restitution = 0.8;
   m.damping = RayleighDamping(m.mass, m.stiffness, 0.05, 0.02);
   m.forcing.amplitude = Eigen::Vector2d(0.3, 0.1);
   m.forcing.constant = Eigen::Vector2d(0.05, -0.02);
@@ -55,7 +55,7 @@ class TextbookSimulator {
     zeta_ = modal.diagonal().cwiseQuotient(2.0 * b_.omega);
     f0_ = b_.phi.transpose() * m.ConstantForce();
     f_ = b_.phi.transpose() * m.ForceAmplitude();
-    minv_c_ = m.mass.inverse().col(m.contact);
+    minv_c_ = m.mass.inverse().col(m.FirstContact().dof);
   }
   // Modal coordinate i's particular solution and its derivative at t.
   std::pair<double, double> Particular(int i, double t) const {
@@ -80,7 +80,7 @@ class TextbookSimulator {
     }
     return out;
   }
-  double Gap(const Eigen::VectorXd& qq) const { return b_.r.dot(qq.head(b_.n)) - m_.gap; }
+  double Gap(const Eigen::VectorXd& qq) const { return b_.r.dot(qq.head(b_.n)) - m_.FirstContact().gap; }
 
   // The physical state at t_end from (x0, v0); counts impacts.
   Eigen::VectorXd Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& v0, double t_end, long* impacts) const {
@@ -106,7 +106,7 @@ class TextbookSimulator {
       qq = Flight(qq, t, hi);
       t += hi;
       Eigen::VectorXd v = b_.phi * qq.tail(n);
-      v -= (1.0 + m_.restitution) * v[m_.contact] / minv_c_[m_.contact] * minv_c_;
+      v -= (1.0 + m_.FirstContact().restitution) * v[m_.FirstContact().dof] / minv_c_[m_.FirstContact().dof] * minv_c_;
       qq.tail(n) = b_.phi_inv * v;
       ++*impacts;
     }

@@ -62,7 +62,7 @@ TEST(ForcedOrbit, OneDofOneOneOrbitMatchesTheClosedForm) {
 TEST(ForcedOrbit, EnergyBalanceOverAPeriod) {
   for (double e : {0.8, 1.0}) {
     Model m = DampedForcedPaper();
-    m.restitution = e;
+    m.FirstContact().restitution = e;
     const ForcedProblem problem(m, 1, 1, m.forcing.frequency, 0.3);
     const std::vector<Eigen::VectorXd> found = problem.FindAll();
     ASSERT_FALSE(found.empty()) << "e = " << e;

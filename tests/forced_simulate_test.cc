@@ -30,7 +30,7 @@ TEST(ForcedSimulation, LinearLimitIsTheReceptanceResponse) {
   // The obstacle far away (never reached); Rayleigh damping strong enough
   // that the transient has decayed by e^-59 at t = 1000.
   Model m = DampedForcedPaper();
-  m.gap = 1e3;
+  m.FirstContact().gap = 1e3;
   m.damping = RayleighDamping(m.mass, m.stiffness, 0.1, 0.05);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(2);
   const double t_end = 1000.0;
@@ -195,7 +195,7 @@ TEST(ForcedSimulation, ZeroDampingAndForcingGiveTodaysResultsExactly) {
 
 TEST(ForcedSimulation, AnUndampedForcedFlightMatchesCvode) {
   Model m = PaperModel();
-  m.restitution = 0.9;
+  m.FirstContact().restitution = 0.9;
   m.forcing.amplitude = Eigen::Vector2d(0.5, 0.0);
   m.forcing.frequency = 1.3;  // between the linear frequencies 0.62 and 2.1
   const Eigen::VectorXd x0 = Eigen::Vector2d(0.5, 0.5), v0 = Eigen::Vector2d(0.5, 1.0);

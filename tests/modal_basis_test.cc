@@ -24,7 +24,7 @@ TEST(ModalBasis, LinearPeriodsOfThePaper) {
 // the analysis basis cannot be built for e != 1, and says which field.
 TEST(AnalysisBasis, RefusesARestitutionBelowOne) {
   Model m = PaperModel();
-  m.restitution = 0.5;
+  m.FirstContact().restitution = 0.5;
   try {
     const AnalysisBasis b(m);
     FAIL() << "built an analysis basis for e = 0.5";

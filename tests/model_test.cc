@@ -27,7 +27,7 @@ TEST(Model, ChainMatchesPaperEquation2a) {
   k << 2.85, -2.0, -2.0, 2.0;
   EXPECT_EQ(m.stiffness, Eigen::MatrixXd(k));
   EXPECT_EQ(m.mass, Eigen::MatrixXd(Eigen::Matrix2d::Identity()));
-  EXPECT_EQ(m.contact, 1);
+  EXPECT_EQ(m.FirstContact().dof, 1);
 }
 
 // The tridiagonal path of SymmetricEigenvalues (chains, bars) against the
@@ -60,13 +60,13 @@ TEST(Scene, ParsesChainAndMatrices) {
   const Scene a = ParseScene("[system]\nrestitution=1\nmasses=[1,1]\nsprings=[0.85,2]\ngap=1\n");
   EXPECT_EQ(a.model.mass, PaperModel().mass);
   EXPECT_EQ(a.model.stiffness, PaperModel().stiffness);
-  EXPECT_EQ(a.model.contact, 1);  // default: the last dof
+  EXPECT_EQ(a.model.FirstContact().dof, 1);  // default: the last dof
   const Scene b = ParseScene(
       "[system]\nmass_matrix=[[1,0],[0,1]]\nstiffness_matrix=[[2.85,-2],[-2,2]]\ncontact_dof=1\ngap=0.5\n"
       "restitution=0.3\n");
-  EXPECT_EQ(b.model.contact, 0);
-  EXPECT_DOUBLE_EQ(b.model.gap, 0.5);
-  EXPECT_DOUBLE_EQ(b.model.restitution, 0.3);
+  EXPECT_EQ(b.model.FirstContact().dof, 0);
+  EXPECT_DOUBLE_EQ(b.model.FirstContact().gap, 0.5);
+  EXPECT_DOUBLE_EQ(b.model.FirstContact().restitution, 0.3);
 }
 
 TEST(Scene, BadInputNamesTheFieldAndValue) {
@@ -121,7 +121,7 @@ TEST(AssembleModel, TheFacesShareTheRulesAndNameTheirOwnFields) {
   const Model m = AssembleModel(spec, FieldNames("system."));
   EXPECT_EQ(m.damping, scene.model.damping);
   EXPECT_EQ(m.forcing.amplitude, scene.model.forcing.amplitude);
-  EXPECT_EQ(m.contact, 1);
+  EXPECT_EQ(m.FirstContact().dof, 1);
   auto field = [](const ModelSpec& s, const FieldNames& names) {
     try {
       AssembleModel(s, names);

@@ -93,6 +93,7 @@ TEST(NBody, UncoupledMassReproducesTheTenMassChain) {
   big.stiffness = Eigen::MatrixXd::Zero(11, 11);
   big.stiffness.topLeftCorner(10, 10) = small.stiffness;
   big.stiffness(10, 10) = 3.0;
+  big.contacts = {DofContact(11, small.FirstContact().dof, true, small.FirstContact().gap, 1.0)};
   const AnalysisBasis b10(small), b11(big);
   for (double period : {4.3, 9.7, 18.1}) {
     const Orbit o10 = OneImpactOrbit(b10, period), o11 = OneImpactOrbit(b11, period);

@@ -26,7 +26,7 @@ double PaperEq21(double period, double t, bool half_angle, bool flip_b2 = false)
   }
   const double w1 = std::sqrt(w2[0]), w2s = std::sqrt(w2[1]);
   auto cot = [&](double x) { return half_angle ? 1.0 / std::tan(x / 2) : 1.0 / std::tan(x); };
-  const double a = m.gap / (w2s * p(0, 1) * p(1, 0) * cot(w1 * period) - w1 * p(0, 0) * p(1, 1) * cot(w2s * period));
+  const double a = m.FirstContact().gap / (w2s * p(0, 1) * p(1, 0) * cot(w1 * period) - w1 * p(0, 0) * p(1, 1) * cot(w2s * period));
   const double b1 = p(0, 1) * p(1, 0) * w2s / std::sin(w1 * period / 2);
   const double b2 = (flip_b2 ? -1.0 : 1.0) * p(0, 0) * p(1, 1) * w1 / std::sin(w2s * period / 2);
   return a * (b1 * std::cos(w1 * (t - period / 2)) + b2 * std::cos(w2s * (t - period / 2)));

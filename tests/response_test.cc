@@ -15,7 +15,7 @@ namespace {
 // force on m1.
 Model Forced() {
   Model m = PaperModel();
-  m.restitution = 0.8;
+  m.FirstContact().restitution = 0.8;
   m.damping = ModalDamping(m.mass, m.stiffness, {0.02, 0.02});
   m.forcing.amplitude = Eigen::Vector2d(0.3, 0.0);
   m.forcing.frequency = 0.5;

@@ -21,9 +21,8 @@ Model FreePair(double restitution) {
   m.mass = Eigen::Vector2d(1.0, 2.0).asDiagonal();
   m.stiffness.resize(2, 2);
   m.stiffness << 3.0, -3.0, -3.0, 3.0;
-  m.contact = 1;
-  m.gap = 1.0;
-  m.restitution = restitution;
+  m.contacts = {DofContact(m.dofs(), 1, true, 1.0, restitution)};
+  m.FirstContact().shorthand = true;
   Validate(m);
   return m;
 }
@@ -130,16 +129,15 @@ TEST(RigidBody, StickingWithAnUntiedPartIsRefused) {
   m.mass = Eigen::Matrix3d::Identity();
   m.stiffness = Eigen::Matrix3d::Zero();
   m.stiffness.bottomRightCorner(2, 2) << 1.0, -1.0, -1.0, 1.0;  // mass 1 floats alone
-  m.contact = 2;
-  m.gap = 1.0;
-  m.restitution = 0.0;
+  m.contacts = {DofContact(m.dofs(), 2, true, 1.0, 0.0)};
+  m.FirstContact().shorthand = true;
   const Eigen::Vector3d x0(0.0, 0.0, 0.0), v0(0.0, 1.0, 1.0);
   SimulateOptions opt;
   opt.t_end = 5.0;
   opt.sample_dt = 0.0;
   const std::string err = ErrorOf([&] { Simulate(m, x0, v0, opt); });
   EXPECT_NE(err.find("system.stiffness_matrix | "), std::string::npos) << err;
-  EXPECT_NE(err.find("holding the contact dof 3 leaves 1 rigid-body mode"), std::string::npos) << err;
+  EXPECT_NE(err.find("holding contact 1 (x3 <= 1) leaves 1 rigid-body mode"), std::string::npos) << err;
 }
 
 // The dropped bar of issue 12: a free-free steel bar falls at 0.1 m/s onto

@@ -18,7 +18,7 @@ struct ZenoScene {
   double v0[2] = {0.0, 0.01};
   double accumulation_time = 2.0 * 0.005 / (1.0 * 0.5);
   double release_time = std::acos((1.0 - 2.0 / 2.85) / (1.5 - 2.0 / 2.85)) / std::sqrt(2.85);
-  ZenoScene() : model(PaperModel()) { model.restitution = 0.5; }
+  ZenoScene() : model(PaperModel()) { model.FirstContact().restitution = 0.5; }
 };
 
 }  // namespace nsmodal::testing

@@ -173,14 +173,14 @@ TEST(Simulate, ZenoAccumulationAndStickingMatchTheClosedFormAndEachOther) {
   for (const SimulationSummary* s : {&cvode, &mj}) {
     EXPECT_LT((s->final_state - exact.final_state).norm(), 1e-3) << "final states";
   }
-  EXPECT_LT(exact.final_state[1], zs.model.gap + 1e-12);  // never beyond the wall
+  EXPECT_LT(exact.final_state[1], zs.model.FirstContact().gap + 1e-12);  // never beyond the wall
 }
 
 TEST(Simulate, PlasticImpactHoldsOrReleases) {
   // e = 0: the contact velocity is zero after the impact; the mass is held
   // while pushed (a_2 > 0) and leaves when a_2 falls through 0.
   Model m = PaperModel();
-  m.restitution = 0.0;
+  m.FirstContact().restitution = 0.0;
   const Eigen::Vector2d x0(1.5, 0.9), v0(0.0, 1.0);
   std::vector<ContactEvent> events;
   SimulationObserver obs;

@@ -95,7 +95,7 @@ TEST(Truncation, TheBoundHoldsOnTheFullModelsOrbitsAndMotions) {
   EXPECT_GT(tightest, 0.05);  // not vacuous: it measures what it bounds
   // A simulated motion with e = 0.9: E <= E0 all along, so the bound at E0.
   Model lossy = full;
-  lossy.restitution = 0.9;
+  lossy.FirstContact().restitution = 0.9;
   Eigen::VectorXd x0 = Eigen::VectorXd::LinSpaced(20, 0.05, 0.9), v0 = Eigen::VectorXd::Constant(20, 1.0);
   SimulateOptions opt;
   opt.t_end = 100.0;

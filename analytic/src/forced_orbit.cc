@@ -86,17 +86,19 @@ ForcedProblem::ForcedProblem(const Model& model, int impacts, int periods, doubl
                                               " times the flow's fastest time scale 2 pi / max|lambda| = " +
                                               FormatValue(2.0 * M_PI / fastest_));
   }
-  if (model_.restitution == 1.0 && !model_.HasDamping()) {
+  RequireOneContact(model_, "the forced response analysis");
+  if (model_.FirstContact().restitution == 1.0 && !model_.HasDamping()) {
     throw InputError("system", "has no damping and e = 1: its forced periodic responses are not isolated (the "
                                "return map keeps the multiplier 1 of the free orbits, paper section 2); "
                                "give damping or e < 1");
   }
-  const int n = model_.dofs(), c = model_.contact;
+  const int n = model_.dofs();
+  const Contact& contact = model_.FirstContact();
   const Eigen::LDLT<Eigen::MatrixXd> m_ldlt(model_.mass);
-  const Eigen::VectorXd minv_c = m_ldlt.solve(Eigen::VectorXd::Unit(n, c));
+  const Eigen::VectorXd minv_n = m_ldlt.solve(contact.normal);
   impact_ = Eigen::MatrixXd::Identity(2 * n, 2 * n);
-  impact_.bottomRightCorner(n, n) -= ((1.0 + model_.restitution) / minv_c[c]) * minv_c *
-                                     Eigen::RowVectorXd::Unit(n, c);
+  impact_.bottomRightCorner(n, n) -= ((1.0 + contact.restitution) / contact.Along(minv_n)) * minv_n *
+                                     contact.normal.transpose();
   minv_k_ = m_ldlt.solve(model_.stiffness);
   minv_d_ = m_ldlt.solve(model_.DampingMatrix());
   minv_f0_ = m_ldlt.solve(model_.ConstantForce());
@@ -158,7 +160,9 @@ bool ForcedProblem::Residual(const Eigen::VectorXd& u, Eigen::VectorXd& r) const
   Pass pass;
   if (!Run(u, pass)) return false;
   r.resize(m_);
-  for (int i = 0; i < m_; ++i) r[i] = pass.before[i][model_.contact] - model_.gap;
+  const Contact& contact = model_.FirstContact();
+  const int n = model_.dofs();
+  for (int i = 0; i < m_; ++i) r[i] = contact.Along(pass.before[i].head(n)) - contact.gap;
   return r.allFinite();
 }
 
@@ -166,7 +170,7 @@ std::optional<Eigen::VectorXd> ForcedProblem::Solve(Eigen::VectorXd u, int max_i
   Eigen::VectorXd r(m_), rp(m_), rm(m_);
   if (!Residual(u, r)) return std::nullopt;
   for (int it = 0; it < max_iterations; ++it) {
-    if (r.cwiseAbs().maxCoeff() <= tol * model_.gap) return u;
+    if (r.cwiseAbs().maxCoeff() <= tol * model_.FirstContact().gap) return u;
     // Central differences: the Jacobian to ~h^2, enough for Newton's
     // quadratic convergence to the residual's round-off.
     Eigen::MatrixXd j(m_, m_);
@@ -193,9 +197,9 @@ std::optional<Eigen::VectorXd> ForcedProblem::Solve(Eigen::VectorXd u, int max_i
         moved = true;
       }
     }
-    if (!moved) return r.cwiseAbs().maxCoeff() <= 1e3 * tol * model_.gap ? std::optional(u) : std::nullopt;
+    if (!moved) return r.cwiseAbs().maxCoeff() <= 1e3 * tol * model_.FirstContact().gap ? std::optional(u) : std::nullopt;
   }
-  return r.cwiseAbs().maxCoeff() <= tol * model_.gap ? std::optional(u) : std::nullopt;
+  return r.cwiseAbs().maxCoeff() <= tol * model_.FirstContact().gap ? std::optional(u) : std::nullopt;
 }
 
 Eigen::VectorXd ForcedProblem::Canonical(const Eigen::VectorXd& u) const {
@@ -302,8 +306,9 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
   Pass pass;
   const bool ok = Run(u, pass);
   NSMODAL_CHECK(ok);
-  const int n = model_.dofs(), c = model_.contact;
-  const double d = model_.gap;
+  const int n = model_.dofs();
+  const Contact& contact = model_.FirstContact();
+  const double d = contact.gap;
   ForcedOrbit o;
   o.impacts = m_;
   o.periods = n_;
@@ -316,8 +321,8 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
   o.after = pass.after;
   o.min_impact_velocity = std::numeric_limits<double>::infinity();
   for (int i = 0; i < m_; ++i) {
-    o.residual = std::max(o.residual, std::abs(pass.before[i][c] - d));
-    o.min_impact_velocity = std::min(o.min_impact_velocity, pass.before[i][n + c]);
+    o.residual = std::max(o.residual, std::abs(contact.Along(pass.before[i].head(n)) - d));
+    o.min_impact_velocity = std::min(o.min_impact_velocity, contact.Along(pass.before[i].tail(n)));
     o.impact_loss += MechanicalEnergy(model_, pass.before[i]) - MechanicalEnergy(model_, pass.after[i]);
   }
   // Flights: energy integrals by Gauss-Legendre panels no longer than an
@@ -325,7 +330,7 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
   // quadrature is exact to round-off); interior maxima of x_c; NC3.
   static const Quadrature q;
   Eigen::RowVectorXd gap_row = Eigen::RowVectorXd::Zero(2 * n);
-  gap_row[c] = 1.0;
+  gap_row.head(n) = contact.normal.transpose();
   o.max_interior_gap = -std::numeric_limits<double>::infinity();
   o.verdict = "admissible";
   o.admissible = true;
@@ -369,7 +374,7 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
     if (o.admissible) {
       const double tol = 1e-13 * std::max(d, g.bound[0]);
       const FirstRiseResult r = FirstRise(g, tau, tol);
-      const double vc = pass.before[(i + 1) % m_][n + c];
+      const double vc = contact.Along(pass.before[(i + 1) % m_].tail(n));
       const double window = 1e-9 * period_ + 4.0 * tol / std::max(std::abs(vc), 1e-300);
       if (r.found && r.s < tau - window) {
         o.admissible = false;
@@ -393,8 +398,8 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
     const Eigen::VectorXd& zm = pass.before[next];
     const Eigen::VectorXd zp = impact_ * zm;
     Eigen::MatrixXd s = impact_;
-    const double vc = zm[n + c];
-    if (vc != 0.0) s += (Field(t_imp, zp) - impact_ * Field(t_imp, zm)) * Eigen::RowVectorXd::Unit(dim, c) / vc;
+    const double vc = contact.Along(zm.tail(n));
+    if (vc != 0.0) s += (Field(t_imp, zp) - impact_ * Field(t_imp, zm)) * gap_row / vc;
     phi = s * (flow_.Transition(tau) * phi);
   }
   const Eigen::EigenSolver<Eigen::MatrixXd> eig(phi, false);
@@ -419,22 +424,23 @@ Eigen::VectorXd ForcedProblem::StateAt(const ForcedOrbit& orbit, double t) const
 ForcedOrbit LinearResponse(const Model& model, double frequency, double amplitude) {
   const Model m = ScaledModel(model, frequency, amplitude);
   const ForcedFlow flow(m);
-  const int c = m.contact;
-  const double w = frequency, d = m.gap;
+  RequireOneContact(m, "the linear response");
+  const Contact& contact = m.FirstContact();
+  const double w = frequency, d = contact.gap;
   ForcedOrbit o;
   o.impacts = 0;
   o.periods = 1;
   o.frequency = w;
   o.amplitude = amplitude;
   o.period = 2.0 * M_PI / w;
-  const std::complex<double> xc = flow.harmonic_response()[c];
+  const std::complex<double> xc = contact.normal.cast<std::complex<double>>().dot(flow.harmonic_response());
   // x_c(t) = x_s,c + |X_c| cos(w t + arg X_c): largest at w t = -arg X_c.
   double t_max = std::fmod(-std::arg(xc) / w, o.period);
   if (t_max < 0.0) t_max += o.period;
   o.times = {t_max};
   o.after = {flow.Particular(t_max)};
   o.before = o.after;
-  o.max_xc = flow.static_response()[c] + std::abs(xc);
+  o.max_xc = contact.Along(flow.static_response()) + std::abs(xc);
   o.max_interior_gap = o.max_xc - d;
   o.min_impact_velocity = std::numeric_limits<double>::quiet_NaN();
   // Means over a period of x'Kx/2 and v'Mv/2 for x = x_s + Re[X e^{i w t}].

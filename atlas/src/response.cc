@@ -87,7 +87,7 @@ class Tracer {
     if (!(lambda > 0.0)) return false;
     const std::unique_ptr<ForcedProblem> p = Problem(lambda);
     if (!p->Residual(U(xi), r)) return false;
-    r /= model_.gap;
+    r /= model_.FirstContact().gap;
     return true;
   }
   // dH/dxi, m x (m + 1), by central differences (h = 1e-7: truncation
@@ -457,7 +457,7 @@ Model ConservativeTwin(const Model& model) {
   Model twin = model;
   twin.damping.resize(0, 0);
   twin.forcing = Forcing{};
-  twin.restitution = AnalysisBasis::kRestitution;
+  twin.FirstContact().restitution = AnalysisBasis::kRestitution;
   return twin;
 }
 

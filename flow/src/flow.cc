@@ -95,6 +95,11 @@ void Impact(const ModalBasis& b, double e, Eigen::Ref<Eigen::VectorXd> y) {
   y.tail(b.n) -= ((1.0 + e) * vc / b.r_norm2) * b.r;
 }
 
+void Impact(const ModalBasis& b, const ModalContact& c, double e, Eigen::Ref<Eigen::VectorXd> y) {
+  const double vc = c.r.dot(y.tail(b.n));
+  y.tail(b.n) -= ((1.0 + e) * vc / c.r_norm2) * c.r;
+}
+
 Eigen::MatrixXd FlowMatrix(const ModalBasis& b, double t) {
   Eigen::MatrixXd s = Eigen::MatrixXd::Zero(2 * b.n, 2 * b.n);
   for (int i = 0; i < b.rigid; ++i) {
@@ -172,9 +177,25 @@ ContactSignal::ContactSignal(const ModalBasis& basis, const Eigen::Ref<const Eig
   Reset(basis, y);
 }
 
+ContactSignal::ContactSignal(const ModalBasis& basis, const ModalContact& contact,
+                             const Eigen::Ref<const Eigen::VectorXd>& y) {
+  omega = basis.omega;
+  Reset(basis, contact, y);
+}
+
 void ContactSignal::Reset(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y) {
-  a = basis.r_over_omega.cwiseProduct(y.head(basis.n));
-  b = basis.r_over_omega.cwiseProduct(y.tail(basis.n));
+  Reset(basis, basis.r_over_omega, y);
+}
+
+void ContactSignal::Reset(const ModalBasis& basis, const ModalContact& contact,
+                          const Eigen::Ref<const Eigen::VectorXd>& y) {
+  Reset(basis, contact.r_over_omega, y);
+}
+
+void ContactSignal::Reset(const ModalBasis& basis, const Eigen::VectorXd& r_over_omega,
+                          const Eigen::Ref<const Eigen::VectorXd>& y) {
+  a = r_over_omega.cwiseProduct(y.head(basis.n));
+  b = r_over_omega.cwiseProduct(y.tail(basis.n));
   // A rigid-body mode (w_i = 0) drifts: its a_i = r_i q_i stays (cos 0 = 1),
   // its velocity term is the slope r_i s_i, not b_i sin(0).
   const int rigid = basis.rigid;

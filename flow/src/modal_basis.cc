@@ -31,21 +31,33 @@ ModalBasis MakeModalBasis(const Model& model) {
   b.u_scale.head(b.rigid).setOnes();
   b.phi = ges.eigenvectors();  // normalised so that Phi' M Phi = I
   b.phi_inv = b.phi.transpose() * model.mass;
-  b.r = b.phi.row(model.contact).transpose();
-  b.r_over_omega = b.r.cwiseQuotient(b.u_scale);
-  b.r_norm2 = b.r.squaredNorm();
-  b.gap = model.gap;
+  for (const Contact& c : model.contacts) {
+    ModalContact mc;
+    mc.r = c.RowOf(b.phi).transpose();
+    mc.r_over_omega = mc.r.cwiseQuotient(b.u_scale);
+    mc.r_norm2 = mc.r.squaredNorm();
+    mc.gap = c.gap;
+    b.contacts.push_back(std::move(mc));
+  }
+  b.r = b.contacts.front().r;
+  b.r_over_omega = b.contacts.front().r_over_omega;
+  b.r_norm2 = b.contacts.front().r_norm2;
+  b.gap = b.contacts.front().gap;
   return b;
 }
 
 namespace {
 const Model& ElasticModel(const Model& model) {
-  if (model.restitution != AnalysisBasis::kRestitution) {
-    throw InputError("system.restitution",
-                     "periodic orbits with impacts exist only for e = 1 (energy is lost at every impact "
-                     "when e < 1, paper section 1); got " +
-                         FormatValue(model.restitution));
+  for (int j = 0; j < model.NumContacts(); ++j) {
+    const Contact& c = model.contacts[j];
+    if (c.restitution != AnalysisBasis::kRestitution) {
+      throw InputError(ContactField(c, j, "restitution"),
+                       "periodic orbits with impacts exist only for e = 1 (energy is lost at every impact "
+                       "when e < 1, paper section 1); got " +
+                           FormatValue(c.restitution));
+    }
   }
+  RequireOneContact(model, "the periodic-orbit analysis (impact sequences over several contacts are not built yet)");
   // The nonsmooth modes are those of the conservative system (paper eq. 1).
   if (model.HasDamping()) {
     throw InputError("system", "has damping: nonsmooth modes are the periodic orbits of the undamped system; "

@@ -50,6 +50,7 @@ namespace {
 
 // TruncateModes on the model's basis, computed once by the caller.
 ModalTruncation Truncate(const Model& full, const ModalBasis& b, int modes, const std::string& field) {
+  RequireOneContact(full, "modal truncation");
   CheckModes(b, modes, field);
   const int k = modes;
   const Eigen::VectorXd r = b.r.head(k);
@@ -89,9 +90,8 @@ ModalTruncation Truncate(const Model& full, const ModalBasis& b, int modes, cons
     m.forcing.amplitude = (q * (phi.transpose() * full.forcing.amplitude)) / norm;
   }
   m.forcing.frequency = full.forcing.frequency;
-  m.contact = 0;
-  m.gap = full.gap;
-  m.restitution = full.restitution;
+  m.contacts = {DofContact(k, 0, true, full.FirstContact().gap, full.FirstContact().restitution)};
+  m.contacts.front().shorthand = full.FirstContact().shorthand;
   Validate(m);
   t.to_physical = phi * q.transpose() / norm;
   t.from_physical = norm * q * b.phi_inv.topRows(k);

@@ -57,7 +57,171 @@ int CountRigid(const Eigen::VectorXd& eig) {
   return static_cast<int>((eig.array() <= kRigidBodyTolerance * lmax).count());
 }
 
+// The contacts' own checks and those of pairs (Validate's, model.h).
+void ValidateContacts(const Model& model, double stiffness_max) {
+  const int n = model.dofs();
+  if (model.contacts.empty()) throw InputError("contact", "none given: a vibro-impact model needs at least one contact");
+  for (int j = 0; j < model.NumContacts(); ++j) {
+    const Contact& c = model.contacts[j];
+    auto field = [&](const char* f) { return ContactField(c, j, f); };
+    if (c.form != Contact::Form::kNormal && (c.dof < 0 || c.dof >= n)) {
+      throw InputError(field(c.form == Contact::Form::kDof ? "dof" : "between"),
+                       "must name dofs between 1 and " + std::to_string(n) + ", got " + std::to_string(c.dof + 1));
+    }
+    if (c.form == Contact::Form::kBetween && (c.other < 0 || c.other >= n || c.other == c.dof)) {
+      throw InputError(field("between"), "must name two different dofs between 1 and " + std::to_string(n) +
+                                             ", got " + std::to_string(c.dof + 1) + " and " +
+                                             std::to_string(c.other + 1));
+    }
+    if (c.normal.size() != n) {
+      throw InputError(field("normal"), "must have " + std::to_string(n) + " entries (one per dof), got " +
+                                            std::to_string(c.normal.size()));
+    }
+    if (!c.normal.allFinite()) throw InputError(field("normal"), "has a non-finite entry");
+    if (!(c.normal.cwiseAbs().maxCoeff() > 0.0)) {
+      throw InputError(field("normal"), "is zero: a contact needs a direction (g = gap - normal . x)");
+    }
+    if (!(c.gap > 0.0) || !std::isfinite(c.gap)) {
+      // Opposing walls written with a sign (a lower wall at x = -1 given as gap = -1) leave no room.
+      for (int k = 0; k < model.NumContacts(); ++k) {
+        const Contact& o = model.contacts[k];
+        if (k != j && o.normal.size() == n && o.normal.dot(c.normal) < 0.0 &&
+            std::abs(o.normal.dot(c.normal)) >= (1.0 - 1e-12) * o.normal.norm() * c.normal.norm()) {
+          throw InputError(field("gap"), "must be positive (the distance from rest to the wall), got " +
+                                             FormatValue(c.gap) + ": with contact " + std::to_string(k + 1) +
+                                             " opposite (" + o.Describe() + ") it leaves no room between the walls");
+        }
+      }
+      throw InputError(field("gap"), "must be positive and finite (the distance from rest to the wall), got " +
+                                         FormatValue(c.gap));
+    }
+    // The energy of a state at the obstacle, K d^2 / 2 (d the distance along
+    // the unit normal), must leave room for impact velocities and sums.
+    const double distance = c.gap / c.normal.norm();
+    const double energy_scale = 0.5 * stiffness_max * distance * distance;
+    if (!(energy_scale <= kMaxEnergyScale) || !(energy_scale >= 1.0 / kMaxEnergyScale)) {
+      throw InputError(field("gap"), "gives energies of order " + FormatValue(energy_scale) +
+                                         " (K d^2 / 2); nsmodal honours 1e-200 to 1e200: rescale the units");
+    }
+    if (!(c.restitution >= 0.0 && c.restitution <= 1.0)) {
+      throw InputError(field("restitution"), "must lie in [0, 1], got " + FormatValue(c.restitution));
+    }
+  }
+  // Pairs: the same direction (a duplicate: one wall hides the other) or
+  // opposite walls closer than round-off of their distances.
+  for (int j = 0; j < model.NumContacts(); ++j) {
+    for (int k = j + 1; k < model.NumContacts(); ++k) {
+      const Contact &a = model.contacts[j], &b = model.contacts[k];
+      const double na = a.normal.norm(), nb = b.normal.norm(), cosine = a.normal.dot(b.normal) / (na * nb);
+      if (cosine >= 1.0 - 1e-12) {
+        throw InputError(ContactField(b, k, "normal"),
+                         "duplicates contact " + std::to_string(j + 1) + ": " + b.Describe() + " and " + a.Describe() +
+                             " are walls facing the same way, so one hides the other; give each wall once");
+      }
+      if (cosine <= -1.0 + 1e-12) {
+        const double room = a.gap / na + b.gap / nb;
+        if (!(room > 1e-12 * std::max(a.gap / na, b.gap / nb))) {
+          throw InputError(ContactField(b, k, "gap"), "leaves no room between the opposite walls of contacts " +
+                                                          std::to_string(j + 1) + " and " + std::to_string(k + 1) +
+                                                          " (clearance " + FormatValue(room) + ")");
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
+
+double Contact::Along(const Eigen::Ref<const Eigen::VectorXd>& y) const {
+  switch (form) {
+    case Form::kDof: return upper ? y[dof] : -y[dof];
+    case Form::kBetween: return y[dof] - y[other];
+    case Form::kNormal: break;
+  }
+  return normal.dot(y);
+}
+
+Eigen::RowVectorXd Contact::RowOf(const Eigen::Ref<const Eigen::MatrixXd>& a) const {
+  switch (form) {
+    case Form::kDof: return upper ? Eigen::RowVectorXd(a.row(dof)) : Eigen::RowVectorXd(-a.row(dof));
+    case Form::kBetween: return a.row(dof) - a.row(other);
+    case Form::kNormal: break;
+  }
+  return normal.transpose() * a;
+}
+
+std::string Contact::Describe() const {
+  // (A stream: GCC 12 warns falsely (-Wrestrict) on chains of string + literal.)
+  std::ostringstream os;
+  switch (form) {
+    case Form::kDof: os << "x" << dof + 1 << (upper ? " <= " : " >= -"); break;
+    case Form::kBetween: os << "x" << dof + 1 << " - x" << other + 1 << " <= "; break;
+    case Form::kNormal: os << "n . x <= "; break;
+  }
+  os << FormatValue(gap);
+  return os.str();
+}
+
+int Contact::PlotDof() const {
+  if (form != Form::kNormal) return dof;
+  Eigen::Index i = 0;
+  normal.cwiseAbs().maxCoeff(&i);
+  return static_cast<int>(i);
+}
+
+Contact DofContact(int n, int dof, bool upper, double gap, double restitution) {
+  Contact c;
+  c.form = Contact::Form::kDof;
+  c.dof = dof;
+  c.upper = upper;
+  c.normal = Eigen::VectorXd::Zero(n);
+  if (dof >= 0 && dof < n) c.normal[dof] = upper ? 1.0 : -1.0;
+  c.gap = gap;
+  c.restitution = restitution;
+  return c;
+}
+
+Contact BetweenContact(int n, int dof, int other, double gap, double restitution) {
+  Contact c;
+  c.form = Contact::Form::kBetween;
+  c.dof = dof;
+  c.other = other;
+  c.normal = Eigen::VectorXd::Zero(n);
+  if (dof >= 0 && dof < n) c.normal[dof] += 1.0;
+  if (other >= 0 && other < n) c.normal[other] -= 1.0;
+  c.gap = gap;
+  c.restitution = restitution;
+  return c;
+}
+
+Contact NormalContact(Eigen::VectorXd normal, double gap, double restitution) {
+  Contact c;
+  c.form = Contact::Form::kNormal;
+  c.dof = -1;
+  c.normal = std::move(normal);
+  c.gap = gap;
+  c.restitution = restitution;
+  return c;
+}
+
+std::string ContactField(const Contact& contact, int j, const std::string& field) {
+  if (contact.shorthand) return "system." + (field == "dof" ? std::string("contact_dof") : field);
+  return "contact[" + std::to_string(j + 1) + "]." + field;
+}
+
+bool Model::AllRestitution(double e) const {
+  for (const Contact& c : contacts) {
+    if (c.restitution != e) return false;
+  }
+  return true;
+}
+
+void RequireOneContact(const Model& model, const std::string& what) {
+  if (model.NumContacts() != 1) {
+    throw InputError("contact", what + " takes a model with one contact; this one has " +
+                                    std::to_string(model.NumContacts()));
+  }
+}
 
 // Validate paid the dense reduction four times per scene: seconds for a bar of
 // 2,000 elements, and past libFuzzer's limit under the sanitizers.
@@ -122,9 +286,8 @@ Model MakeChain(const std::vector<double>& masses, const std::vector<double>& sp
       m.stiffness(i, i - 1) -= springs[i];
     }
   }
-  m.contact = contact;
-  m.gap = gap;
-  m.restitution = restitution;
+  m.contacts = {DofContact(n, contact, true, gap, restitution)};
+  m.contacts.front().shorthand = true;
   Validate(m);
   return m;
 }
@@ -186,9 +349,8 @@ Model MakeBar(const BarSpec& bar, int contact, double gap, double restitution) {
       }
     }
   }
-  model.contact = contact;
-  model.gap = gap;
-  model.restitution = restitution;
+  model.contacts = {DofContact(n, contact, true, gap, restitution)};
+  model.contacts.front().shorthand = true;
   Validate(model);
   return model;
 }
@@ -242,23 +404,7 @@ int Validate(const Model& model) {
     throw InputError("system.stiffness_matrix", "must have the size of system.mass_matrix (" +
                                                     std::to_string(model.mass.rows()) + ")");
   }
-  if (model.contact < 0 || model.contact >= model.dofs()) {
-    throw InputError("system.contact_dof", "must be between 1 and " + std::to_string(model.dofs()) +
-                                               ", got " + std::to_string(model.contact + 1));
-  }
-  if (!(model.gap > 0.0) || !std::isfinite(model.gap)) {
-    throw InputError("system.gap", "must be positive and finite, got " + FormatValue(model.gap));
-  }
-  // The energy of a state at the obstacle, K d^2 / 2, must leave room for
-  // impact velocities and sums: at most kMaxEnergyScale.
-  const double energy_scale = 0.5 * stiffness_max * model.gap * model.gap;
-  if (!(energy_scale <= kMaxEnergyScale) || !(energy_scale >= 1.0 / kMaxEnergyScale)) {
-    throw InputError("system.gap", "gives energies of order " + FormatValue(energy_scale) +
-                                       " (K d^2 / 2); nsmodal honours 1e-200 to 1e200: rescale the units");
-  }
-  if (!(model.restitution >= 0.0 && model.restitution <= 1.0)) {
-    throw InputError("system.restitution", "must lie in [0, 1], got " + FormatValue(model.restitution));
-  }
+  ValidateContacts(model, stiffness_max);
   // Bounds on the linear frequencies from the extreme eigenvalues (Rayleigh
   // quotients): w_min^2 >= k_min / m_max, w_max^2 <= k_max / m_min.
   const double w_low = std::sqrt(stiffness_min / mass_max), w_high = std::sqrt(stiffness_max / mass_min);

@@ -474,7 +474,9 @@ def test_a_pickled_model_round_trips():
         assert (other.forcing_frequency, other.contact_dof, other.gap, other.restitution) == (0.7, 1, 0.5, 0.8)
     with pytest.raises(ValueError, match="gap"):
         state = list(m.__getstate__())
-        state[8] = -1.0
+        contact = list(state[7][0])
+        contact[5] = -1.0  # (form, dof, other, upper, normal, gap, restitution, shorthand)
+        state[7] = [tuple(contact)]
         nsmodal.Model.__new__(nsmodal.Model).__setstate__(tuple(state))
 
 

@@ -101,6 +101,11 @@ nlohmann::json SimulationJson(const SimulationSummary& s, const Configured<Simul
   j["first_zeno_time"] = OrNull(s.first_zeno_time >= 0.0, s.first_zeno_time);
   j["sticking_phases"] = s.sticking_phases;
   j["sticking_time"] = s.sticking_time;
+  // Per contact, contact 1 first.
+  j["impacts_per_contact"] = s.impacts_per_contact;
+  j["grazes_per_contact"] = s.grazes_per_contact;
+  j["zeno_events_per_contact"] = s.zeno_per_contact;
+  j["sticking_phases_per_contact"] = s.sticking_per_contact;
   j["initial_energy"] = s.initial_energy;
   j["final_energy"] = s.final_energy;
   j["energy_drift"] = s.energy_drift;

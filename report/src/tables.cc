@@ -251,7 +251,8 @@ Columns<Sample> TrajectoryColumns(int dofs) {
 }
 
 Columns<ContactEvent> ImpactColumns(int dofs) {
-  Columns<ContactEvent> c{{"t", K::kReal, [](const ContactEvent& e) -> Cell { return e.t; }}};
+  Columns<ContactEvent> c{{"t", K::kReal, [](const ContactEvent& e) -> Cell { return e.t; }},
+                          {"contact", K::kInteger, [](const ContactEvent& e) -> Cell { return long{e.contact + 1}; }}};
   AddState<ContactEvent>(c, dofs, "_before", [](const ContactEvent& e) -> const Eigen::VectorXd& { return e.before; });
   AddState<ContactEvent>(c, dofs, "_after", [](const ContactEvent& e) -> const Eigen::VectorXd& { return e.after; });
   return c;

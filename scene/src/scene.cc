@@ -163,6 +163,40 @@ SettingValue ReadSetting(const toml::node& node, SettingKind kind, const std::st
   throw InputError(field, "has a kind no reader knows");
 }
 
+// [[contact]]: an array of tables, contact j (from 1) each, its keys as
+// given (AssembleModel checks the forms and names contact[j].<key>).
+std::vector<ContactSpec> ReadContacts(const toml::node& node) {
+  const toml::array* arr = node.as_array();
+  if (arr == nullptr) throw InputError("contact", "must be an array of tables: write each contact as [[contact]]");
+  std::vector<ContactSpec> out;
+  for (std::size_t j = 0; j < arr->size(); ++j) {
+    const std::string at = "contact[" + std::to_string(j + 1) + "]";
+    const toml::table* t = arr->get(j)->as_table();
+    if (t == nullptr) throw InputError(at, "must be a table ([[contact]])");
+    ContactSpec c;
+    for (auto&& [key, value] : *t) {
+      const std::string k(key.str()), field = at + "." + k;
+      if (k == "dof") {
+        c.dof = ReadNumber(value, field);
+      } else if (k == "side") {
+        c.side = ReadText(value, field);
+      } else if (k == "between") {
+        c.between = ReadVector(value, field);
+      } else if (k == "normal") {
+        c.normal = ReadVector(value, field);
+      } else if (k == "gap") {
+        c.gap = ReadNumber(value, field);
+      } else if (k == "restitution") {
+        c.restitution = ReadNumber(value, field);
+      } else {
+        throw InputError(field, "is not a known key (dof, side, between, normal, gap, restitution)");
+      }
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
 // A settings table ([simulate], [validate]) by its keys (settings.h): each
 // value of its setting's kind, named by its scene key.
 template <class Options>
@@ -221,7 +255,9 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
   spec.damping_ratios = given("damping_ratios", ReadVector);
   spec.damping_matrix = given("damping_matrix", ReadMatrix);
   if (const toml::node* node = root.get("forcing")) ReadForcing(*node, spec);
+  if (const toml::node* node = root.get("contact")) spec.contacts = ReadContacts(*node);
   const Model model = AssembleModel(spec, FieldNames("system.")
+                                              .Set("contact", "contact")
                                               .Set("form", "system")
                                               .Set("damping", "system")
                                               .Set("forcing.amplitude", "forcing.amplitude")
@@ -230,7 +266,8 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
   if (const toml::node* node = root.get("simulate")) scene.simulate = ReadSettings(*node, SimulateSettings());
   if (const toml::node* node = root.get("validate")) scene.validate = ReadSettings(*node, ValidateSettings());
   for (auto&& [key, value] : root) {
-    if (key.str() != "system" && key.str() != "simulate" && key.str() != "validate" && key.str() != "forcing") {
+    if (key.str() != "system" && key.str() != "simulate" && key.str() != "validate" && key.str() != "forcing" &&
+        key.str() != "contact") {
       throw InputError(std::string(key.str()), "is not a known table");
     }
   }

@@ -1,5 +1,6 @@
 #include "nsmodal/contact.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "nsmodal/error.h"
@@ -7,14 +8,26 @@
 namespace nsmodal {
 
 ContactModel::ContactModel(const Model& m) : model(m), basis(MakeModalBasis(m)) {
-  const int n = m.dofs();
   const Eigen::LDLT<Eigen::MatrixXd> m_ldlt(m.mass);
   minv_k = m_ldlt.solve(m.stiffness);
   minv_d = m_ldlt.solve(m.DampingMatrix());
   minv_f0 = m_ldlt.solve(m.ConstantForce());
   minv_f = m_ldlt.solve(m.ForceAmplitude());
-  minv_c = m_ldlt.solve(Eigen::VectorXd::Unit(n, m.contact));
-  w_cc = minv_c[m.contact];
+  const int k = m.NumContacts();
+  for (const Contact& c : m.contacts) {
+    ContactTerms t;
+    t.minv_n = m_ldlt.solve(c.normal);
+    t.w = c.Along(t.minv_n);
+    t.k_row = c.RowOf(minv_k);
+    t.d_row = c.RowOf(minv_d);
+    t.f0 = c.Along(minv_f0);
+    t.f = c.Along(minv_f);
+    terms.push_back(std::move(t));
+  }
+  delassus.resize(k, k);
+  for (int i = 0; i < k; ++i) {
+    for (int j = 0; j < k; ++j) delassus(i, j) = m.contacts[i].Along(terms[j].minv_n);
+  }
 }
 
 Eigen::VectorXd ContactModel::FreeAcceleration(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
@@ -26,16 +39,57 @@ Eigen::VectorXd ContactModel::FreeAcceleration(double t, const Eigen::Ref<const 
   return a;
 }
 
-double ContactModel::FreeContactAcceleration(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+double ContactModel::FreeContactAcceleration(int j, double t, const Eigen::Ref<const Eigen::VectorXd>& x,
                                              const Eigen::Ref<const Eigen::VectorXd>& v) const {
-  const int c = model.contact;
-  double a = -minv_k.row(c).dot(x) + minv_f0[c] + std::cos(model.forcing.frequency * t) * minv_f[c];
-  if (model.HasDamping()) a -= minv_d.row(c).dot(v);
+  const ContactTerms& c = terms[j];
+  double a = -c.k_row.dot(x) + c.f0 + std::cos(model.forcing.frequency * t) * c.f;
+  if (model.HasDamping()) a -= c.d_row.dot(v);
   return a;
 }
 
-void ContactModel::ApplyImpact(double e, Eigen::Ref<Eigen::VectorXd> v) const {
-  v -= ((1.0 + e) * v[model.contact] / w_cc) * minv_c;
+void ContactModel::ApplyImpact(int j, double e, Eigen::Ref<Eigen::VectorXd> v) const {
+  const ContactTerms& c = terms[j];
+  v -= ((1.0 + e) * model.contacts[j].Along(v) / c.w) * c.minv_n;
+}
+
+bool ContactModel::ApplyImpacts(const std::vector<int>& set, Eigen::Ref<Eigen::VectorXd> v, bool plastic) const {
+  auto e_of = [&](int j) { return plastic ? 0.0 : model.contacts[j].restitution; };
+  const int k = static_cast<int>(set.size());
+  bool diagonal = true;
+  for (int a = 0; a < k && diagonal; ++a) {
+    for (int b = 0; b < k; ++b) {
+      // Round-off of M^-1 n_j's solve leaves ~1e-16 of the diagonal where G is exactly diagonal.
+      if (a != b && std::abs(delassus(set[a], set[b])) >
+                        1e-13 * std::sqrt(delassus(set[a], set[a]) * delassus(set[b], set[b]))) {
+        diagonal = false;
+        break;
+      }
+    }
+  }
+  if (diagonal) {
+    // Independent: each contact's own law (the normal velocities of the
+    // others do not change: n_i . M^-1 n_j = G_ij = 0).
+    for (int j : set) {
+      if (model.contacts[j].Along(v) > 0.0) ApplyImpact(j, e_of(j), v);
+    }
+    return true;
+  }
+  Eigen::MatrixXd g(k, k);
+  Eigen::VectorXd q(k);
+  for (int a = 0; a < k; ++a) {
+    for (int b = 0; b < k; ++b) g(a, b) = delassus(set[a], set[b]);
+    q[a] = -(1.0 + e_of(set[a])) * model.contacts[set[a]].Along(v);
+  }
+  const LcpSolution p = SolveLcp(g, q);
+  if (!p.solved) return false;
+  for (int a = 0; a < k; ++a) v -= p.z[a] * terms[set[a]].minv_n;
+  return true;
+}
+
+double ContactModel::MaxDelassus() const {
+  double w = 0.0;
+  for (const ContactTerms& t : terms) w = std::max(w, t.w);
+  return w;
 }
 
 double ContactModel::EnergyScale(const Eigen::VectorXd& x0, const Eigen::VectorXd& v0) const {
@@ -65,51 +119,82 @@ ContactDecision DecideContact(double vc, double ac, double e, const ContactResol
   return {ContactOutcome::kImpact};
 }
 
-StickingFlow::StickingFlow(const ContactModel& cm) : cm_(&cm) {
+HeldSpace::HeldSpace(const Contact& contact, int dofs)
+    : normal(contact.normal), scale(contact.gap / contact.normal.squaredNorm()) {
+  if (contact.form == Contact::Form::kDof) {
+    // The other dofs' unit vectors: held coordinates are those dofs' own.
+    z = Eigen::MatrixXd::Zero(dofs, dofs - 1);
+    for (int i = 0, j = 0; i < dofs; ++i) {
+      if (i != contact.dof) {
+        others.push_back(i);
+        z(i, j++) = 1.0;
+      }
+    }
+    return;
+  }
+  // An orthonormal complement of n: the last N - 1 columns of the
+  // Householder Q of n (its first column is n / |n| up to sign).
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Eigen::MatrixXd(contact.normal));
+  z = Eigen::MatrixXd(qr.householderQ()).rightCols(dofs - 1);
+}
+
+Eigen::VectorXd HeldSpace::Reduce(const Eigen::Ref<const Eigen::VectorXd>& y, bool position) const {
+  const int nr = static_cast<int>(z.cols());
+  Eigen::VectorXd out(nr);
+  if (!others.empty()) {
+    for (int j = 0; j < nr; ++j) out[j] = y[others[j]];
+    return out;
+  }
+  return position ? Eigen::VectorXd(z.transpose() * (y - Particular())) : Eigen::VectorXd(z.transpose() * y);
+}
+
+Eigen::VectorXd HeldSpace::Expand(const Eigen::Ref<const Eigen::VectorXd>& xi, bool position) const {
+  const int n = static_cast<int>(z.rows());
+  if (!others.empty()) {
+    Eigen::VectorXd out = position ? Particular() : Eigen::VectorXd::Zero(n);
+    for (std::size_t j = 0; j < others.size(); ++j) out[others[j]] = xi[j];
+    return out;
+  }
+  return position ? Eigen::VectorXd(Particular() + z * xi) : Eigen::VectorXd(z * xi);
+}
+
+StickingFlow::StickingFlow(const ContactModel& cm, int contact)
+    : cm_(&cm), j_(contact), space_(cm.contact(contact), cm.model.dofs()) {
   const Model& m = cm.model;
   const int n = m.dofs();
   nr_ = n - 1;
-  for (int i = 0; i < n; ++i) {
-    if (i != m.contact) others_.push_back(i);
-  }
-  Eigen::MatrixXd z = Eigen::MatrixXd::Zero(n, nr_);
-  for (int j = 0; j < nr_; ++j) z(others_[j], j) = 1.0;
-  const Eigen::VectorXd ec = Eigen::VectorXd::Unit(n, m.contact);
-  const Eigen::RowVectorXd row = cm.minv_k.row(m.contact);
+  const Eigen::MatrixXd& z = space_.z;
+  const Eigen::RowVectorXd row = cm.terms[j_].k_row;  // n_j' M^-1 K
   if (nr_ == 0) {
-    a0_ = -row.dot(m.gap * ec);
+    a0_ = -row.dot(space_.Particular());
     return;
   }
   const Eigen::MatrixXd mr = z.transpose() * m.mass * z;
   const Eigen::MatrixXd kr = z.transpose() * m.stiffness * z;
   // Held, the other dofs must not drift: a rigid-body mode that the contact
-  // does not hold (a part of the system not tied to the contact dof) would
+  // does not hold (a part of the system not tied to the contact) would
   // leave K_r singular.
   const int rigid = RigidBodyModes(kr);
   if (rigid > 0) {
     throw InputError("system.stiffness_matrix",
-                     "holding the contact dof " + std::to_string(m.contact + 1) + " leaves " +
-                         std::to_string(rigid) + " rigid-body mode(s) of the other dofs (a part not tied to it): " +
+                     "holding contact " + std::to_string(j_ + 1) + " (" + cm.contact(j_).Describe() + ") leaves " +
+                         std::to_string(rigid) + " rigid-body mode(s) of the other directions (a part not tied to it): " +
                          "the sticking phase of such a system is not modelled; tie that part with a spring");
   }
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(kr, mr);
   omega_ = ges.eigenvalues().cwiseSqrt();
   phi_ = ges.eigenvectors();
   phi_inv_ = phi_.transpose() * mr;
-  xi_star_ = -m.gap * kr.ldlt().solve(z.transpose() * m.stiffness * ec);
-  // a_c = -row . (Z (xi* + Phi_r eta) + d e_c) = a0 + rho . eta
-  a0_ = -row.dot(z * xi_star_ + m.gap * ec);
+  xi_star_ = -space_.scale * kr.ldlt().solve(z.transpose() * m.stiffness * space_.normal);
+  // a_j = -row . (Z (xi* + Phi_r eta) + x_p) = a0 + rho . eta
+  a0_ = -row.dot(z * xi_star_ + space_.scale * space_.normal);
   rho_ = -(row * z * phi_).transpose();
 }
 
 Eigen::VectorXd StickingFlow::Enter(const Eigen::VectorXd& x, const Eigen::VectorXd& v) const {
   Eigen::VectorXd yr(2 * nr_);
   if (nr_ == 0) return yr;
-  Eigen::VectorXd xi(nr_), xid(nr_);
-  for (int j = 0; j < nr_; ++j) {
-    xi[j] = x[others_[j]];
-    xid[j] = v[others_[j]];
-  }
+  const Eigen::VectorXd xi = space_.Reduce(x, true), xid = space_.Reduce(v, false);
   yr.head(nr_) = omega_.cwiseProduct(phi_inv_ * (xi - xi_star_));
   yr.tail(nr_) = phi_inv_ * xid;
   return yr;
@@ -126,15 +211,13 @@ void StickingFlow::Advance(double dt, Eigen::Ref<Eigen::VectorXd> yr) const {
 
 Eigen::VectorXd StickingFlow::Physical(const Eigen::VectorXd& yr) const {
   const int n = cm_->model.dofs();
-  Eigen::VectorXd z = Eigen::VectorXd::Zero(2 * n);
-  z[cm_->model.contact] = cm_->model.gap;
-  if (nr_ == 0) return z;
-  const Eigen::VectorXd xi = xi_star_ + phi_ * yr.head(nr_).cwiseQuotient(omega_);
-  const Eigen::VectorXd xid = phi_ * yr.tail(nr_);
-  for (int j = 0; j < nr_; ++j) {
-    z[others_[j]] = xi[j];
-    z[n + others_[j]] = xid[j];
+  Eigen::VectorXd z(2 * n);
+  if (nr_ == 0) {
+    z << space_.Particular(), Eigen::VectorXd::Zero(n);
+    return z;
   }
+  z << space_.Expand(xi_star_ + phi_ * yr.head(nr_).cwiseQuotient(omega_), true),
+      space_.Expand(phi_ * yr.tail(nr_), false);
   return z;
 }
 
@@ -144,26 +227,25 @@ SinusoidSum StickingFlow::ContactAcceleration(const Eigen::VectorXd& yr) const {
   return SinusoidSum(a0_, r.cwiseProduct(yr.head(nr_)), r.cwiseProduct(yr.tail(nr_)), omega_);
 }
 
+SinusoidSum StickingFlow::OtherGap(int k, const Eigen::VectorXd& yr) const {
+  const Contact& c = cm_->contact(k);
+  const double c0 = c.Along(space_.Particular()) - c.gap;
+  if (nr_ == 0) return SinusoidSum(c0, Eigen::VectorXd(), Eigen::VectorXd(), Eigen::VectorXd());
+  // n_k . x = n_k . (x_p + Z xi*) + (n_k' Z Phi_r) (u / w)
+  const Eigen::RowVectorXd nz = c.normal.transpose() * space_.z;
+  const Eigen::VectorXd g = (nz * phi_).transpose().cwiseQuotient(omega_);
+  return SinusoidSum(c0 + nz.dot(xi_star_), g.cwiseProduct(yr.head(nr_)), g.cwiseProduct(yr.tail(nr_)), omega_);
+}
+
 }  // namespace nsmodal
 
 namespace nsmodal {
 namespace {
 
-// Z: the dofs other than the contact one, as columns of the identity.
-Eigen::MatrixXd Others(int n, int contact) {
-  Eigen::MatrixXd z = Eigen::MatrixXd::Zero(n, n - 1);
-  for (int i = 0, j = 0; i < n; ++i) {
-    if (i != contact) z(i, j++) = 1.0;
-  }
-  return z;
-}
-
-ForcedFlow HeldFlow(const ContactModel& cm) {
+ForcedFlow HeldFlow(const ContactModel& cm, const HeldSpace& space) {
   const Model& m = cm.model;
-  const int n = m.dofs();
-  const Eigen::MatrixXd z = Others(n, m.contact);
-  const Eigen::VectorXd ec = Eigen::VectorXd::Unit(n, m.contact);
-  const Eigen::VectorXd f0 = m.ConstantForce() - m.gap * (m.stiffness * ec);
+  const Eigen::MatrixXd& z = space.z;
+  const Eigen::VectorXd f0 = m.ConstantForce() - space.scale * (m.stiffness * space.normal);
   return ForcedFlow(z.transpose() * m.mass * z, z.transpose() * m.DampingMatrix() * z,
                     z.transpose() * m.stiffness * z, z.transpose() * f0, z.transpose() * m.ForceAmplitude(),
                     m.forcing.frequency);
@@ -171,47 +253,45 @@ ForcedFlow HeldFlow(const ContactModel& cm) {
 
 }  // namespace
 
-ForcedStickingFlow::ForcedStickingFlow(const ContactModel& cm) : cm_(&cm), flow_(HeldFlow(cm)) {
+ForcedStickingFlow::ForcedStickingFlow(const ContactModel& cm, int contact)
+    : cm_(&cm), j_(contact), space_(cm.contact(contact), cm.model.dofs()), flow_(HeldFlow(cm, space_)) {
   const Model& m = cm.model;
-  const int n = m.dofs(), c = m.contact;
-  for (int i = 0; i < n; ++i) {
-    if (i != c) others_.push_back(i);
-  }
-  const Eigen::MatrixXd z = Others(n, c);
-  const Eigen::VectorXd ec = Eigen::VectorXd::Unit(n, c);
-  // a_c = row (f0 + f cos(w t) - C Z xi' - K (Z xi + d e_c)), row = e_c' M^-1;
-  // the release signal is -a_c.
-  const Eigen::RowVectorXd row = cm.minv_c.transpose();  // M^-1 symmetric: its row c is (M^-1 e_c)'
+  const int n = m.dofs();
+  const Eigen::MatrixXd& z = space_.z;
+  // a_j = row (f0 + f cos(w t) - C Z xi' - K (Z xi + x_p)), row = n_j' M^-1;
+  // the release signal is -a_j.
+  const Eigen::RowVectorXd row = cm.terms[j_].minv_n.transpose();  // M^-1 symmetric: n_j' M^-1 = (M^-1 n_j)'
   release_row_.resize(2 * (n - 1));
   release_row_.head(n - 1) = row * m.stiffness * z;
   release_row_.tail(n - 1) = row * m.DampingMatrix() * z;
-  release_c0_ = -(cm.minv_f0[c] - m.gap * row.dot(m.stiffness * ec));
-  release_c1_ = -cm.minv_f[c];
+  release_c0_ = -(cm.terms[j_].f0 - space_.scale * row.dot(m.stiffness * space_.normal));
+  release_c1_ = -cm.terms[j_].f;
 }
 
 Eigen::VectorXd ForcedStickingFlow::Enter(const Eigen::VectorXd& z) const {
   const int n = cm_->model.dofs(), nr = n - 1;
   Eigen::VectorXd zr(2 * nr);
-  for (int j = 0; j < nr; ++j) {
-    zr[j] = z[others_[j]];
-    zr[nr + j] = z[n + others_[j]];
-  }
+  zr << space_.Reduce(z.head(n), true), space_.Reduce(z.tail(n), false);
   return zr;
 }
 
 Eigen::VectorXd ForcedStickingFlow::Physical(const Eigen::VectorXd& zr) const {
   const int n = cm_->model.dofs(), nr = n - 1;
-  Eigen::VectorXd z = Eigen::VectorXd::Zero(2 * n);
-  z[cm_->model.contact] = cm_->model.gap;
-  for (int j = 0; j < nr; ++j) {
-    z[others_[j]] = zr[j];
-    z[n + others_[j]] = zr[nr + j];
-  }
+  Eigen::VectorXd z(2 * n);
+  z << space_.Expand(zr.head(nr), true), space_.Expand(zr.tail(nr), false);
   return z;
 }
 
 void ForcedStickingFlow::Release(double t, const Eigen::VectorXd& zr, DampedSignal& out) const {
   flow_.Observe(t, zr, release_row_, release_c0_, release_c1_, out);
+}
+
+void ForcedStickingFlow::OtherGap(int k, double t, const Eigen::VectorXd& zr, DampedSignal& out) const {
+  const Contact& c = cm_->contact(k);
+  const int nr = cm_->model.dofs() - 1;
+  Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(2 * nr);
+  row.head(nr) = c.normal.transpose() * space_.z;
+  flow_.Observe(t, zr, row, c.Along(space_.Particular()) - c.gap, 0.0, out);
 }
 
 }  // namespace nsmodal

@@ -1,11 +1,13 @@
 // CVODE event-driven integrator (SUNDIALS 6.4). Free flight:
 // z' = (v, M^-1 (f0 + f cos(w t) - C v - K x))
-// with two root functions, g0 = d - x_c (direction -1: x_c rising through d,
-// an impact) and g1 = v_c (direction -1: a maximum of x_c). CVODE misses
-// roots of even multiplicity and two crossings inside one step; a maximum of
-// x_c at or above d reveals them, and the crossing is then located on CVODE's
-// dense output within that step. Sticking: the RHS holds v_c' = 0 with the
-// contact force lambda = a_c / (M^-1)_cc, and g0 = a_c (direction -1) releases.
+// with two root functions per contact j, g_2j = d_j - x_c (x_c = n_j . x;
+// direction -1: x_c rising through d_j, an impact) and g_2j+1 = v_c (n_j . v;
+// direction -1: a maximum of x_c). CVODE misses roots of even multiplicity
+// and two crossings inside one step; a maximum of x_c at or above d_j reveals
+// them, and the crossing is then located on CVODE's dense output within that
+// step. Sticking on contact j: the RHS holds v_c' = 0 with the contact force
+// lambda = a_c / (n_j' M^-1 n_j), g_2j = a_c (direction -1) releases, and the
+// other contacts keep their gap roots.
 // After every event CVodeReInit restarts the integration; a root function that
 // is zero at the restart stays inactive until it moves away (CVODE's rule).
 #include <cvode/cvode.h>
@@ -17,6 +19,7 @@
 #include <cmath>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "event_loop.h"
 #include "integrators.h"
@@ -27,7 +30,7 @@ namespace {
 
 struct UserData {
   const ContactModel* cm;
-  bool sticking = false;
+  int held = -1;  // the held contact (-1: none)
 };
 
 int Rhs(realtype t, N_Vector zv, N_Vector dzv, void* data) {
@@ -41,9 +44,10 @@ int Rhs(realtype t, N_Vector zv, N_Vector dzv, void* data) {
   if (cm.model.HasDamping()) dz.tail(n).noalias() -= cm.minv_d * z.tail(n);
   if (cm.model.forcing.HasConstant()) dz.tail(n) += cm.minv_f0;
   if (cm.model.forcing.HasHarmonic()) dz.tail(n) += std::cos(cm.model.forcing.frequency * t) * cm.minv_f;
-  if (ud->sticking) {
-    const double lambda = dz[n + ud->cm->model.contact] / ud->cm->w_cc;
-    dz.tail(n) -= lambda * ud->cm->minv_c;
+  if (ud->held >= 0) {
+    const ContactTerms& c = cm.terms[ud->held];
+    const double lambda = cm.contact(ud->held).Along(dz.tail(n)) / c.w;
+    dz.tail(n) -= lambda * c.minv_n;
   }
   return 0;
 }
@@ -54,9 +58,10 @@ int Jac(realtype, N_Vector, N_Vector, SUNMatrix jm, void* data, N_Vector, N_Vect
   // d(acceleration)/d(x, v) = [-M^-1 K, -M^-1 C], projected while sticking.
   Eigen::MatrixXd a(n, 2 * n);
   a << -ud->cm->minv_k, -ud->cm->minv_d;
-  if (ud->sticking) {
-    const Eigen::RowVectorXd row = a.row(ud->cm->model.contact) / ud->cm->w_cc;
-    a -= ud->cm->minv_c * row;
+  if (ud->held >= 0) {
+    const ContactTerms& c = ud->cm->terms[ud->held];
+    const Eigen::RowVectorXd row = ud->cm->contact(ud->held).RowOf(a) / c.w;
+    a -= c.minv_n * row;
   }
   SUNMatZero(jm);
   for (int i = 0; i < n; ++i) {
@@ -68,15 +73,17 @@ int Jac(realtype, N_Vector, N_Vector, SUNMatrix jm, void* data, N_Vector, N_Vect
 
 int Roots(realtype t, N_Vector zv, realtype* g, void* data) {
   const auto* ud = static_cast<const UserData*>(data);
-  const Model& m = ud->cm->model;
-  const int n = m.dofs();
+  const ContactModel& cm = *ud->cm;
+  const int n = cm.model.dofs();
   Eigen::Map<const Eigen::VectorXd> z(N_VGetArrayPointer(zv), 2 * n);
-  if (ud->sticking) {
-    g[0] = ud->cm->FreeContactAcceleration(t, z.head(n), z.tail(n));
-    g[1] = 1.0;  // inactive
-  } else {
-    g[0] = m.gap - z[m.contact];
-    g[1] = z[n + m.contact];
+  for (int j = 0; j < cm.NumContacts(); ++j) {
+    if (j == ud->held) {
+      g[2 * j] = cm.FreeContactAcceleration(j, t, z.head(n), z.tail(n));
+      g[2 * j + 1] = 1.0;  // inactive
+    } else {
+      g[2 * j] = cm.Gap(j, z.head(n));
+      g[2 * j + 1] = cm.NormalVelocity(j, z.tail(n));
+    }
   }
   return 0;
 }
@@ -125,9 +132,10 @@ class Cvode {
     Check(CVodeSetLinearSolver(mem_, ls_, a_), "CVodeSetLinearSolver");
     Check(CVodeSetJacFn(mem_, Jac), "CVodeSetJacFn");
     Check(CVodeSetMaxNumSteps(mem_, -1), "CVodeSetMaxNumSteps");  // no limit per call; we count
-    Check(CVodeRootInit(mem_, 2, Roots), "CVodeRootInit");
-    int dirs[2] = {-1, -1};
-    Check(CVodeSetRootDirection(mem_, dirs), "CVodeSetRootDirection");
+    roots_ = 2 * cm.NumContacts();
+    Check(CVodeRootInit(mem_, roots_, Roots), "CVodeRootInit");
+    std::vector<int> dirs(roots_, -1);
+    Check(CVodeSetRootDirection(mem_, dirs.data()), "CVodeSetRootDirection");
     Check(CVodeSetNoInactiveRootWarn(mem_), "CVodeSetNoInactiveRootWarn");
   }
   ~Cvode() {
@@ -141,8 +149,8 @@ class Cvode {
   Cvode& operator=(const Cvode&) = delete;
 
   Eigen::Map<Eigen::VectorXd> State() { return {N_VGetArrayPointer(y_), 2 * n_}; }
-  void Restart(double t, bool sticking) {
-    ud_.sticking = sticking;
+  void Restart(double t, int held) {
+    ud_.held = held;
     Check(CVodeReInit(mem_, t, y_), "CVodeReInit");
   }
   // One internal step towards tout, never past it (a stop time: roots and
@@ -157,10 +165,11 @@ class Cvode {
     Check(flag, "CVode");
     return flag;
   }
-  int RootInfo(int which) {
-    int info[2];
-    Check(CVodeGetRootInfo(mem_, info), "CVodeGetRootInfo");
-    return info[which];
+  // CVodeGetRootInfo after CV_ROOT_RETURN: nonzero where a root was found.
+  std::vector<int> RootInfo() {
+    std::vector<int> info(roots_, 0);
+    Check(CVodeGetRootInfo(mem_, info.data()), "CVodeGetRootInfo");
+    return info;
   }
   long Steps() {
     long s = 0;
@@ -184,6 +193,7 @@ class Cvode {
 
  private:
   int n_;
+  int roots_ = 0;
   UserData ud_;
   SUNContext ctx_ = nullptr;
   N_Vector y_ = nullptr;
@@ -201,30 +211,36 @@ class CvodeStepper {
   CvodeStepper(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0, const SimulateOptions& opt)
       : cm_(cm),
         n_(cm.model.dofs()),
-        c_(cm.model.contact),
-        d_(cm.model.gap),
+        k_(cm.NumContacts()),
         t_end_(opt.t_end),
         zeno_flight_(opt.zeno_flight * 2.0 * M_PI / cm.basis.omega.maxCoeff()),
-        // The contact band: CVODE's error control keeps x_c within ~atol + rtol d of
-        // its true value, so contact decisions use that scale.
-        xtol_(10.0 * (opt.atol + opt.rtol * d_)),
-        vtol_floor_(10.0 * (opt.atol + opt.rtol * (std::sqrt(cm.EnergyScale(x0, v0) * 2.0 * cm.w_cc) + 1e-300))),
         // e = 1 without damping or forcing: the energy of the start is an
         // invariant; each restart is put back on it (simulate.h, cvode_energy_projection).
         e0_(cm.EnergyOf(x0, v0)),
-        project_(opt.cvode_energy_projection && cm.model.restitution == 1.0 && cm.model.Conservative()),
+        project_(opt.cvode_energy_projection && cm.model.AllRestitution(1.0) && cm.model.Conservative()),
         band_(kProjectionBand * opt.rtol * e0_),
         solver_(cm, Start(x0, v0), opt),
-        z_(solver_.State()) {}
+        z_(solver_.State()) {
+    const double energy = cm.EnergyScale(x0, v0);
+    for (int j = 0; j < k_; ++j) {
+      // Contact j's band: CVODE's error control keeps x_c = n_j . x within
+      // ~atol + rtol d_j of its true value, so contact decisions use that scale.
+      xtol_.push_back(10.0 * (opt.atol + opt.rtol * cm.contact(j).gap));
+      vtol_floor_.push_back(10.0 * (opt.atol + opt.rtol * (std::sqrt(energy * 2.0 * cm.terms[j].w) + 1e-300)));
+    }
+  }
 
   bool Finished() const { return t_ >= t_end_; }
   double Time() const { return t_; }
   long Steps() { return base_steps_ + solver_.Steps(); }
 
   std::optional<int> InitialContact() {
-    if (z_[c_] >= d_ - xtol_ && (z_[n_ + c_] > vtol_floor_ || (std::abs(z_[n_ + c_]) <= vtol_floor_ &&
-                                                               Acceleration() > 0.0))) {
-      return 0;
+    for (int j = 0; j < k_; ++j) {
+      const double vc = Velocity(j);
+      if (Position(j) >= Gap(j) - xtol_[j] &&
+          (vc > vtol_floor_[j] || (std::abs(vc) <= vtol_floor_[j] && Acceleration(j) > 0.0))) {
+        return j;
+      }
     }
     return std::nullopt;
   }
@@ -238,37 +254,55 @@ class CvodeStepper {
     double tout = t_end_;
     if (sampler.active()) tout = std::min(t_end_, sampler.NextTime());
     const int flag = solver_.Step(tout, &t_);
-    if (held_) a.held = t_ - t0;
-    if (!held_ && z_[c_] > d_ + xtol_) {
-      // Beyond the obstacle with no root reported (two crossings in one
-      // step): locate the rising crossing on the dense output of the step.
-      // A step that starts at or beyond the wall is a restart there: after
-      // an impact, which CVODE's root location leaves up to
-      // (|t| + |h|) 100 uround |v_c| beyond d (1e-11 at t = 4e4, above the
-      // band at rtol 1e-13), the mass moves away; after an impact with
-      // e = 0 where nothing pushed yet (g0 = 0, inactive by CVODE's rule)
-      // it is pushed in later. It penetrates only if x_c rises a band above
-      // where the step started, and the contact is half a band above that.
-      const double lo = solver_.LastStepStart();
-      const double start = solver_.Interpolate(lo)[c_] - d_;
-      if (start < 0.0 || z_[c_] - d_ > start + xtol_) {
-        const double level = start < 0.0 ? 0.0 : start + 0.5 * xtol_;
-        auto gap = [&](double ts) { return solver_.Interpolate(ts)[c_] - d_ - level; };
-        t_ = PolishRoot(gap, lo, t_);
-        z_ = solver_.Interpolate(t_);
-        sampler.Emit(t_, [&](double ts) { return solver_.Interpolate(ts); });
-        a.event = Advance::Event::kWitness;
-        return a;
+    if (held_ >= 0) a.held = t_ - t0;
+    // Beyond a wall with no root reported (two crossings in one step): locate
+    // the rising crossing on the dense output of the step. A step that starts
+    // at or beyond the wall is a restart there: after an impact, which
+    // CVODE's root location leaves up to (|t| + |h|) 100 uround |v_c| beyond
+    // d (1e-11 at t = 4e4, above the band at rtol 1e-13), the mass moves away;
+    // after an impact with e = 0 where nothing pushed yet (g = 0, inactive by
+    // CVODE's rule) it is pushed in later. It penetrates only if x_c rises a
+    // band above where the step started, and the contact is half a band above
+    // that. With several walls crossed, the earliest crossing is the event.
+    int first = -1;
+    double lo = 0.0;
+    for (int j = 0; j < k_; ++j) {
+      if (j == held_ || !(Position(j) > Gap(j) + xtol_[j])) continue;
+      if (first < 0) lo = solver_.LastStepStart();
+      const double start = cm_.contact(j).Along(solver_.Interpolate(lo).head(n_)) - Gap(j);
+      if (start < 0.0 || Position(j) - Gap(j) > start + xtol_[j]) {
+        const double level = start < 0.0 ? 0.0 : start + 0.5 * xtol_[j];
+        auto gap = [&](double ts) {
+          return cm_.contact(j).Along(solver_.Interpolate(ts).head(n_)) - Gap(j) - level;
+        };
+        const double tj = PolishRoot(gap, lo, t_);
+        if (first < 0 || tj < crossing_) {
+          first = j;
+          crossing_ = tj;
+        }
       }
+    }
+    if (first >= 0) {
+      t_ = crossing_;
+      z_ = solver_.Interpolate(t_);
+      sampler.Emit(t_, [&](double ts) { return solver_.Interpolate(ts); });
+      a.event = Advance::Event::kWitness;
+      a.contact = first;
+      return a;
     }
     sampler.Emit(t_, [&](double ts) {
       return std::abs(ts - t_) <= 1e-12 * std::max(1.0, t_) ? Eigen::VectorXd(z_) : solver_.Interpolate(ts);
     });
     if (flag != CV_ROOT_RETURN) return a;
-    // Held: the contact force's root releases. Open: the gap's root, or a
+    // Held: the contact force's root releases. Open: a gap's root, or a
     // maximum of x_c in the contact band (a graze, or held).
-    if (held_ || solver_.RootInfo(0) != 0 || (solver_.RootInfo(1) != 0 && z_[c_] >= d_ - xtol_)) {
-      a.event = Advance::Event::kWitness;
+    const std::vector<int> info = solver_.RootInfo();
+    for (int j = 0; j < k_; ++j) {
+      if (info[2 * j] != 0 || (j != held_ && info[2 * j + 1] != 0 && Position(j) >= Gap(j) - xtol_[j])) {
+        a.event = Advance::Event::kWitness;
+        a.contact = j;
+        return a;
+      }
     }
     return a;
   }
@@ -277,21 +311,33 @@ class CvodeStepper {
   // crossing slower than sqrt(2 |a_c| xtol) cannot be told from a graze, and a
   // rebound lower than xtol would never move the root function away from zero
   // after the restart.
-  ContactKinematics Contact(int) const {
-    const double ac = Acceleration();
-    return {z_[n_ + c_], ac, {std::max(vtol_floor_, std::sqrt(2.0 * std::abs(ac) * xtol_)), xtol_, zeno_flight_}};
+  ContactKinematics Contact(int j) const {
+    const double ac = Acceleration(j);
+    return {Velocity(j), ac,
+            {std::max(vtol_floor_[j], std::sqrt(2.0 * std::abs(ac) * xtol_[j])), xtol_[j], zeno_flight_}};
   }
   Eigen::VectorXd Physical() const { return z_; }
-  void Impact(int, double e) {
-    cm_.ApplyImpact(e, z_.tail(n_));
+  // Newton's law at j, and at every other contact in its band and not moving
+  // away at that instant (struck at once: contact.h's law).
+  void Impact(int j, double e) {
+    std::vector<int> set{j};
+    for (int k = 0; k < k_; ++k) {
+      if (k != j && Position(k) >= Gap(k) - xtol_[k] && Velocity(k) >= -vtol_floor_[k]) set.push_back(k);
+    }
+    if (set.size() == 1) {
+      cm_.ApplyImpact(j, e, z_.tail(n_));
+    } else if (!cm_.ApplyImpacts(set, z_.tail(n_))) {
+      throw SolverError("the LCP of the contacts struck at once at t = " + std::to_string(t_) + " has no solution");
+    }
     if (project_ && std::abs(cm_.EnergyOf(z_.head(n_), z_.tail(n_)) - e0_) > band_) ProjectOnEnergy(cm_, e0_, z_);
   }
-  void Hold(int) {
-    z_[n_ + c_] = 0.0;  // plastic: the held contact has no velocity
-    cm_.ApplyImpact(0.0, z_.tail(n_));
-    held_ = true;
+  void Hold(int j) {
+    const nsmodal::Contact& c = cm_.contact(j);
+    if (c.form == nsmodal::Contact::Form::kDof) z_[n_ + c.dof] = 0.0;  // plastic: the held contact has no velocity
+    cm_.ApplyImpact(j, 0.0, z_.tail(n_));
+    held_ = j;
   }
-  void Release(int) { held_ = false; }
+  void Release(int) { held_ = -1; }
   void Restart() {
     base_steps_ += solver_.Steps();  // CVodeReInit resets the counters
     solver_.Restart(t_, held_);
@@ -308,17 +354,21 @@ class CvodeStepper {
     z0 << x0, v0;
     return z0;
   }
-  double Acceleration() const { return cm_.FreeContactAcceleration(t_, z_.head(n_), z_.tail(n_)); }
+  double Position(int j) const { return cm_.contact(j).Along(z_.head(n_)); }
+  double Velocity(int j) const { return cm_.NormalVelocity(j, z_.tail(n_)); }
+  double Gap(int j) const { return cm_.contact(j).gap; }
+  double Acceleration(int j) const { return cm_.FreeContactAcceleration(j, t_, z_.head(n_), z_.tail(n_)); }
 
   const ContactModel& cm_;
-  const int n_, c_;
-  const double d_, t_end_, zeno_flight_, xtol_, vtol_floor_, e0_;
+  const int n_, k_;
+  const double t_end_, zeno_flight_, e0_;
   const bool project_;
   const double band_;  // the energy error below which no projection is made
+  std::vector<double> xtol_, vtol_floor_;
   Cvode solver_;
   Eigen::Map<Eigen::VectorXd> z_;
-  bool held_ = false;
-  double t_ = 0.0;
+  int held_ = -1;
+  double t_ = 0.0, crossing_ = 0.0;
   long base_steps_ = 0;
 };
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <vector>
 
 #include "event_loop.h"
 #include "integrators.h"
@@ -17,13 +18,15 @@ namespace nsmodal::internal {
 struct ConservativeFlight {
   using State = Eigen::VectorXd;  // scaled modal y
   using Held = Eigen::VectorXd;   // StickingFlow's reduced modal state
+  using Signal = SinusoidSum;
   const ContactModel& cm;
   const ModalBasis& b;
-  // Built at the first sticking phase: it refuses a rigid-body mode the held
-  // contact does not stop, which only matters if the mass is ever held.
-  std::optional<StickingFlow> stick;
-  ContactSignal gap;
-  SinusoidSum release;
+  // Built at a contact's first sticking phase: it refuses a rigid-body mode
+  // the held contact does not stop, which only matters if it is ever held.
+  std::vector<std::optional<StickingFlow>> stick;
+  int held = -1;  // the contact of the sticking phase flown
+  std::vector<ContactSignal> gaps;  // one per contact
+  SinusoidSum release, other;
   // The flights' impact search sweeps (first_rise.h) from this many modes
   // on: measured, a run with it against one without, 0.55 times as fast for
   // N = 2 (the grid's scalar work outweighs its saving on 2 sinusoids),
@@ -31,90 +34,113 @@ struct ConservativeFlight {
   static constexpr int kSweepFromModes = 8;
   std::optional<SinusoidSweep> sweep;
 
-  explicit ConservativeFlight(const ContactModel& c)
-      : cm(c), b(c.basis), gap(c.basis, Eigen::VectorXd::Zero(2 * c.basis.n)) {
-    gap.offset = -c.model.gap;
+  explicit ConservativeFlight(const ContactModel& c) : cm(c), b(c.basis), stick(c.NumContacts()) {
+    for (int j = 0; j < c.NumContacts(); ++j) {
+      gaps.emplace_back(c.basis, c.basis.contacts[j], Eigen::VectorXd::Zero(2 * c.basis.n));
+      gaps.back().offset = -c.contact(j).gap;
+    }
     if (b.n >= kSweepFromModes) sweep.emplace(b.omega);
   }
-  FirstRiseResult Search(const ContactSignal& g, double horizon, double tol) {
+  FirstRiseResult Search(const SinusoidSum& g, double horizon, double tol) {
     return sweep ? FirstRise(g, horizon, tol, *sweep) : FirstRise(g, horizon, tol);
   }
   double FastestRate() const { return b.omega.maxCoeff(); }
   State FromPhysical(const Eigen::VectorXd& z) const { return ToModal(b, z.head(b.n), z.tail(b.n)); }
   Eigen::VectorXd Physical(const State& y) const { return PhysicalOf(b, y); }
-  const ContactSignal& Gap(double, const State& y) {
-    gap.Reset(b, y);
-    return gap;
+  // n_j . x - d_j on the flight from y.
+  const SinusoidSum& Gap(int j, double, const State& y) {
+    gaps[j].Reset(b, b.contacts[j], y);
+    return gaps[j];
   }
   void Fly(double, double s, State& y) const { Flow(b, s, y); }
-  // x_c'' at the end of a flight, from the state there: -sum r_i w_i u_i
-  // (no sin or cos; a rigid-body mode has w_i = 0).
-  double Acceleration(const ContactSignal&, double, const State& y) const {
-    return -(b.r.array() * b.omega.array() * y.head(b.n).array()).sum();
+  // The signal's second derivative at the end of a flight, from the state
+  // there: -sum r_i w_i u_i (no sin or cos; a rigid-body mode has w_i = 0).
+  double Acceleration(int j, const SinusoidSum&, double, const State& y) const {
+    return -(b.contacts[j].r.array() * b.omega.array() * y.head(b.n).array()).sum();
   }
-  void Impact(double e, State& y) const { nsmodal::Impact(b, e, y); }
-  double ContactVelocity(const State& y) const { return nsmodal::ContactVelocity(b, y); }
-  Held Hold(double, const State& y) {
+  void Impact(int j, double e, State& y) const { nsmodal::Impact(b, b.contacts[j], e, y); }
+  double ContactVelocity(int j, const State& y) const { return b.contacts[j].r.dot(y.tail(b.n)); }
+  Held Hold(int j, double, const State& y) {
     const Eigen::VectorXd z = PhysicalOf(b, y);
-    if (!stick) stick.emplace(cm);
-    return stick->Enter(z.head(b.n), z.tail(b.n));
+    if (!stick[j]) stick[j].emplace(cm, j);
+    held = j;
+    return stick[j]->Enter(z.head(b.n), z.tail(b.n));
   }
   const SinusoidSum& Release(double, const Held& yr) {
-    const SinusoidSum ac = stick->ContactAcceleration(yr);
-    release = SinusoidSum(-ac.offset, -ac.a, -ac.b, ac.omega);  // release when -a_c rises to 0
+    const SinusoidSum ac = stick[held]->ContactAcceleration(yr);
+    release = SinusoidSum(-ac.offset, -ac.a, -ac.b, ac.omega);  // release when -a_j rises to 0
     return release;
   }
-  void FlyHeld(double, double s, Held& yr) const { stick->Advance(s, yr); }
-  Eigen::VectorXd PhysicalHeld(const Held& yr) const { return stick->Physical(yr); }
+  const SinusoidSum& OtherGap(int k, double, const Held& yr) {
+    other = stick[held]->OtherGap(k, yr);
+    return other;
+  }
+  void FlyHeld(double, double s, Held& yr) const { stick[held]->Advance(s, yr); }
+  Eigen::VectorXd PhysicalHeld(const Held& yr) const { return stick[held]->Physical(yr); }
 };
 
 struct ForcedFlight {
   using State = Eigen::VectorXd;  // physical (x, v)
-  using Held = Eigen::VectorXd;   // (xi, xi') of the dofs other than c
+  using Held = Eigen::VectorXd;   // (xi, xi') of the held subspace
+  using Signal = DampedSignal;
   const ContactModel& cm;
   ForcedFlow flow;
-  // Built at the first sticking phase: a held system resonating with the
-  // forcing (undamped) only matters if the mass is ever held.
-  std::optional<ForcedStickingFlow> stick;
-  Eigen::RowVectorXd gap_row;
-  DampedSignal gap, release;
+  // Built at a contact's first sticking phase: a held system resonating with
+  // the forcing (undamped) only matters if the mass is ever held.
+  std::vector<std::optional<ForcedStickingFlow>> stick;
+  int held = -1;
+  std::vector<Eigen::RowVectorXd> gap_rows;  // (n_j', 0)
+  std::vector<DampedSignal> gaps;
+  DampedSignal release, other;
 
-  explicit ForcedFlight(const ContactModel& c) : cm(c), flow(c.model) {
+  explicit ForcedFlight(const ContactModel& c)
+      : cm(c), flow(c.model), stick(c.NumContacts()), gaps(c.NumContacts()) {
     const int n = c.model.dofs();
-    gap_row = Eigen::RowVectorXd::Zero(2 * n);
-    gap_row[c.model.contact] = 1.0;
+    for (int j = 0; j < c.NumContacts(); ++j) {
+      gap_rows.push_back(Eigen::RowVectorXd::Zero(2 * n));
+      gap_rows.back().head(n) = c.contact(j).normal.transpose();
+    }
   }
   FirstRiseResult Search(const DampedSignal& g, double horizon, double tol) const { return FirstRise(g, horizon, tol); }
   double FastestRate() const { return cm.basis.omega.maxCoeff(); }
   State FromPhysical(const Eigen::VectorXd& z) const { return z; }
   Eigen::VectorXd Physical(const State& z) const { return z; }
-  const DampedSignal& Gap(double t, const State& z) {
-    flow.Observe(t, z, gap_row, -cm.model.gap, 0.0, gap);
-    return gap;
+  const DampedSignal& Gap(int j, double t, const State& z) {
+    flow.Observe(t, z, gap_rows[j], -cm.contact(j).gap, 0.0, gaps[j]);
+    return gaps[j];
   }
   void Fly(double t, double s, State& z) const { flow.Advance(t, s, z); }
-  double Acceleration(const DampedSignal& g, double s, const State&) const { return g.Acceleration(s); }
-  void Impact(double e, State& z) const {
+  double Acceleration(int, const DampedSignal& g, double s, const State&) const { return g.Acceleration(s); }
+  void Impact(int j, double e, State& z) const {
     const int n = cm.model.dofs();
-    cm.ApplyImpact(e, z.tail(n));
-    if (e == 0.0) z[n + cm.model.contact] = 0.0;  // exactly, not to round-off
+    cm.ApplyImpact(j, e, z.tail(n));
+    const Contact& c = cm.contact(j);
+    if (e == 0.0 && c.form == Contact::Form::kDof) z[n + c.dof] = 0.0;  // exactly, not to round-off
   }
-  double ContactVelocity(const State& z) const { return z[cm.model.dofs() + cm.model.contact]; }
-  Held Hold(double, const State& z) {
-    if (!stick) stick.emplace(cm);
-    return stick->Enter(z);
+  double ContactVelocity(int j, const State& z) const { return cm.contact(j).Along(z.tail(cm.model.dofs())); }
+  Held Hold(int j, double, const State& z) {
+    if (!stick[j]) stick[j].emplace(cm, j);
+    held = j;
+    return stick[j]->Enter(z);
   }
   const DampedSignal& Release(double t, const Held& zr) {
-    stick->Release(t, zr, release);
+    stick[held]->Release(t, zr, release);
     return release;
   }
-  void FlyHeld(double t, double s, Held& zr) const { stick->Advance(t, s, zr); }
-  Eigen::VectorXd PhysicalHeld(const Held& zr) const { return stick->Physical(zr); }
+  const DampedSignal& OtherGap(int k, double t, const Held& zr) {
+    stick[held]->OtherGap(k, t, zr, other);
+    return other;
+  }
+  void FlyHeld(double t, double s, Held& zr) const { stick[held]->Advance(t, s, zr); }
+  Eigen::VectorXd PhysicalHeld(const Held& zr) const { return stick[held]->Physical(zr); }
 };
 
 // The exact integrator's advance (event_loop.h's Stepper): one flight to the
-// first crossing of the gap's witness (the search's band is its resolution,
-// witness.h), or one held stretch to the release, in closed form; samples by
+// first crossing of any contact's gap witness (each contact's search bounded
+// by the earliest crossing found so far, so K contacts cost at most K
+// searches and none is missed: each search is guaranteed on its own signal;
+// the search's band is its resolution, witness.h), or one held stretch to
+// the release or to another contact's crossing, in closed form; samples by
 // flying the stretch's start state to each sample time.
 template <typename Flight>
 class ExactStepper {
@@ -124,11 +150,14 @@ class ExactStepper {
 
   ExactStepper(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
                const SimulateOptions& opt)
-      : f_(cm),
+      : cm_(cm),
+        f_(cm),
+        k_(cm.NumContacts()),
         t_end_(opt.t_end),
         root_tol_(opt.root_tol),
-        d_(cm.model.gap),
-        zeno_flight_(opt.zeno_flight * 2.0 * M_PI / f_.FastestRate()) {
+        zeno_flight_(opt.zeno_flight * 2.0 * M_PI / f_.FastestRate()),
+        tol_(k_, 0.0),
+        vtol_(k_, 0.0) {
     Eigen::VectorXd z0(2 * cm.model.dofs());
     z0 << x0, v0;
     y_ = f_.FromPhysical(z0);
@@ -138,13 +167,15 @@ class ExactStepper {
   double Time() const { return t_; }
   long Steps() const { return steps_ + sweep_steps_; }
 
-  // In the contact band, moving in (or at rest and pushed in).
+  // In a contact's band, moving in (or at rest and pushed in): the first such.
   std::optional<int> InitialContact() {
-    const auto& g = Band(f_.Gap(t_, y_));
-    const double v = g.Velocity(0.0), a = g.Acceleration(0.0);
-    if (g.Position(0.0) >= -tol_ && (v > vtol_ || (std::abs(v) <= vtol_ && a > 0.0))) {
-      ac_ = a;
-      return 0;
+    for (int j = 0; j < k_; ++j) {
+      const auto& g = Band(j, f_.Gap(j, t_, y_));
+      const double v = g.Velocity(0.0), a = g.Acceleration(0.0);
+      if (g.Position(0.0) >= -tol_[j] && (v > vtol_[j] || (std::abs(v) <= vtol_[j] && a > 0.0))) {
+        ac_ = a;
+        return j;
+      }
     }
     return std::nullopt;
   }
@@ -152,37 +183,76 @@ class ExactStepper {
   Advance Step(Sampler& sampler) {
     const double horizon = t_end_ - t_;
     Advance a;
-    if (!held_) {
-      const auto& g = Band(f_.Gap(t_, y_));  // x_c - d on this flight
-      const FirstRiseResult r = f_.Search(g, horizon, tol_);
-      steps_ += r.steps;
-      sweep_steps_ += r.sweep_steps;
-      EmitAlong(sampler, t_ + r.s, y_, [&](double s, State& y) { f_.Fly(t_, s, y); },
+    if (held_ < 0) {
+      // Each contact's n_j . x - d_j on this flight, searched up to the
+      // earliest crossing found so far.
+      FirstRiseResult best;
+      best.s = horizon;
+      int first = -1;
+      const typename Flight::Signal* crossed = nullptr;  // the signal of the crossing found
+      for (int j = 0; j < k_; ++j) {
+        const auto& g = Band(j, f_.Gap(j, t_, y_));
+        const FirstRiseResult r = f_.Search(g, best.s, tol_[j]);
+        steps_ += r.steps;
+        sweep_steps_ += r.sweep_steps;
+        if (r.stalled) {
+          best = r;
+          first = j;
+          break;
+        }
+        if (r.found) {
+          best.found = true;
+          best.s = r.s;
+          first = j;
+          crossed = &g;
+        }
+      }
+      EmitAlong(sampler, t_ + best.s, y_, [&](double s, State& y) { f_.Fly(t_, s, y); },
                 [&](const State& y) { return f_.Physical(y); });
-      f_.Fly(t_, r.s, y_);
-      t_ = r.found ? t_ + r.s : (r.s >= horizon ? t_end_ : t_ + r.s);
-      if (r.stalled) return Failed("impact search stalled at a degenerate tangency at t = ");
-      if (r.found) {
-        ac_ = f_.Acceleration(g, r.s, y_);
+      f_.Fly(t_, best.s, y_);
+      t_ = best.found ? t_ + best.s : (best.s >= horizon ? t_end_ : t_ + best.s);
+      if (best.stalled) return Failed("impact search stalled at a degenerate tangency at t = ");
+      if (best.found) {
+        // The normal acceleration at the crossing (the band is the flight's).
+        ac_ = f_.Acceleration(first, *crossed, best.s, y_);
         a.event = Advance::Event::kWitness;
+        a.contact = first;
       }
       return a;
     }
-    const auto& g = f_.Release(t_, yr_);  // -a_c: released when it rises to 0
+    // Held: the release (-a_j rising to 0) or another contact's crossing.
+    const auto& g = f_.Release(t_, yr_);
     const double tol = root_tol_ * std::max(std::abs(g.offset), g.bound[0]);
-    const FirstRiseResult r = FirstRise(g, horizon, tol);
-    steps_ += r.steps;
-    EmitAlong(sampler, t_ + r.s, yr_, [&](double s, Held& y) { f_.FlyHeld(t_, s, y); },
+    FirstRiseResult best = FirstRise(g, horizon, tol);
+    steps_ += best.steps;
+    int first = best.found ? held_ : -1;
+    for (int k = 0; k < k_ && !best.stalled; ++k) {
+      if (k == held_) continue;
+      const auto& o = Band(k, f_.OtherGap(k, t_, yr_));
+      const FirstRiseResult r = FirstRise(o, best.s, tol_[k]);
+      steps_ += r.steps;
+      if (r.stalled) best = r;
+      if (r.found) {
+        best.found = true;
+        best.s = r.s;
+        first = k;
+      }
+    }
+    EmitAlong(sampler, t_ + best.s, yr_, [&](double s, Held& y) { f_.FlyHeld(t_, s, y); },
               [&](const Held& y) { return f_.PhysicalHeld(y); });
-    f_.FlyHeld(t_, r.s, yr_);
-    a.held = r.s;
-    t_ = r.found ? t_ + r.s : t_end_;
-    if (r.stalled) {
+    f_.FlyHeld(t_, best.s, yr_);
+    a.held = best.s;
+    t_ = best.found ? t_ + best.s : (best.s >= horizon ? t_end_ : t_ + best.s);
+    if (best.stalled) {
       Advance failed = Failed("release search stalled at t = ");
-      failed.held = r.s;
+      failed.held = best.s;
       return failed;
     }
-    if (r.found) a.event = Advance::Event::kWitness;
+    if (best.found) {
+      a.event = Advance::Event::kWitness;
+      a.contact = first;
+      if (first != held_) pending_ = first;  // struck while held: its kinematics after the release
+    }
     return a;
   }
 
@@ -190,19 +260,42 @@ class ExactStepper {
   // -2 tol, first_rise.h): such a sequence is summed as Zeno, not flown as
   // unarmed micro-flights that each end tol further out (4 tol: margin for
   // the acceleration's change over the rebound).
-  ContactKinematics Contact(int) const {
-    return {f_.ContactVelocity(y_), ac_, {vtol_, 4.0 * tol_, zeno_flight_}};
+  ContactKinematics Contact(int j) const {
+    return {f_.ContactVelocity(j, y_), ac_, {vtol_[j], 4.0 * tol_[j], zeno_flight_}};
   }
-  Eigen::VectorXd Physical() const { return held_ ? f_.PhysicalHeld(yr_) : f_.Physical(y_); }
-  void Impact(int, double e) { f_.Impact(e, y_); }
-  void Hold(int) {
-    f_.Impact(0.0, y_);  // v_c -> 0
-    yr_ = f_.Hold(t_, y_);
-    held_ = true;
+  Eigen::VectorXd Physical() const { return held_ >= 0 ? f_.PhysicalHeld(yr_) : f_.Physical(y_); }
+  // Newton's law at contact j, and at every other contact in its band and
+  // not moving away at that instant (struck at once: contact.h's law).
+  void Impact(int j, double e) {
+    std::vector<int> set{j};
+    for (int k = 0; k < k_; ++k) {
+      if (k == j) continue;
+      const auto& g = Band(k, f_.Gap(k, t_, y_));
+      if (g.Position(0.0) >= -tol_[k] && g.Velocity(0.0) >= -vtol_[k]) set.push_back(k);
+    }
+    if (set.size() == 1) {
+      f_.Impact(j, e, y_);
+      return;
+    }
+    Eigen::VectorXd z = f_.Physical(y_);
+    if (!cm_.ApplyImpacts(set, z.tail(cm_.model.dofs()))) {
+      throw SolverError("the LCP of the contacts struck at once at t = " + std::to_string(t_) + " has no solution");
+    }
+    y_ = f_.FromPhysical(z);
+  }
+  void Hold(int j) {
+    f_.Impact(j, 0.0, y_);  // n_j . v -> 0
+    yr_ = f_.Hold(j, t_, y_);
+    held_ = j;
   }
   void Release(int) {
     y_ = f_.FromPhysical(f_.PhysicalHeld(yr_));
-    held_ = false;
+    held_ = -1;
+    if (pending_ >= 0) {
+      const auto& g = Band(pending_, f_.Gap(pending_, t_, y_));
+      ac_ = g.Acceleration(0.0);
+      pending_ = -1;
+    }
   }
   void Restart() {}
   void Finish(SimulationSummary& sum) const {
@@ -213,12 +306,12 @@ class ExactStepper {
   }
 
  private:
-  // The contact band of the flight of g: its half-width tol (relative to the
+  // Contact j's band on the flight of g: its half-width tol (relative to the
   // signal's scale) and the speed below which a contact is a graze or a hold.
   template <typename Signal>
-  const Signal& Band(const Signal& g) {
-    tol_ = root_tol_ * std::max({d_, std::abs(g.offset), g.bound[0]});
-    vtol_ = std::sqrt(2.0 * g.bound[2] * tol_);
+  const Signal& Band(int j, const Signal& g) {
+    tol_[j] = root_tol_ * std::max({cm_.contact(j).gap, std::abs(g.offset), g.bound[0]});
+    vtol_[j] = std::sqrt(2.0 * g.bound[2] * tol_[j]);
     return g;
   }
   // The samples of the stretch about to be flown from (t_, start), before it
@@ -238,13 +331,17 @@ class ExactStepper {
     return a;
   }
 
+  const ContactModel& cm_;
   Flight f_;
-  const double t_end_, root_tol_, d_, zeno_flight_;
+  const int k_;
+  const double t_end_, root_tol_, zeno_flight_;
   State y_;   // free-flight state
   Held yr_;   // sticking state
-  bool held_ = false;
+  int held_ = -1;  // the held contact (-1: free flight)
+  int pending_ = -1;  // a contact struck while held_ was: decided after the release
   double t_ = 0.0;
-  double tol_ = 0.0, vtol_ = 0.0, ac_ = 0.0;  // the band and x_c'' at the contact found
+  std::vector<double> tol_, vtol_;  // each contact's band, from its last signal
+  double ac_ = 0.0;                 // the free normal acceleration at the contact found
   long steps_ = 0, sweep_steps_ = 0;
 };
 

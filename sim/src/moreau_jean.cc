@@ -4,14 +4,18 @@
 //          + h (theta F(t + h) + (1 - theta) F(t)) + r,
 //   W = M + h theta C + h^2 theta^2 K,   F(t) = f0 + f cos(w t),
 //   x+ = x + h ((1 - theta) v + theta v+),
-// with the impulse r = -e_c p (p >= 0 pushes the mass off the wall). When the
-// predicted gap d - (x_c + h v_c / 2) is closed, Newton's law at velocity level
-// is the one-contact LCP
-//   0 <= u+ + e u  _|_  p >= 0,   u = -v_c (the gap rate),
-// solved in closed form: u+ = u_free + w p with w = (W^-1)_cc.
+// with the impulse r = -H' p (p >= 0 pushes off the walls; H the normals of
+// the active contacts). Contact j is active when its predicted gap
+// d_j - n_j . (x + h v / 2) is closed; Newton's law at velocity level is then
+// the LCP over the active contacts (lcp.h)
+//   0 <= u+ + e u  _|_  p >= 0,   u = -H v (the gap rates),
+//   u+ = u_free + G p,   G = H W^-1 H',
+// one contact in closed form (w = n' W^-1 n).
 // First order in h; impacts, Zeno accumulation and sticking are all captured by
 // the LCP without events.
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "event_loop.h"
 #include "integrators.h"
@@ -24,18 +28,15 @@ class MoreauJeanStepper {
  public:
   MoreauJeanStepper(const ContactModel& cm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
                     const SimulateOptions& opt)
-      : n_(cm.model.dofs()),
-        c_(cm.model.contact),
-        e_(cm.model.restitution),
-        d_(cm.model.gap),
+      : cm_(cm),
+        n_(cm.model.dofs()),
+        k_(cm.NumContacts()),
         h_(opt.step),
         th_(opt.theta),
         w_force_(cm.model.forcing.frequency),
         forced_(cm.model.forcing.HasConstant() || cm.model.forcing.HasHarmonic()),
         steps_(static_cast<long>(std::ceil(opt.t_end / opt.step - 1e-9))),
-        // An active step with incoming gap rate below -1e-8 of the velocity scale is
-        // an impact; with |u| below it, a sustained (sticking) contact.
-        vtol_(1e-8 * (std::sqrt(2.0 * cm.EnergyScale(x0, v0) * cm.w_cc) + 1e-300)),
+        in_contact_(k_, false),
         x_(x0),
         v_(v0) {
     const Model& m = cm.model;
@@ -45,16 +46,25 @@ class MoreauJeanStepper {
     const Eigen::LDLT<Eigen::MatrixXd> w_ldlt(w_mat);
     b_v_ = w_ldlt.solve(m.mass - h * (1.0 - th) * damping - h * h * th * (1.0 - th) * m.stiffness);
     b_x_ = w_ldlt.solve(-h * m.stiffness);
-    w_c_ = w_ldlt.solve(Eigen::VectorXd::Unit(n_, c_));  // W^-1 e_c
     // The forces' impulse over a step: h W^-1 (f0 + f (theta cos(w (t + h)) + (1 - theta) cos(w t))).
     b_f0_ = h * w_ldlt.solve(m.ConstantForce());
     b_f_ = h * w_ldlt.solve(m.ForceAmplitude());
-    w_ = w_c_[c_];
+    const double energy = cm.EnergyScale(x0, v0);
+    for (int j = 0; j < k_; ++j) {
+      w_n_.push_back(w_ldlt.solve(m.contacts[j].normal));  // W^-1 n_j
+      // An active step with incoming gap rate below -1e-8 of the velocity
+      // scale is an impact; with |u| below it, a sustained (sticking) contact.
+      vtol_.push_back(1e-8 * (std::sqrt(2.0 * energy * cm.terms[j].w) + 1e-300));
+    }
+    g_.resize(k_, k_);
+    for (int i = 0; i < k_; ++i) {
+      for (int j = 0; j < k_; ++j) g_(i, j) = m.contacts[i].Along(w_n_[j]);
+    }
   }
 
-  bool Finished() const { return k_ >= steps_; }
+  bool Finished() const { return k_step_ >= steps_; }
   double Time() const { return t_; }
-  long Steps() const { return k_; }
+  long Steps() const { return k_step_; }
   std::optional<int> InitialContact() const { return std::nullopt; }
 
   Advance Step(Sampler& sampler) {
@@ -63,33 +73,73 @@ class MoreauJeanStepper {
     const Eigen::VectorXd x_prev = x_, v_prev = v_;
     Eigen::VectorXd v_free = b_v_ * v_ + b_x_ * x_;
     if (forced_) {
-      const double tk = k_ * h;
+      const double tk = k_step_ * h;
       v_free += b_f0_ + (th * std::cos(w_force_ * (tk + h)) + (1.0 - th) * std::cos(w_force_ * tk)) * b_f_;
     }
-    double p = 0.0;
-    const bool active = d_ - (x_[c_] + 0.5 * h * v_[c_]) <= 0.0;
-    if (active) {
-      const double u = -v_[c_];
-      const double u_free = -v_free[c_] + e_ * u;
-      if (u_free < 0.0) p = -u_free / w_;
+    // The active contacts and their impulses.
+    active_.clear();
+    for (int j = 0; j < k_; ++j) {
+      const nsmodal::Contact& c = cm_.contact(j);
+      if (c.gap - (c.Along(x_) + 0.5 * h * c.Along(v_)) <= 0.0) active_.push_back(j);
     }
-    v_ = v_free - p * w_c_;
-    x_ = x_ + h * ((1.0 - th) * v_prev + th * v_);
-    ++k_;
-    t_ = k_ * h;
-    if (p > 0.0) {
-      if (-v_prev[c_] < -vtol_ && !in_contact_) {
-        a.event = Advance::Event::kCaptured;
-        a.event_states.t = t_;
-        a.event_states.before.resize(2 * n_);
-        a.event_states.before << x_prev, v_prev;
-        a.event_states.after = Physical();
-      } else {
-        a.held = h;
+    Eigen::VectorXd p = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(active_.size()));
+    if (active_.size() == 1) {
+      const int j = active_[0];
+      const nsmodal::Contact& c = cm_.contact(j);
+      const double u = -c.Along(v_);
+      const double u_free = -c.Along(v_free) + c.restitution * u;
+      if (u_free < 0.0) p[0] = -u_free / g_(j, j);
+    } else if (!active_.empty()) {
+      const int m = static_cast<int>(active_.size());
+      Eigen::MatrixXd g(m, m);
+      Eigen::VectorXd q(m);
+      for (int a_i = 0; a_i < m; ++a_i) {
+        const nsmodal::Contact& c = cm_.contact(active_[a_i]);
+        for (int b_i = 0; b_i < m; ++b_i) g(a_i, b_i) = g_(active_[a_i], active_[b_i]);
+        q[a_i] = -c.Along(v_free) - c.restitution * c.Along(v_);
       }
-      in_contact_ = std::abs(v_[c_]) <= vtol_;  // held: following active steps are sticking
-    } else {
-      in_contact_ = false;
+      const LcpSolution sol = SolveLcp(g, q);
+      if (!sol.solved) {
+        a.event = Advance::Event::kFailed;
+        a.message = "the LCP of the active contacts failed at t = " + std::to_string(t_) + ": " + sol.message;
+        return a;
+      }
+      p = sol.z;
+    }
+    v_ = v_free;
+    for (std::size_t i = 0; i < active_.size(); ++i) {
+      if (p[static_cast<Eigen::Index>(i)] > 0.0) v_ -= p[static_cast<Eigen::Index>(i)] * w_n_[active_[i]];
+    }
+    x_ = x_ + h * ((1.0 - th) * v_prev + th * v_);
+    ++k_step_;
+    t_ = k_step_ * h;
+    bool sticking = false;
+    for (std::size_t i = 0; i < active_.size(); ++i) {
+      const int j = active_[i];
+      if (p[static_cast<Eigen::Index>(i)] > 0.0) {
+        const nsmodal::Contact& c = cm_.contact(j);
+        if (-c.Along(v_prev) < -vtol_[j] && !in_contact_[j]) {
+          a.captured.push_back(j);
+        } else {
+          sticking = true;
+        }
+        in_contact_[j] = std::abs(c.Along(v_)) <= vtol_[j];  // held: following active steps are sticking
+      } else {
+        in_contact_[j] = false;
+      }
+    }
+    for (int j = 0; j < k_; ++j) {
+      if (std::find(active_.begin(), active_.end(), j) == active_.end()) in_contact_[j] = false;
+    }
+    if (!a.captured.empty()) {
+      a.event = Advance::Event::kCaptured;
+      a.event_states.t = t_;
+      a.event_states.before.resize(2 * n_);
+      a.event_states.before << x_prev, v_prev;
+      a.event_states.after = Physical();
+      a.event_states.contact = a.captured.front();
+    } else if (sticking) {
+      a.held = h;
     }
     sampler.Emit(t_, [&](double ts) {
       // Linear interpolation inside the step (first order, like the scheme).
@@ -113,23 +163,25 @@ class MoreauJeanStepper {
   void Release(int) {}
   void Restart() {}
   void Finish(SimulationSummary& sum) const {
-    sum.steps = k_;
+    sum.steps = k_step_;
     sum.final_time = t_;
     sum.final_state = Physical();
   }
 
  private:
-  const int n_, c_;
-  const double e_, d_, h_, th_, w_force_;
+  const ContactModel& cm_;
+  const int n_, k_;
+  const double h_, th_, w_force_;
   const bool forced_;
   const long steps_;
-  const double vtol_;
-  Eigen::MatrixXd b_v_, b_x_;
-  Eigen::VectorXd w_c_, b_f0_, b_f_;
-  double w_ = 0.0;
+  std::vector<double> vtol_;
+  Eigen::MatrixXd b_v_, b_x_, g_;  // g_: the Delassus matrix H W^-1 H'
+  Eigen::VectorXd b_f0_, b_f_;
+  std::vector<Eigen::VectorXd> w_n_;  // W^-1 n_j
+  std::vector<bool> in_contact_;
+  std::vector<int> active_;
   Eigen::VectorXd x_, v_;
-  bool in_contact_ = false;
-  long k_ = 0;
+  long k_step_ = 0;
   double t_ = 0.0;
 };
 

@@ -69,11 +69,16 @@ SimulationSummary Simulate(const Model& model, const Eigen::VectorXd& x0, const 
   }
   if (!x0.allFinite()) throw InputError("simulate.initial_position", "has a non-finite entry");
   if (!v0.allFinite()) throw InputError("simulate.initial_velocity", "has a non-finite entry");
-  // Beyond the obstacle by more than round-off of the gap.
-  if (x0[model.contact] > model.gap * (1.0 + 1e-12)) {
-    throw InputError("simulate.initial_position",
-                     "x" + std::to_string(model.contact + 1) + " = " + FormatValue(x0[model.contact]) +
-                         " lies beyond the obstacle at d = " + FormatValue(model.gap));
+  // Beyond any wall by more than round-off of its gap.
+  for (int j = 0; j < model.NumContacts(); ++j) {
+    const Contact& c = model.contacts[j];
+    if (c.Along(x0) > c.gap * (1.0 + 1e-12)) {
+      const std::string at = model.NumContacts() > 1 || !c.shorthand ? "contact " + std::to_string(j + 1) + " (" + c.Describe() + ")" : "the obstacle at d = " + FormatValue(c.gap);
+      throw InputError("simulate.initial_position",
+                       c.form == Contact::Form::kDof
+                           ? "x" + std::to_string(c.dof + 1) + " = " + FormatValue(x0[c.dof]) + " lies beyond " + at
+                           : "lies beyond " + at + ": n . x = " + FormatValue(c.Along(x0)));
+    }
   }
   const ContactModel cm(model);
   // The start's energy within the scales honoured (model.h): energies and

@@ -276,7 +276,7 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
   bool broken = false;
   double time_error = 0.0;  // over the first period's impacts that have a predicted time
   obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
-    v.max_penetration = std::max(v.max_penetration, z[model.contact] - model.gap);
+    v.max_penetration = std::max(v.max_penetration, z[model.FirstContact().dof] - model.FirstContact().gap);
     if (t == 0.0) return;
     const double dev = (z - z_mid).norm() / z_mid.norm();
     v.deviation.push_back(dev);
@@ -284,7 +284,7 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
   };
   obs.on_impact = [&](const ContactEvent& ev) {
     ++v.impacts;
-    v.max_penetration = std::max(v.max_penetration, ev.before[model.contact] - model.gap);
+    v.max_penetration = std::max(v.max_penetration, ev.before[model.FirstContact().dof] - model.FirstContact().gap);
     if (ev.t < period - t_mid + 0.5 * first_flight) {  // the first period of the run
       const std::size_t k = static_cast<std::size_t>(v.first_period_impacts++);
       if (k < predicted.size()) time_error = std::max(time_error, std::abs(ev.t - predicted[k]));
@@ -325,7 +325,7 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
                  v.first_period_impacts, v.impact_time_error, v.max_penetration, v.deviation, broken,
                  growth, floor, sum};
   const double v_scale = std::sqrt(2.0 * orbit.energy * b.r_norm2);
-  Judge(facts, integrator, options, PenetrationTolerance(integrator, options, model.gap, v_scale), &v.consistent,
+  Judge(facts, integrator, options, PenetrationTolerance(integrator, options, model.FirstContact().gap, v_scale), &v.consistent,
         &v.reason);
   return v;
 }
@@ -429,10 +429,10 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
     return v;
   }
   const Eigen::VectorXd z0 = problem.StateAt(orbit, 0.0);
-  if (z0[m.contact] > m.gap * (1.0 + 1e-12)) {
+  if (z0[m.FirstContact().dof] > m.FirstContact().gap * (1.0 + 1e-12)) {
     // Only a non-admissible orbit can be beyond the wall: no motion follows it.
     v.consistent = !orbit.admissible;
-    v.reason = "x_c(0) = " + FormatEstimate(z0[m.contact]) + " lies beyond the obstacle: " +
+    v.reason = "x_c(0) = " + FormatEstimate(z0[m.FirstContact().dof]) + " lies beyond the obstacle: " +
                (orbit.admissible ? "yet the orbit was found admissible" : "it breaks, as predicted (not admissible)");
     return v;
   }
@@ -448,7 +448,7 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
   double time_error = 0.0;  // over the first period's impacts that have a predicted time
   SimulationObserver obs;
   obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
-    v.max_penetration = std::max(v.max_penetration, z[m.contact] - m.gap);
+    v.max_penetration = std::max(v.max_penetration, z[m.FirstContact().dof] - m.FirstContact().gap);
     if (t == 0.0) return;
     const double dev = (z - z0).norm() / z0.norm();
     v.deviation.push_back(dev);
@@ -456,7 +456,7 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
   };
   obs.on_impact = [&](const ContactEvent& ev) {
     ++v.impacts;
-    v.max_penetration = std::max(v.max_penetration, ev.before[m.contact] - m.gap);
+    v.max_penetration = std::max(v.max_penetration, ev.before[m.FirstContact().dof] - m.FirstContact().gap);
     if (ev.t < period) {
       const std::size_t k = static_cast<std::size_t>(v.first_period_impacts++);
       if (k < predicted.size()) time_error = std::max(time_error, std::abs(ev.t - predicted[k]));
@@ -472,10 +472,10 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
   if (growth) v.measured_growth = *growth;
   // The velocity scale of the penetration tolerance: the largest impact velocity.
   double v_scale = 0.0;
-  for (const Eigen::VectorXd& zb : orbit.before) v_scale = std::max(v_scale, std::abs(zb[n + m.contact]));
+  for (const Eigen::VectorXd& zb : orbit.before) v_scale = std::max(v_scale, std::abs(zb[n + m.FirstContact().dof]));
   const RunFacts facts{orbit.admissible, orbit.stable, orbit.impacts, predicted_rate, v.first_period_impacts,
                        v.impact_time_error, v.max_penetration, v.deviation, broken, growth, floor, sum};
-  Judge(facts, integrator, options, PenetrationTolerance(integrator, options, m.gap, v_scale), &v.consistent,
+  Judge(facts, integrator, options, PenetrationTolerance(integrator, options, m.FirstContact().gap, v_scale), &v.consistent,
         &v.reason);
   return v;
 }

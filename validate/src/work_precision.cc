@@ -61,7 +61,7 @@ std::vector<Case> Cases(bool quick) {
                           OrbitCase(b, "high-energy", ts + 0.01, 3),
                           OrbitCase(b, "long", 7.5, quick ? 100 : 10000, true)};
   Model zeno = PaperModel();
-  zeno.restitution = 0.5;
+  zeno.FirstContact().restitution = 0.5;
   Eigen::VectorXd x0(2), v0(2);
   x0 << 1.5, 1.0;
   v0 << 0.0, 0.01;
@@ -127,8 +127,8 @@ std::string Label(const Setting& s) {
 
 void CheckBenchModel(const Model& model, const std::string& field) {
   const Model paper = PaperModel();
-  if (model.mass != paper.mass || model.stiffness != paper.stiffness || model.contact != paper.contact ||
-      model.gap != paper.gap) {
+  if (model.mass != paper.mass || model.stiffness != paper.stiffness || model.FirstContact().dof != paper.FirstContact().dof ||
+      model.FirstContact().gap != paper.FirstContact().gap) {
     throw InputError(field, "the bench cases (a stable orbit at T = 7.5, the grazing and singular transitions at "
                             "9.127 and 4.834, a Zeno start) are defined on the paper's system; use "
                             "configs/paper.toml");

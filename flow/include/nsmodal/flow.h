@@ -12,6 +12,8 @@ namespace nsmodal {
 void Flow(const ModalBasis& b, double t, Eigen::Ref<Eigen::VectorXd> y);
 // y <- N y with restitution e: s <- s - (1 + e) r (r.s) / |r|^2, so v_c -> -e v_c.
 void Impact(const ModalBasis& b, double e, Eigen::Ref<Eigen::VectorXd> y);
+// The same at contact j (b.contacts[j]): s <- s - (1 + e) r_j (r_j.s) / |r_j|^2.
+void Impact(const ModalBasis& b, const ModalContact& contact, double e, Eigen::Ref<Eigen::VectorXd> y);
 
 // The analysis's impact (e = AnalysisBasis::kRestitution = 1): a reflection.
 inline void ElasticImpact(const AnalysisBasis& b, Eigen::Ref<Eigen::VectorXd> y) {
@@ -55,11 +57,17 @@ struct SinusoidSum {
   void UpdateBounds();
 };
 
-// x_c(t) on one flight segment from state y at t = 0.
+// x_c(t) = n_1 . x(t) on one flight segment from state y at t = 0 (or
+// n_j . x(t) for contact j's ModalContact).
 struct ContactSignal : SinusoidSum {
   ContactSignal(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y);
+  ContactSignal(const ModalBasis& basis, const ModalContact& contact, const Eigen::Ref<const Eigen::VectorXd>& y);
   // Reuses the storage for a new state (the simulator's inner loop).
   void Reset(const ModalBasis& basis, const Eigen::Ref<const Eigen::VectorXd>& y);
+  void Reset(const ModalBasis& basis, const ModalContact& contact, const Eigen::Ref<const Eigen::VectorXd>& y);
+
+ private:
+  void Reset(const ModalBasis& basis, const Eigen::VectorXd& r_over_omega, const Eigen::Ref<const Eigen::VectorXd>& y);
 };
 
 }  // namespace nsmodal

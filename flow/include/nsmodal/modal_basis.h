@@ -15,10 +15,20 @@
 // analysis (AnalysisBasis) refuses such systems, the simulator flies them.
 #include <Eigen/Dense>
 #include <string>
+#include <vector>
 
 #include "nsmodal/model.h"
 
 namespace nsmodal {
+
+// Contact j in the scaled modal coordinates: n_j . x = r_j . q with
+// r_j = Phi' n_j, and its impact s <- s - (1 + e_j) r_j (r_j . s) / |r_j|^2.
+struct ModalContact {
+  Eigen::VectorXd r;             // Phi' n_j
+  Eigen::VectorXd r_over_omega;  // r_i / u_scale_i: n_j . x = sum (r_i / w_i) u_i (+ rigid r_i q_i)
+  double r_norm2 = 0.0;          // |r|^2 = n_j' M^-1 n_j
+  double gap = 1.0;              // d_j
+};
 
 struct ModalBasis {
   int n = 0;                // dofs
@@ -27,10 +37,12 @@ struct ModalBasis {
   Eigen::VectorXd u_scale;  // u_i = u_scale_i q_i: w_i, or 1 for a rigid-body mode
   Eigen::MatrixXd phi;      // Phi, columns M-orthonormal
   Eigen::MatrixXd phi_inv;  // Phi^{-1} = Phi' M
-  Eigen::VectorXd r;        // row c of Phi: x_c = sum r_i q_i
+  // Contact 1's projection (the one-contact analysis's; x_c = n_1 . x):
+  Eigen::VectorXd r;        // Phi' n_1 (row c of Phi for the paper's x_c <= d): x_c = sum r_i q_i
   Eigen::VectorXd r_over_omega;  // r_i / u_scale_i: x_c = sum (r_i / w_i) u_i (+ rigid r_i q_i)
-  double r_norm2 = 0.0;     // |r|^2 = (M^{-1})_cc
+  double r_norm2 = 0.0;     // |r|^2 = n_1' M^-1 n_1 ((M^{-1})_cc)
   double gap = 1.0;
+  std::vector<ModalContact> contacts;  // every contact's, contacts[0] as above
 
   // Linear periods T_i = 2 pi / w_i (infinite for a rigid-body mode).
   Eigen::VectorXd Periods() const;

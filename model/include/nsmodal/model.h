@@ -1,13 +1,19 @@
 #pragma once
 // The vibro-impact model: M xdd + C xd + K x = f0 + f cos(w t) in free flight
-// (C = 0, f0 = f = 0 in the paper: M xdd + K x = 0), one unilateral
-// contact x_c <= d (Signorini, paper eq. 1) with a Newton impact law.
+// (C = 0, f0 = f = 0 in the paper: M xdd + K x = 0) and K >= 1 unilateral
+// contacts, each with a Newton impact law.
 //
-// Impact law (paper eq. 2b generalised to any SPD M): the impulse acts along
-// the contact normal e_c, M (v+ - v-) = e_c * Lambda, with Lambda chosen so that
-//   v_c(t+) = -e * v_c(t-),   0 <= e <= 1.
-// For a diagonal M this changes v_c only ("other velocities continuous"); for a
-// coupled M it is the only choice that conserves energy at e = 1.
+// Contact j (numbered from 1 in files and messages) has the gap
+//   g_j(x) = d_j - n_j . x >= 0          (Signorini; paper eq. 1 is n = e_c)
+// with a fixed normal n_j and d_j > 0 (the rest position x = 0 is clear of
+// every wall). Impact law (paper eq. 2b generalised to any SPD M and any
+// normal): the impulse acts along M^-1 n_j, M (v+ - v-) = n_j Lambda, with
+// Lambda chosen so that
+//   n_j . v(t+) = -e_j n_j . v(t-),   0 <= e_j <= 1.
+// For a dof contact (n = e_c) and a diagonal M this changes v_c only ("other
+// velocities continuous"); for a coupled M it is the only choice that
+// conserves energy at e = 1. Several contacts struck at once: sim/'s
+// contact.h states the law.
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
@@ -25,15 +31,46 @@ struct Forcing {
   bool HasHarmonic() const { return amplitude.size() > 0 && amplitude.cwiseAbs().maxCoeff() > 0.0; }
 };
 
+// One contact, as written in a scene ([[contact]] tables, or the [system]
+// shorthand contact_dof, gap, restitution for one upper stop).
+struct Contact {
+  enum class Form {
+    kDof,      // x_dof <= d (upper) or x_dof >= -d (lower): n = +-e_dof
+    kBetween,  // x_dof - x_other <= d: a relative contact, n = e_dof - e_other
+    kNormal,   // n . x <= d for a given n
+  };
+  Form form = Form::kDof;
+  int dof = 0;          // kDof: the dof; kBetween: the first of the pair (0-based)
+  int other = -1;       // kBetween: the second dof of the pair
+  bool upper = true;    // kDof: the wall above (x <= d) or below (x >= -d)
+  Eigen::VectorXd normal;    // n, length N (built by the makers below)
+  double gap = 1.0;          // d > 0
+  double restitution = 1.0;  // e in [0, 1]
+  bool shorthand = false;    // written as [system]'s keys: its fields are named system.gap, ...
+
+  // n . y for a vector of positions or velocities y: for the dof and between
+  // forms without products (exactly y_c, -y_c or y_a - y_b).
+  double Along(const Eigen::Ref<const Eigen::VectorXd>& y) const;
+  // n' A for a matrix A with N rows (Phi, M^-1 K, ...): A's rows for those forms.
+  Eigen::RowVectorXd RowOf(const Eigen::Ref<const Eigen::MatrixXd>& a) const;
+  // "x2 <= 1", "x2 >= -1", "x1 - x2 <= 0.2", "n . x <= 1".
+  std::string Describe() const;
+  // The dof its figures show: the dof, the first of a pair, the largest |n_i|.
+  int PlotDof() const;
+};
+
+// The contact makers (n: the number of dofs). Checks are Validate's.
+Contact DofContact(int n, int dof, bool upper, double gap, double restitution);
+Contact BetweenContact(int n, int dof, int other, double gap, double restitution);
+Contact NormalContact(Eigen::VectorXd normal, double gap, double restitution);
+
 struct Model {
   Eigen::MatrixXd mass;       // M, symmetric positive definite, N x N
   Eigen::MatrixXd stiffness;  // K, symmetric positive semi-definite, N x N (zero
                               // eigenvalues: rigid-body modes, undamped and unforced only)
   Eigen::MatrixXd damping;    // C, symmetric positive semi-definite N x N, or empty (none)
   Forcing forcing;            // none by default
-  int contact = 0;            // c, 0-based index of the dof that meets the obstacle
-  double gap = 1.0;           // d > 0
-  double restitution = 1.0;   // e in [0, 1]
+  std::vector<Contact> contacts;  // at least one; contact j + 1 of the files is contacts[j]
 
   int dofs() const { return static_cast<int>(mass.rows()); }
   bool HasDamping() const { return damping.size() > 0 && damping.cwiseAbs().maxCoeff() > 0.0; }
@@ -49,7 +86,21 @@ struct Model {
   }
   // No damping and no force: the paper's system, whose energy flight conserves.
   bool Conservative() const { return !HasDamping() && !forcing.HasConstant() && !forcing.HasHarmonic(); }
+  int NumContacts() const { return static_cast<int>(contacts.size()); }
+  // Contact 1: the one-contact analysis's (paper sections 1-4; RequireOneContact).
+  const Contact& FirstContact() const { return contacts.front(); }
+  Contact& FirstContact() { return contacts.front(); }
+  // Every contact's restitution equal to e.
+  bool AllRestitution(double e) const;
 };
+
+// The field of contact j (0-based) a message names: "contact[2].gap" (1-based,
+// as the scene's [[contact]] tables), or "system.gap" for the shorthand.
+std::string ContactField(const Contact& contact, int j, const std::string& field);
+
+// The one-contact analyses (the paper's, the forced responses) refuse a model
+// with several contacts: InputError naming "contact" and what was asked.
+void RequireOneContact(const Model& model, const std::string& what);
 
 // E = v' M v / 2 + x' K x / 2 of the physical state z = (x, v).
 double MechanicalEnergy(const Model& model, const Eigen::VectorXd& z);
@@ -130,14 +181,20 @@ int RigidBodyModes(const Eigen::MatrixXd& stiffness);
 
 // Checks every field and the scales above; throws InputError naming the field
 // ("system.mass_matrix", "system.contact_dof", "system.gap",
-// "system.restitution", "system.damping_matrix", "forcing.amplitude",
+// "system.restitution", "contact[j].normal", "contact[j].gap", ...,
+// "system.damping_matrix", "forcing.amplitude",
 // "forcing.frequency", ...) and the value. The damping must be symmetric
 // positive semi-definite (a negative eigenvalue would feed energy in); so
 // must the stiffness, nonzero, and with rigid-body modes (zero eigenvalues)
 // only for an undamped, unforced model (the free drift is flown in closed
 // form; damping and forcing need the static and harmonic responses, K^-1); a
 // harmonic force needs w > 0 within kMaxFrequencyRatio of the linear
-// frequencies. Returns the number of rigid-body modes (RigidBodyModes of K,
+// frequencies. Contacts: each normal of length N, finite and nonzero, each
+// gap positive, each restitution in [0, 1]; two contacts with the same normal
+// direction are refused (one wall would hide the other: a duplicate), and so
+// are opposing walls that leave no room between them (the clearance
+// d_j / |n_j| + d_k / |n_k| below 1e-12 of the gaps). Returns the number of
+// rigid-body modes (RigidBodyModes of K,
 // from the eigenvalues the checks computed).
 int Validate(const Model& model);
 

@@ -7,6 +7,7 @@
 // together) are stated in one place.
 #include <Eigen/Dense>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "nsmodal/field_names.h"
@@ -14,13 +15,26 @@
 
 namespace nsmodal {
 
+// One [[contact]] table (or one dict of Python's contacts=[...]), as given:
+// exactly one of dof (with side), between, normal; gap and restitution required.
+struct ContactSpec {
+  std::optional<double> dof;                  // 1-based
+  std::optional<std::string> side;            // "upper" (default) or "lower", with dof
+  std::optional<std::vector<double>> between; // [a, b], 1-based: x_a - x_b <= gap
+  std::optional<std::vector<double>> normal;  // n: n . x <= gap
+  std::optional<double> gap, restitution;
+};
+
 struct ModelSpec {
   // M and K: exactly one of a chain (masses and springs), the matrices, or a bar.
   std::optional<std::vector<double>> masses, springs;
   std::optional<Eigen::MatrixXd> mass_matrix, stiffness_matrix;
   std::optional<BarSpec> bar;
+  // The contacts: the shorthand for one upper stop (contact_dof, default the
+  // last dof; gap and restitution required), or a list of contacts.
   std::optional<double> contact_dof;       // 1-based; default: the last dof
-  std::optional<double> gap, restitution;  // both required
+  std::optional<double> gap, restitution;
+  std::optional<std::vector<ContactSpec>> contacts;
   // Damping: at most one form (none: C = 0).
   std::optional<std::vector<double>> rayleigh_damping;  // (a, b): C = a M + b K
   std::optional<std::vector<double>> damping_ratios;    // one per linear mode
@@ -35,7 +49,9 @@ struct ModelSpec {
 // naming, through `names`, the key: "form" (not exactly one form of M and K),
 // "masses", "springs", "mass_matrix", "stiffness_matrix" (one of a pair
 // missing), "contact_dof" (not a whole number of a dof), "gap",
-// "restitution" (missing), "damping" (more than one form),
+// "restitution" (missing), "contact" (both the shorthand and a list, or an
+// empty list), contact[j].<key> for a contact of the list (j from 1: dof,
+// side, between, normal, gap, restitution), "damping" (more than one form),
 // "rayleigh_damping" (not two coefficients), "forcing.amplitude",
 // "forcing.frequency" (one without the other; w not positive). The builders
 // (MakeChain, MakeBar, the damping forms) and Validate name the scene's

@@ -30,7 +30,8 @@ nlohmann::json ExploreJson(const ExploreReport& report);
 
 // summary.json of `simulate`: integrator, status, message, final_time,
 // final_state, impacts, grazes, zeno_events, first_zeno_time (null: none),
-// sticking_phases, sticking_time, energies, energy_drift, wall_time_s, steps,
+// sticking_phases, sticking_time, impacts_per_contact, grazes_per_contact,
+// zeno_events_per_contact, sticking_phases_per_contact (contact 1 first), energies, energy_drift, wall_time_s, steps,
 // and the settings blocks (WriteSettings) of the request.
 nlohmann::json SimulationJson(const SimulationSummary& s, const Configured<SimulationRequest>& request);
 

@@ -80,7 +80,7 @@ struct Sample {
 // The sample at t of state z = (x, v), with its energy v'Mv/2 + x'Kx/2.
 Sample SampleOf(const Model& model, double t, const Eigen::VectorXd& z);
 Columns<Sample> TrajectoryColumns(int dofs);
-// impacts.csv: t, x1_before..vN_before, x1_after..vN_after.
+// impacts.csv: t, contact (its number, from 1), x1_before..vN_before, x1_after..vN_after.
 Columns<ContactEvent> ImpactColumns(int dofs);
 
 }  // namespace nsmodal::report

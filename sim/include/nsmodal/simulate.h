@@ -1,18 +1,21 @@
 #pragma once
-// Simulation of any initial condition, any restitution 0 <= e <= 1, with or
-// without damping and forcing (model.h), with three integrators behind one
-// interface:
+// Simulation of any initial condition, any restitutions 0 <= e_j <= 1, any
+// number of contacts, with or without damping and forcing (model.h), with
+// three integrators behind one interface:
 //   exact        closed-form flight (modal rotations for the conservative
 //                model; forced_flow.h's first-order modes plus the static and
 //                harmonic particular solutions otherwise), impacts isolated by conservative
 //                advancement (a Taylor upper bound of x_c - d that provably
 //                cannot step over a crossing), polished to root_tol;
-//   cvode        SUNDIALS CVODE (BDF or Adams) with CVodeRootInit on d - x_c,
-//                the Newton law at each root and CVodeReInit;
+//                K contacts: each gap searched up to the earliest crossing so far;
+//   cvode        SUNDIALS CVODE (BDF or Adams) with CVodeRootInit on each
+//                gap d_j - n_j . x, the Newton law at each root and CVodeReInit;
 //   moreau-jean  the theta-method event-capturing time-stepper of nonsmooth
-//                contact dynamics, one-contact LCP in closed form.
+//                contact dynamics, an LCP over the contacts closing in a step
+//                (one contact in closed form).
 //
-// Contact events (paper eq. 1-2, DESIGN.md):
+// Contact events at contact j (paper eq. 1-2, DESIGN.md; below x_c = n_j . x,
+// v_c = n_j . v, d = d_j, e = e_j, (M^-1)_cc = n_j' M^-1 n_j):
 //   impact     x_c reaches d with v_c > v_tol: v_c -> -e v_c (model.h's law);
 //   graze      x_c touches d with |v_c| <= v_tol and the free acceleration
 //              pulls away: no impulse, counted apart, never twice;
@@ -25,9 +28,16 @@
 //              accuracy) or its flight 2 v+ / a_c is shorter than
 //              zeno_flight * 2 pi / w_max, the rest of the geometric sequence
 //              (time 2 v+ / (a_c (1 - e))) is summed and the mass sticks.
+//   at once    contacts in their bands at the same instant are struck together
+//              by Moreau's velocity-level law (contact.h): independent when the
+//              Delassus matrix is diagonal, an LCP otherwise.
+//   one held   one contact is held at a time, and the others are watched while
+//              it is; two contacts that must be held together end the run
+//              with kSolverError saying so (event_loop.h).
 #include <Eigen/Dense>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "nsmodal/field_names.h"
 #include "nsmodal/model.h"
@@ -74,6 +84,7 @@ struct SimulateOptions {
 struct ContactEvent {
   double t = 0.0;
   Eigen::VectorXd before, after;  // physical (x, v)
+  int contact = 0;                // 0-based index of the contact struck (the first, if several at once)
 };
 
 struct SimulationObserver {
@@ -98,6 +109,8 @@ struct SimulationSummary {
   long grazes = 0;
   long zeno_events = 0;
   long sticking_phases = 0;
+  // The same counts per contact (index j: contact j + 1).
+  std::vector<long> impacts_per_contact, grazes_per_contact, zeno_per_contact, sticking_per_contact;
   double sticking_time = 0.0;
   double first_zeno_time = -1.0;  // accumulation time of the first Zeno sequence
   double initial_energy = 0.0;
