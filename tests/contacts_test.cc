@@ -1,0 +1,320 @@
+// Several contacts (issue 24): the model's contacts and their checks, the
+// three integrators against closed forms with two walls, a second contact
+// out of reach, simultaneous impacts (decoupled and by the LCP), Zeno and
+// sticking per contact.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "nsmodal/contact.h"
+#include "nsmodal/error.h"
+#include "nsmodal/lcp.h"
+#include "nsmodal/modal_basis.h"
+#include "nsmodal/model_spec.h"
+#include "nsmodal/scene.h"
+#include "nsmodal/simulate.h"
+
+namespace nsmodal {
+namespace {
+
+// A mass m on a spring k between two walls, x <= d_up and x >= -d_low.
+Model Clearance(double d_up, double d_low, double e_up, double e_low, double m = 1.0, double k = 4.0) {
+  Model model = MakeChain({m}, {k}, 0, d_up, e_up);
+  model.contacts = {DofContact(1, 0, true, d_up, e_up), DofContact(1, 0, false, d_low, e_low)};
+  Validate(model);
+  return model;
+}
+
+struct Trace {
+  SimulationSummary summary;
+  std::vector<ContactEvent> impacts;
+};
+
+Trace SimulateTrace(const Model& m, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0, Integrator integrator,
+             double t_end, double rtol = 1e-12, double step = 1e-5) {
+  SimulateOptions opt;
+  opt.integrator = integrator;
+  opt.t_end = t_end;
+  opt.sample_dt = 0.0;
+  opt.rtol = rtol;
+  opt.atol = 1e-2 * rtol;
+  opt.step = step;
+  Trace run;
+  SimulationObserver obs;
+  obs.on_impact = [&](const ContactEvent& ev) { run.impacts.push_back(ev); };
+  run.summary = nsmodal::Simulate(m, x0, v0, opt, obs);
+  EXPECT_EQ(run.summary.status, SimulationStatus::kFinished) << run.summary.message;
+  return run;
+}
+
+// The alternating orbit of a mass between walls at +-d: from x = 0 with
+// speed v, a cosine of amplitude A = sqrt(2E/k) > d between impacts, so the
+// flight from one wall to the other lasts (pi - 2 arccos(d / A)) / w and the
+// period is twice that: T(E) = 2 (pi - 2 arccos(d / sqrt(2 E / k))) / w.
+TEST(Contacts, MassBetweenTwoWallsKeepsTheAlternatingOrbitsPeriodEnergyRelation) {
+  const double k = 4.0, d = 0.5, w = std::sqrt(k);
+  const Model m = Clearance(d, d, 1.0, 1.0, 1.0, k);
+  for (double v : {1.2, 3.0, 10.0}) {
+    const double energy = 0.5 * v * v, amplitude = std::sqrt(2.0 * energy / k);
+    const double half = (M_PI - 2.0 * std::acos(d / amplitude)) / w;
+    for (Integrator integrator : {Integrator::kExact, Integrator::kCvode}) {
+      const Trace r = SimulateTrace(m, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, v), integrator, 40.0);
+      ASSERT_GT(r.impacts.size(), 10u);
+      for (std::size_t i = 1; i < r.impacts.size(); ++i) {
+        // Walls alternate, each flight lasts half the period. Exact: the
+        // search's root_tol 1e-14 on times of order 40 leaves ~1e-12 of
+        // accumulated round-off; CVODE at rtol 1e-12: ~1e-9 per flight.
+        EXPECT_NE(r.impacts[i].contact, r.impacts[i - 1].contact) << i;
+        const double tol = integrator == Integrator::kExact ? 1e-11 : 1e-8;
+        EXPECT_NEAR(r.impacts[i].t - r.impacts[i - 1].t, half, tol) << ToString(integrator) << " v " << v << " " << i;
+      }
+      EXPECT_EQ(r.summary.impacts_per_contact.size(), 2u);
+      EXPECT_LE(std::abs(r.summary.impacts_per_contact[0] - r.summary.impacts_per_contact[1]), 1);
+      EXPECT_NEAR(r.summary.final_energy, energy, 1e-9 * energy);
+    }
+  }
+}
+
+// Walls at +1 and -2: the upper wall's one-impact orbits (a cosine of
+// amplitude A from x = 1 back to x = 1) stay clear of the lower wall while
+// A < 2 and graze it at A = 2; above, both walls are struck.
+TEST(Contacts, EachWallsOneImpactOrbitGrazesTheOtherWallWhereTheClosedFormSays) {
+  const double k = 1.0, up = 1.0, low = 2.0;
+  const Model m = Clearance(up, low, 1.0, 1.0, 1.0, k);
+  for (double amplitude : {1.5, 1.999, 2.001, 3.0}) {
+    const double v = amplitude * std::sqrt(k);  // from x = 0: E = v^2 / 2 = k A^2 / 2
+    const Trace r = SimulateTrace(m, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, v), Integrator::kExact, 200.0);
+    EXPECT_GT(r.summary.impacts_per_contact[0], 20) << amplitude;
+    if (amplitude < low) {
+      EXPECT_EQ(r.summary.impacts_per_contact[1], 0) << amplitude;
+    } else {
+      EXPECT_GT(r.summary.impacts_per_contact[1], 20) << amplitude;
+    }
+  }
+}
+
+// A second contact out of reach changes nothing: the same impacts at the
+// same times, the same final state, to the last bit (the searches of the
+// other contact do not touch the state; CVODE's root functions do not move
+// its steps; Moreau-Jean's LCP has one active contact).
+TEST(Contacts, ASecondContactOutOfReachReproducesTheOneContactResultsExactly) {
+  const Model one = PaperModel();
+  Model two = one;
+  two.contacts.push_back(DofContact(2, 0, false, 1e3, 0.7));  // x1 >= -1000: never reached
+  two.FirstContact().shorthand = false;
+  Validate(two);
+  const Eigen::Vector2d x0(0.3, 0.2), v0(1.2, 1.5);
+  for (Integrator integrator : {Integrator::kExact, Integrator::kCvode, Integrator::kMoreauJean}) {
+    const Trace a = SimulateTrace(one, x0, v0, integrator, 60.0, 1e-10, 1e-4);
+    const Trace b = SimulateTrace(two, x0, v0, integrator, 60.0, 1e-10, 1e-4);
+    ASSERT_EQ(a.impacts.size(), b.impacts.size()) << ToString(integrator);
+    for (std::size_t i = 0; i < a.impacts.size(); ++i) {
+      EXPECT_EQ(a.impacts[i].t, b.impacts[i].t) << ToString(integrator) << " " << i;
+      EXPECT_EQ(b.impacts[i].contact, 0);
+    }
+    EXPECT_TRUE(a.summary.final_state == b.summary.final_state) << ToString(integrator);
+    EXPECT_EQ(b.summary.impacts_per_contact, (std::vector<long>{a.summary.impacts, 0}));
+  }
+}
+
+// Two identical, uncoupled oscillators with a stop each, started alike:
+// both walls are struck at the same instant. The Delassus matrix is
+// diagonal, so each takes its own law (here e = 1 and e = 0.5): each mass
+// moves exactly as it would alone.
+TEST(Contacts, DecoupledSimultaneousImpactsEachTakeTheirOwnLaw) {
+  Model two = MakeChain({1.0, 1.0}, {1.0, 0.0}, 0, 1.0, 1.0);
+  two.stiffness = Eigen::Matrix2d::Identity();  // two springs to ground, no coupling
+  two.contacts = {DofContact(2, 0, true, 1.0, 1.0), DofContact(2, 1, true, 1.0, 0.5)};
+  Validate(two);
+  const Model alone_elastic = MakeChain({1.0}, {1.0}, 0, 1.0, 1.0), alone_lossy = MakeChain({1.0}, {1.0}, 0, 1.0, 0.5);
+  const Eigen::Vector2d x0(0.0, 0.0), v0(2.0, 2.0);
+  for (Integrator integrator : {Integrator::kExact, Integrator::kCvode}) {
+    const Trace both = SimulateTrace(two, x0, v0, integrator, 10.0);
+    const Trace a = SimulateTrace(alone_elastic, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, 2.0), integrator, 10.0);
+    const Trace b = SimulateTrace(alone_lossy, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, 2.0), integrator, 10.0);
+    // The first impact is simultaneous: one event, both contacts' laws.
+    ASSERT_FALSE(both.impacts.empty());
+    const Eigen::VectorXd& after = both.impacts[0].after;
+    EXPECT_NEAR(after[2], a.impacts[0].after[1], 1e-9) << ToString(integrator);
+    EXPECT_NEAR(after[3], b.impacts[0].after[1], 1e-9) << ToString(integrator);
+    // Then each mass as alone (CVODE: its tolerance over 10 time units).
+    const double tol = integrator == Integrator::kExact ? 1e-12 : 1e-7;
+    EXPECT_NEAR(both.summary.final_state[0], a.summary.final_state[0], tol);
+    EXPECT_NEAR(both.summary.final_state[1], b.summary.final_state[0], tol);
+    EXPECT_NEAR(both.summary.final_state[2], a.summary.final_state[1], tol);
+    EXPECT_NEAR(both.summary.final_state[3], b.summary.final_state[1], tol);
+  }
+}
+
+// Coupled walls (a coupled M: the Delassus matrix is full): Moreau's law by
+// the LCP. Where an impulse acts the contact leaves at -e u-; where none
+// acts it does not approach faster than -e u- allows; impulses >= 0.
+TEST(Contacts, CoupledSimultaneousImpactsSatisfyMoreausLaw) {
+  Model m;
+  m.mass.resize(2, 2);
+  m.mass << 2.0, 0.8, 0.8, 1.0;
+  m.stiffness = Eigen::Matrix2d::Identity();
+  m.contacts = {DofContact(2, 0, true, 1.0, 0.9), DofContact(2, 1, true, 1.0, 0.4)};
+  Validate(m);
+  const ContactModel cm(m);
+  ASSERT_GT(std::abs(cm.delassus(0, 1)), 0.1);
+  for (const Eigen::Vector2d& v : {Eigen::Vector2d(1.0, 1.0), Eigen::Vector2d(3.0, 0.1), Eigen::Vector2d(0.1, 3.0)}) {
+    Eigen::VectorXd after = v;
+    ASSERT_TRUE(cm.ApplyImpacts({0, 1}, after));
+    // The impulses, from M (v+ - v-) = -H' p with H = I here.
+    const Eigen::Vector2d p = -(m.mass * (after - v));
+    for (int j = 0; j < 2; ++j) {
+      const double e = m.contacts[j].restitution, slack = -(after[j] + e * v[j]);
+      const double kTol = 1e-12 * v.norm();  // an LCP solved by pivoting: round-off of the velocities
+      EXPECT_GE(p[j], -kTol) << j;
+      EXPECT_GE(slack, -kTol) << j;
+      EXPECT_LE(std::abs(p[j] * slack), kTol * std::max(1.0, p.norm())) << j;
+    }
+  }
+  // The LCP solver on its own: a problem with a known solution.
+  Eigen::Matrix2d a;
+  a << 2.0, 1.0, 1.0, 2.0;
+  const LcpSolution s = SolveLcp(a, Eigen::Vector2d(-1.0, -1.0));
+  ASSERT_TRUE(s.solved) << s.message;
+  EXPECT_NEAR(s.z[0], 1.0 / 3.0, 1e-14);
+  EXPECT_NEAR(s.z[1], 1.0 / 3.0, 1e-14);
+}
+
+// The paper's chain with a two-sided stop on x2 (x2 <= 1, x2 >= -0.8) and
+// lossy impacts: the three integrators strike the same walls at the same
+// times (tolerances as Simulate.ThreeIntegratorsAgreeOnANonPeriodicTrajectory:
+// CVODE at rtol 1e-12, Moreau-Jean's first order at h = 1e-5).
+TEST(Contacts, ThreeIntegratorsAgreeOnATwoSidedStop) {
+  Model m = PaperModel();
+  m.contacts = {DofContact(2, 1, true, 1.0, 0.9), DofContact(2, 1, false, 0.8, 0.8)};
+  Validate(m);
+  const Eigen::Vector2d x0(0.3, 0.2), v0(1.2, 1.5);
+  const Trace exact = SimulateTrace(m, x0, v0, Integrator::kExact, 40.0);
+  const Trace cvode = SimulateTrace(m, x0, v0, Integrator::kCvode, 40.0);
+  const Trace mj = SimulateTrace(m, x0, v0, Integrator::kMoreauJean, 40.0);
+  ASSERT_GE(exact.impacts.size(), 8u);
+  ASSERT_GT(exact.summary.impacts_per_contact[0], 0);
+  ASSERT_GT(exact.summary.impacts_per_contact[1], 0);
+  ASSERT_EQ(cvode.impacts.size(), exact.impacts.size());
+  ASSERT_EQ(mj.impacts.size(), exact.impacts.size());
+  for (std::size_t i = 0; i < exact.impacts.size(); ++i) {
+    EXPECT_EQ(cvode.impacts[i].contact, exact.impacts[i].contact) << i;
+    EXPECT_EQ(mj.impacts[i].contact, exact.impacts[i].contact) << i;
+    EXPECT_NEAR(cvode.impacts[i].t, exact.impacts[i].t, 1e-6) << i;
+    EXPECT_NEAR(mj.impacts[i].t, exact.impacts[i].t, 5e-3) << i;
+  }
+}
+
+// A mass pushed down onto the lower wall (a constant force) with e = 0.5:
+// a Zeno sequence on contact 2, then it rests there; contact 1 is never struck.
+TEST(Contacts, ZenoAndStickingAreCountedPerContact) {
+  Model m = Clearance(1.0, 0.5, 0.5, 0.5);
+  m.forcing.constant = Eigen::VectorXd::Constant(1, -4.0);  // static position -1, beyond the lower wall
+  Validate(m);
+  for (Integrator integrator : {Integrator::kExact, Integrator::kCvode}) {
+    const Trace r = SimulateTrace(m, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1), integrator, 20.0, 1e-10);
+    EXPECT_EQ(r.summary.impacts_per_contact[0], 0) << ToString(integrator);
+    EXPECT_GT(r.summary.impacts_per_contact[1], 3) << ToString(integrator);
+    EXPECT_EQ(r.summary.zeno_per_contact, (std::vector<long>{0, 1})) << ToString(integrator);
+    EXPECT_EQ(r.summary.sticking_per_contact, (std::vector<long>{0, 1})) << ToString(integrator);
+    // Held on the lower wall at the end.
+    EXPECT_NEAR(r.summary.final_state[0], -0.5, 1e-9) << ToString(integrator);
+  }
+}
+
+// A relative contact (an impact damper's cavity): a free mass m2 rattling
+// between walls x1 - x2 <= g and x2 - x1 <= g of a primary mass m1 on a
+// spring. Momentum exchange at each e = 1 impact conserves the energy; K is
+// semi-definite only through the free mass (its spring is zero).
+TEST(Contacts, AnImpactDampersCavityConservesEnergyWithElasticImpacts) {
+  Model m = MakeChain({1.0, 0.2}, {1.0, 0.0}, 0, 1.0, 1.0);
+  m.contacts = {BetweenContact(2, 0, 1, 0.1, 1.0), BetweenContact(2, 1, 0, 0.1, 1.0)};
+  Validate(m);
+  for (Integrator integrator : {Integrator::kExact, Integrator::kCvode}) {
+    const Trace r = SimulateTrace(m, Eigen::Vector2d(1.0, 1.0), Eigen::Vector2d::Zero(), integrator, 30.0);
+    EXPECT_GT(r.summary.impacts_per_contact[0], 2) << ToString(integrator);
+    EXPECT_GT(r.summary.impacts_per_contact[1], 2) << ToString(integrator);
+    EXPECT_NEAR(r.summary.energy_drift, 0.0, integrator == Integrator::kExact ? 1e-12 : 1e-8);
+    // Total momentum m1 v1 + m2 v2 is continuous across each impact: to
+    // round-off for the exact law; CVODE's energy projection (simulate.h)
+    // rescales the velocities after an impact by up to 100 rtol = 1e-10 of
+    // the energy, which moves the momentum by as much.
+    const double kMomentumTol = integrator == Integrator::kExact ? 1e-12 : 1e-9;
+    for (const ContactEvent& ev : r.impacts) {
+      EXPECT_NEAR(ev.before[2] + 0.2 * ev.before[3], ev.after[2] + 0.2 * ev.after[3], kMomentumTol);
+    }
+  }
+}
+
+// Bad input: each names the contact's index and field.
+std::string ErrorOf(const std::string& scene) {
+  try {
+    ParseScene(scene, "test.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Contacts, BadContactsAreRefusedNamingTheContactAndField) {
+  const std::string chain = "[system]\nmasses = [1.0, 1.0]\nsprings = [0.85, 2.0]\n";
+  const std::string c1 = "[[contact]]\ndof = 2\ngap = 1.0\nrestitution = 1.0\n";
+  EXPECT_NE(ErrorOf(chain + c1 + "[[contact]]\nnormal = [0.0, 0.0]\ngap = 1.0\nrestitution = 1.0\n")
+                .find("contact[2].normal: is zero"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(chain + c1 + "[[contact]]\ndof = 1\ngap = 0.0\nrestitution = 1.0\n").find("contact[2].gap"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(chain + c1 + "[[contact]]\ndof = 2\nside = \"lower\"\ngap = -1.0\nrestitution = 1.0\n")
+                .find("contact[2].gap: must be positive"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(chain + c1 + "[[contact]]\ndof = 2\ngap = 2.0\nrestitution = 1.0\n")
+                .find("contact[2].normal: duplicates contact 1"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(chain + c1 + "[[contact]]\ndof = 3\ngap = 1.0\nrestitution = 1.0\n").find("contact[2].dof"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(chain + c1 + "[[contact]]\nbetween = [1, 1]\ngap = 1.0\nrestitution = 1.0\n")
+                .find("contact[2].between"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(chain + c1 + "[[contact]]\ndof = 1\ngap = 1.0\nrestitution = 1.5\n")
+                .find("contact[2].restitution"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(chain + c1 + "[[contact]]\ndof = 1\nside = \"left\"\ngap = 1.0\nrestitution = 1.0\n")
+                .find("contact[2].side"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(chain + c1 + "[[contact]]\ndof = 1\ngap = 1.0\n").find("contact[2].restitution: is missing"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(chain + "gap = 1.0\nrestitution = 1.0\n" + c1).find("contact: give the contacts either"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(chain + c1 + "[[contact]]\ndof = 1\ngap = 1.0\nrestitution = 1.0\nheight = 2\n")
+                .find("contact[2].height"),
+            std::string::npos);
+  // Opposing walls that leave no room: the clearance of two faces.
+  Model m = Clearance(1.0, 1.0, 1.0, 1.0);
+  m.contacts[1].gap = -1.0;
+  try {
+    Validate(m);
+    ADD_FAILURE() << "no room was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("leaves no room between the walls"), std::string::npos) << e.what();
+  }
+  // A start beyond any wall names it.
+  try {
+    nsmodal::Simulate(Clearance(1.0, 0.5, 1.0, 1.0), Eigen::VectorXd::Constant(1, -0.6), Eigen::VectorXd::Zero(1),
+                      SimulateOptions{});
+    ADD_FAILURE() << "a start beyond the lower wall was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("contact 2 (x1 >= -0.5)"), std::string::npos) << e.what();
+  }
+  // The periodic-orbit analysis names the restitution below 1 of the contact that has it.
+  try {
+    AnalysisBasis b(Clearance(1.0, 1.0, 1.0, 0.5));
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("contact[2].restitution"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace nsmodal
