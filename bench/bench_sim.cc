@@ -224,6 +224,48 @@ void BM_ExactBarImpacts(benchmark::State& state) {
 }
 BENCHMARK(BM_ExactBarImpacts)->Arg(20)->Arg(100)->Arg(0)->Unit(benchmark::kSecond)->Iterations(1);
 
+// Issue 24, several contacts. The cost of K contacts on one trajectory: the
+// paper's stable 1-ipp orbit at T = 7.5 over 10,000 periods, with K - 1
+// more contacts out of reach (x2 >= -100, x1 <= 100, x1 >= -100): the
+// motion and the impacts are the same (contacts_test), so us_per_impact
+// against K is the searches' cost alone. Target: about K times one
+// contact's search per flight at most.
+void BM_ExactContactsCost(benchmark::State& state) {
+  const OrbitCase c(7.5);
+  Model m = c.model;
+  const Contact far[] = {DofContact(2, 1, false, 100.0, 1.0), DofContact(2, 0, true, 100.0, 1.0),
+                         DofContact(2, 0, false, 100.0, 1.0)};
+  for (int j = 1; j < state.range(0); ++j) m.contacts.push_back(far[j - 1]);
+  SimulateOptions opt;
+  opt.t_end = 10000 * c.orbit.period + c.orbit.period / 2;
+  opt.sample_dt = 0.0;
+  SimulationSummary s;
+  for (auto _ : state) s = Simulate(m, c.orbit.z0.head(2), c.orbit.z0.tail(2), opt);
+  state.counters["state_error"] = c.Error(s);
+  state.counters["us_per_impact"] = 1e6 * s.wall_time_s / static_cast<double>(s.impacts);
+  state.counters["steps_per_impact"] = static_cast<double>(s.steps) / static_cast<double>(s.impacts);
+}
+BENCHMARK(BM_ExactContactsCost)->DenseRange(1, 4)->Unit(benchmark::kMillisecond);
+
+// The paper's chain with a two-sided stop on x2 (x2 <= 1, x2 >= -1, e = 1)
+// from x = 0, v = (1.2, 1.5) over 20,000 time units: an aperiodic motion
+// striking both walls. Target: >= 500,000 impacts per second on one core.
+void BM_ExactTwoSidedStop(benchmark::State& state) {
+  Model m = PaperModel();
+  m.contacts = {DofContact(2, 1, true, 1.0, 1.0), DofContact(2, 1, false, 1.0, 1.0)};
+  SimulateOptions opt;
+  opt.t_end = 20000.0;
+  opt.sample_dt = 0.0;
+  SimulationSummary s;
+  for (auto _ : state) s = Simulate(m, Eigen::Vector2d::Zero(), Eigen::Vector2d(1.2, 1.5), opt);
+  state.counters["impacts"] = static_cast<double>(s.impacts);
+  state.counters["upper_impacts"] = static_cast<double>(s.impacts_per_contact[0]);
+  state.counters["lower_impacts"] = static_cast<double>(s.impacts_per_contact[1]);
+  state.counters["impacts_per_s"] = static_cast<double>(s.impacts) / s.wall_time_s;
+  state.counters["energy_drift"] = s.energy_drift;
+}
+BENCHMARK(BM_ExactTwoSidedStop)->Unit(benchmark::kMillisecond);
+
 }  // namespace
 }  // namespace nsmodal
 

@@ -132,15 +132,6 @@ void ValidateContacts(const Model& model, double stiffness_max) {
 
 }  // namespace
 
-double Contact::Along(const Eigen::Ref<const Eigen::VectorXd>& y) const {
-  switch (form) {
-    case Form::kDof: return upper ? y[dof] : -y[dof];
-    case Form::kBetween: return y[dof] - y[other];
-    case Form::kNormal: break;
-  }
-  return normal.dot(y);
-}
-
 Eigen::RowVectorXd Contact::RowOf(const Eigen::Ref<const Eigen::MatrixXd>& a) const {
   switch (form) {
     case Form::kDof: return upper ? Eigen::RowVectorXd(a.row(dof)) : Eigen::RowVectorXd(-a.row(dof));

@@ -267,18 +267,18 @@ class ExactStepper {
   // Newton's law at contact j, and at every other contact in its band and
   // not moving away at that instant (struck at once: contact.h's law).
   void Impact(int j, double e) {
-    std::vector<int> set{j};
+    set_.assign(1, j);
     for (int k = 0; k < k_; ++k) {
       if (k == j) continue;
       const auto& g = Band(k, f_.Gap(k, t_, y_));
-      if (g.Position(0.0) >= -tol_[k] && g.Velocity(0.0) >= -vtol_[k]) set.push_back(k);
+      if (g.Position(0.0) >= -tol_[k] && g.Velocity(0.0) >= -vtol_[k]) set_.push_back(k);
     }
-    if (set.size() == 1) {
+    if (set_.size() == 1) {
       f_.Impact(j, e, y_);
       return;
     }
     Eigen::VectorXd z = f_.Physical(y_);
-    if (!cm_.ApplyImpacts(set, z.tail(cm_.model.dofs()))) {
+    if (!cm_.ApplyImpacts(set_, z.tail(cm_.model.dofs()))) {
       throw SolverError("the LCP of the contacts struck at once at t = " + std::to_string(t_) + " has no solution");
     }
     y_ = f_.FromPhysical(z);
@@ -342,6 +342,7 @@ class ExactStepper {
   double t_ = 0.0;
   std::vector<double> tol_, vtol_;  // each contact's band, from its last signal
   double ac_ = 0.0;                 // the free normal acceleration at the contact found
+  std::vector<int> set_;            // the contacts struck at once (storage reused)
   long steps_ = 0, sweep_steps_ = 0;
 };
 

@@ -50,7 +50,14 @@ struct Contact {
 
   // n . y for a vector of positions or velocities y: for the dof and between
   // forms without products (exactly y_c, -y_c or y_a - y_b).
-  double Along(const Eigen::Ref<const Eigen::VectorXd>& y) const;
+  double Along(const Eigen::Ref<const Eigen::VectorXd>& y) const {
+    switch (form) {
+      case Form::kDof: return upper ? y[dof] : -y[dof];
+      case Form::kBetween: return y[dof] - y[other];
+      case Form::kNormal: break;
+    }
+    return normal.dot(y);
+  }
   // n' A for a matrix A with N rows (Phi, M^-1 K, ...): A's rows for those forms.
   Eigen::RowVectorXd RowOf(const Eigen::Ref<const Eigen::MatrixXd>& a) const;
   // "x2 <= 1", "x2 >= -1", "x1 - x2 <= 0.2", "n . x <= 1".
