@@ -90,7 +90,9 @@ CommandLine::CommandLine() {
 
   c_orbits = app.add_subcommand("orbits", "Potential and admissible orbits over a period grid (CSV)");
   c_orbits->add_option("scene", orbits.scene, "Scene file (TOML)")->required();
-  c_orbits->add_option("--impacts", orbits.impacts, "Impacts per period (1 or 2)")->default_val(1);
+  c_orbits->add_option("--impacts", orbits.impacts, "Impacts per period (1 or 2), all on contact 1")->default_val(1);
+  c_orbits->add_option("--sequence", orbits.sequence,
+                       "The contact of each impact, e.g. 1,2 (contacts numbered from 1 as written; 1 or 2 impacts)");
   c_orbits->add_option("--period", orbits.period, "Period grid FROM:TO:STEP")->required();
   c_orbits->add_option("--out", orbits.out, "Output directory")->required();
   c_orbits->add_option("--threads", orbits.threads, "Worker threads (0: all cores)")->default_val(0)->check(CLI::Range(0, kMaxThreads));
@@ -100,7 +102,9 @@ CommandLine::CommandLine() {
 
   c_orbit = app.add_subcommand("orbit", "Every potential orbit at one period");
   c_orbit->add_option("scene", orbit.scene, "Scene file (TOML)")->required();
-  c_orbit->add_option("--impacts", orbit.impacts, "Impacts per period (1 or 2)")->default_val(1);
+  c_orbit->add_option("--impacts", orbit.impacts, "Impacts per period (1 or 2), all on contact 1")->default_val(1);
+  c_orbit->add_option("--sequence", orbit.sequence,
+                      "The contact of each impact, e.g. 1,2 (contacts numbered from 1 as written; 1 or 2 impacts)");
   c_orbit->add_option("--period", orbit.period, "Period T")->required();
   c_orbit->add_flag("--json", orbit.json, "Print JSON {\"orbits\": [...]}");
 

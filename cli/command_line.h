@@ -15,6 +15,7 @@ namespace nsmodal::cli {
 struct OrbitsArgs {
   std::string scene, out, period;
   int impacts = 1;
+  std::optional<std::string> sequence;  // the contact of each impact, "1,2"
   int threads = 0;
   std::optional<double> modes;  // analyse the first K linear modes only
   std::string format = "csv";   // the tables' format: csv or hdf5
@@ -22,6 +23,7 @@ struct OrbitsArgs {
 struct OrbitArgs {
   std::string scene;
   int impacts = 1;
+  std::optional<std::string> sequence;
   double period = 0.0;
   bool json = false;
 };

@@ -34,10 +34,27 @@ void CheckImpacts(int impacts) {
   }
 }
 
+// --sequence (the contact of each impact) or --impacts m (m impacts on
+// contact 1): the impacts and the sequence, 0-based; checked against the
+// model's contacts.
+std::pair<int, std::vector<int>> ImpactSequence(int impacts, const std::optional<std::string>& sequence,
+                                                const AnalysisBasis& b) {
+  if (!sequence) {
+    CheckImpacts(impacts);
+    return {impacts, std::vector<int>(impacts, 0)};
+  }
+  std::vector<int> s = ParseSequence(*sequence, static_cast<int>(b.contacts.size()), "--sequence");
+  if (impacts != 1 && impacts != static_cast<int>(s.size())) {
+    throw InputError("--impacts", std::to_string(impacts) + " disagrees with --sequence " + *sequence +
+                                      " (" + std::to_string(s.size()) + " impacts): give one of them");
+  }
+  return {static_cast<int>(s.size()), std::move(s)};
+}
+
 }  // namespace
 
 int RunOrbits(const OrbitsArgs& a) {
-  CheckImpacts(a.impacts);
+  if (!a.sequence) CheckImpacts(a.impacts);
   const PeriodGrid grid = PeriodGrid::Parse(a.period);
   const Scene scene = LoadScene(a.scene);
   // --modes K: the sweep on the first K modes; orbits.csv in the N dofs, with the bound's column.
@@ -45,17 +62,19 @@ int RunOrbits(const OrbitsArgs& a) {
   if (a.modes) truncation = TruncateModesAsGiven(scene.model, *a.modes, "--modes");
   if (truncation) report::PrintSweepTruncation(std::cout, *truncation);
   const AnalysisBasis b(truncation ? truncation->model : scene.model);
-  CheckSweepWork(b, grid, {a.impacts}, "--period", a.impacts == 1);
+  const auto [impacts, sequence] = ImpactSequence(a.impacts, a.sequence, b);
+  CheckSweepWork(b, grid, {impacts}, "--period", impacts == 1);
   const report::TableFormat format = report::ParseTableFormat(a.format);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, report::TableFileNames({"orbits", "transitions"}));
   SweepOptions opt;  // stability: potential
   opt.threads = a.threads;
-  opt.progress = ProgressBar(a.impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
+  opt.sequence = sequence;
+  opt.progress = ProgressBar(impacts == 1 ? "1-ipp orbits" : "2-ipp orbits");
   const report::SweepWritten written =
-      report::WriteSweepTable(dir, "orbits", b, grid, a.impacts, opt, truncation ? &*truncation : nullptr, format);
+      report::WriteSweepTable(dir, "orbits", b, grid, impacts, opt, truncation ? &*truncation : nullptr, format);
   std::cout << "wrote " << written.orbits << " orbits (" << written.admissible << " admissible) to " << a.out << "/"
             << report::TableFileName("orbits", format) << "\n";
-  if (a.impacts == 1) {
+  if (impacts == 1) {
     // Zone boundaries and the stability changes inside the zones (issue 13).
     const std::vector<Transition> transitions = written.zones.Transitions(b);
     std::cout << "wrote " << transitions.size() << " transitions to " << a.out << "/"
@@ -172,16 +191,19 @@ int RunSettings(const SettingsArgs& a) {
 }
 
 int RunOrbit(const OrbitArgs& a) {
-  CheckImpacts(a.impacts);
+  if (!a.sequence) CheckImpacts(a.impacts);
   if (!(a.period > 0.0) || !std::isfinite(a.period)) {
     throw InputError("--period", "must be positive, got " + FormatValue(a.period));
   }
   const AnalysisBasis b(LoadScene(a.scene).model);
-  const std::vector<OrbitRecord> orbits = OrbitsAt(b, a.period, a.impacts, {}, "--period");  // stability: potential
+  const auto [impacts, sequence] = ImpactSequence(a.impacts, a.sequence, b);
+  SweepOptions opt;  // stability: potential
+  opt.sequence = sequence;
+  const std::vector<OrbitRecord> orbits = OrbitsAt(b, a.period, impacts, opt, "--period");
   if (a.json) {
     std::cout << report::OrbitsJson(orbits).dump(2) << "\n";
   } else {
-    report::PrintOrbits(std::cout, orbits, a.impacts, a.period);
+    report::PrintOrbits(std::cout, orbits, impacts, a.period);
   }
   return 0;
 }

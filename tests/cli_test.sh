@@ -45,7 +45,7 @@ assert r[5.0]['stable'] == '1' and abs(float(r[5.0]['max_multiplier']) - 1) < 1e
 assert r[6.5]['stable'] == '0' and abs(float(r[6.5]['max_multiplier']) - 2.398) < 1e-3
 " && ok || bad "orbits.csv stability columns"
   [ "$(wc -l <"$tmp/one/orbits.csv")" -eq 1002 ] && ok || bad "orbits.csv rows: $(wc -l <"$tmp/one/orbits.csv")"
-  head -1 "$tmp/one/transitions.csv" | grep -qx 'T,kind,energy' && ok || bad "transitions.csv header"
+  head -1 "$tmp/one/transitions.csv" | grep -qx 'T,kind,energy,contact' && ok || bad "transitions.csv header"
   grep -q ',singular,' "$tmp/one/transitions.csv" && grep -q ',modal,' "$tmp/one/transitions.csv" &&
     grep -q ',grazing,' "$tmp/one/transitions.csv" && ok || bad "transitions.csv kinds"
 else

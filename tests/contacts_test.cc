@@ -5,16 +5,23 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "nsmodal/admissibility.h"
 #include "nsmodal/contact.h"
 #include "nsmodal/error.h"
 #include "nsmodal/lcp.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/model_spec.h"
 #include "nsmodal/scene.h"
+#include "nsmodal/flow.h"
+#include "nsmodal/one_impact.h"
 #include "nsmodal/simulate.h"
+#include "nsmodal/stability.h"
+#include "nsmodal/transitions.h"
+#include "nsmodal/two_impact.h"
 
 namespace nsmodal {
 namespace {
@@ -246,6 +253,104 @@ TEST(Contacts, AnImpactDampersCavityConservesEnergyWithElasticImpacts) {
       EXPECT_NEAR(ev.before[2] + 0.2 * ev.before[3], ev.after[2] + 0.2 * ev.after[3], kMomentumTol);
     }
   }
+}
+
+// Nonsmooth modes with two contacts (e = 1). A mass (k, m = 1) between walls
+// x <= d1 and x >= -d2. The 1-ipp family of the upper wall is
+// x(t) = d1 cos(w (t - T/2)) / cos(w T / 2): for pi < w T < 2 pi it dips to
+// -d1 / |cos(w T / 2)|, an amplitude falling from infinity to d1 as T grows,
+// so it clears the lower wall for T above the graze |cos(w T / 2)| = d1 / d2. The alternating orbit (1, 2) of amplitude A flies from d1 to -d2
+// in (pi - acos(d1 / A) - acos(d2 / A)) / w and back in as long: t2 = T / 2,
+// T = 2 (pi - acos(d1 / A) - acos(d2 / A)) / w.
+TEST(ContactsAnalysis, OneWallsFamilyAndTheAlternatingOrbitMatchTheirClosedForms) {
+  const double k = 4.0, w = 2.0, d1 = 1.0, d2 = 1.5;
+  const AnalysisBasis b(Clearance(d1, d2, 1.0, 1.0, 1.0, k));
+  // Sequence (1): the energy of the closed form, admissible until the graze.
+  const double graze = 2.0 * (M_PI - std::acos(d1 / d2)) / w;
+  for (double period : {1.8, 2.0, 2.2, 2.4}) {
+    const Orbit o = OneImpactOrbit(b, period, {}, 0);
+    const double amplitude = d1 / std::abs(std::cos(0.5 * w * period));
+    ASSERT_TRUE(o.potential) << period << ": " << o.reason;
+    EXPECT_NEAR(o.energy, 0.5 * k * amplitude * amplitude, 1e-12 * o.energy) << period;
+    EXPECT_EQ(o.admissible, period > graze) << period << ": " << o.reason;
+    EXPECT_EQ(o.sequence, std::vector<int>{0});
+  }
+  // The transitions of that family: the lower wall grazed at the closed form's period.
+  std::vector<double> periods;
+  std::vector<bool> admissible;
+  for (double t = 1.7; t <= 2.6; t += 0.01) {
+    periods.push_back(t);
+    admissible.push_back(OneImpactOrbit(b, t, {}, 0).admissible);
+  }
+  const std::vector<Transition> transitions = OneImpactTransitions(b, periods, admissible, 0);
+  ASSERT_EQ(transitions.size(), 1u);
+  EXPECT_EQ(transitions[0].kind, TransitionKind::kGrazing);
+  EXPECT_EQ(transitions[0].contact, 1);  // the lower wall, contact 2
+  EXPECT_NEAR(transitions[0].period, graze, 1e-10);  // Brent on a smooth g(T): to ~1e-12 of T
+  // Sequence (1, 2): the alternating orbit at t2 = T / 2 with the closed form's energy.
+  for (double amplitude : {1.6, 2.0, 3.0}) {
+    const double period = 2.0 * (M_PI - std::acos(d1 / amplitude) - std::acos(d2 / amplitude)) / w;
+    const std::vector<Orbit> orbits = TwoImpactOrbits(b, period, {}, 0, 1);
+    const Orbit* alternating = nullptr;
+    for (const Orbit& o : orbits) {
+      if (std::abs(o.times[0] - 0.5 * period) < 1e-12 * period) alternating = &o;
+    }
+    ASSERT_NE(alternating, nullptr) << amplitude;
+    EXPECT_TRUE(alternating->admissible) << alternating->reason;
+    EXPECT_NEAR(alternating->energy, 0.5 * k * amplitude * amplitude, 1e-10 * alternating->energy) << amplitude;
+    EXPECT_EQ(alternating->sequence, (std::vector<int>{0, 1}));
+  }
+}
+
+// The monodromy of a two-contact orbit (each impact with its own contact's
+// saltation matrix) against finite differences of the exact simulator: the
+// paper's chain with stops x2 <= 1 and x1 >= -0.6 (different dofs: the two
+// saltation matrices differ), an admissible (1, 2) orbit from its state z(tau)
+// at tau = t2 / 4 (in flight: a perturbed start stays clear of the walls)
+// over one period, whose linearisation is S(tau) M S(-tau). Central
+// differences with h = 1e-6 of the state: truncation ~h^2 |D^3 phi| ~1e-12,
+// round-off ~1e-15 / h = 1e-9, so 1e-6 of |J| leaves room for the flow's
+// growth along the orbit.
+TEST(ContactsAnalysis, SaltationMultipliersMatchFiniteDifferencesOfTheSimulator) {
+  Model m = PaperModel();
+  m.contacts = {DofContact(2, 1, true, 1.0, 1.0), DofContact(2, 0, false, 0.6, 1.0)};
+  Validate(m);
+  const AnalysisBasis b(m);
+  std::optional<Orbit> found;
+  for (double t = 3.0; t < 12.0 && !found; t += 0.25) {
+    for (const Orbit& o : TwoImpactOrbits(b, t, {}, 0, 1)) {
+      if (o.admissible && !found) found = o;
+    }
+  }
+  ASSERT_TRUE(found.has_value());
+  const Orbit* orbit = &*found;
+  const double period = orbit->period;
+  const double tau = orbit->times[0] / 4.0;
+  const Eigen::MatrixXd jm = FlowMatrix(b, tau) * Monodromy(b, *orbit) * FlowMatrix(b, -tau);
+  // Physical <-> modal: z = P y.
+  Eigen::MatrixXd p(4, 4);
+  for (int i = 0; i < 4; ++i) p.col(i) = PhysicalOf(b, Eigen::VectorXd::Unit(4, i));
+  const Eigen::MatrixXd expected = p * jm * p.inverse();
+  auto end_state = [&](const Eigen::Vector4d& z0) {
+    SimulateOptions opt;
+    opt.t_end = period;
+    opt.sample_dt = 0.0;
+    return nsmodal::Simulate(m, z0.head(2), z0.tail(2), opt).final_state;
+  };
+  Eigen::VectorXd y_tau = orbit->y0;
+  Flow(b, tau, y_tau);
+  const Eigen::Vector4d z0 = PhysicalOf(b, y_tau);
+  EXPECT_LE((end_state(z0) - z0).norm(), 1e-12 * z0.norm());  // periodic: the orbit and the simulator agree
+  Eigen::Matrix4d fd;
+  const double h = 1e-6;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector4d dz = h * Eigen::Vector4d::Unit(i);
+    fd.col(i) = (end_state(z0 + dz) - end_state(z0 - dz)) / (2.0 * h);
+  }
+  EXPECT_LE((fd - expected).norm(), 1e-6 * expected.norm()) << "fd\n" << fd << "\nexpected\n" << expected;
+  // And the multipliers' verdict is the dense monodromy's.
+  const Stability st = OrbitStability(b, *orbit);
+  EXPECT_TRUE(st.defined);
 }
 
 // Bad input: each names the contact's index and field.

@@ -7,37 +7,40 @@
 
 namespace nsmodal {
 
-double SingularFunction(const AnalysisBasis& b, double period) {
+double SingularFunction(const AnalysisBasis& b, double period, int contact) {
+  const Eigen::VectorXd& r = b.contacts[contact].r;
   double d = 0.0;
   for (int i = 0; i < b.n; ++i) {
     const double h = 0.5 * b.omega[i] * period;
-    d += b.r[i] * b.r[i] * std::cos(h) / (std::sin(h) * b.omega[i]);
+    d += r[i] * r[i] * std::cos(h) / (std::sin(h) * b.omega[i]);
   }
   return d;
 }
 
-Eigen::VectorXd OneImpactState(const AnalysisBasis& b, double period) {
-  const double scale = b.gap / SingularFunction(b, period);
+Eigen::VectorXd OneImpactState(const AnalysisBasis& b, double period, int contact) {
+  const Eigen::VectorXd& r = b.contacts[contact].r;
+  const double scale = b.contacts[contact].gap / SingularFunction(b, period, contact);
   Eigen::VectorXd y0(2 * b.n);
   for (int i = 0; i < b.n; ++i) {
     const double h = 0.5 * b.omega[i] * period;
-    y0[i] = scale * b.r[i] * std::cos(h) / std::sin(h);
-    y0[b.n + i] = scale * b.r[i];
+    y0[i] = scale * r[i] * std::cos(h) / std::sin(h);
+    y0[b.n + i] = scale * r[i];
   }
   return y0;
 }
 
-Orbit OneImpactOrbit(const AnalysisBasis& b, double period, const AdmissibilityOptions& options) {
-  const double denom = SingularFunction(b, period);
-  const Eigen::VectorXd y0 = OneImpactState(b, period);
+Orbit OneImpactOrbit(const AnalysisBasis& b, double period, const AdmissibilityOptions& options, int contact) {
+  const double denom = SingularFunction(b, period, contact);
+  const Eigen::VectorXd y0 = OneImpactState(b, period, contact);
   if (!y0.allFinite() || denom == 0.0) {
     Orbit o;
     o.period = period;
     o.y0 = y0;
+    o.sequence = {contact};
     o.reason = "not potential: T is singular (D(T) = 0) or a multiple of a linear period";
     return o;
   }
-  return EvaluateOrbit(b, y0, {}, period, options);
+  return EvaluateOrbit(b, y0, {}, period, options, {contact});
 }
 
 Orbit OneImpactOrbitFromKernel(const AnalysisBasis& b, double period, const AdmissibilityOptions& options) {

@@ -7,15 +7,20 @@
 
 namespace nsmodal {
 
-Eigen::MatrixXd ReturnMap(const AnalysisBasis& b, const std::vector<double>& times, double period) {
+Eigen::MatrixXd ReturnMap(const AnalysisBasis& b, const std::vector<double>& times, double period,
+                          const std::vector<int>& sequence) {
   const int dim = 2 * b.n;
   Eigen::MatrixXd q = Eigen::MatrixXd::Identity(dim, dim);
   double previous = 0.0;
+  int impact = 1;  // the impact at the end of the flight: 1, ..., m - 1, then 0 (at T)
+  const int m = static_cast<int>(times.size()) + 1;
   auto advance = [&](double dt) {
+    const ModalContact& c = b.contacts[sequence.empty() ? 0 : sequence[impact % m]];
     for (int col = 0; col < dim; ++col) {
       Flow(b, dt, q.col(col));
-      ElasticImpact(b, q.col(col));
+      Impact(b, c, AnalysisBasis::kRestitution, q.col(col));
     }
+    ++impact;
   };
   for (double t : times) {
     advance(t - previous);
@@ -26,7 +31,7 @@ Eigen::MatrixXd ReturnMap(const AnalysisBasis& b, const std::vector<double>& tim
 }
 
 bool KernelAtImpacts(const AnalysisBasis& b, const std::vector<double>& times, double period, int k,
-                     KernelContacts& out) {
+                     KernelContacts& out, const std::vector<int>& sequence) {
   double prev = 0.0;
   for (double t : times) {
     if (!(t > prev)) return false;
@@ -34,7 +39,7 @@ bool KernelAtImpacts(const AnalysisBasis& b, const std::vector<double>& times, d
   }
   if (!(prev < period)) return false;
   const int dim = 2 * b.n, impacts = static_cast<int>(times.size()) + 1;
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, times, period), Eigen::ComputeFullV);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, times, period, sequence), Eigen::ComputeFullV);
   out.basis = svd.matrixV().rightCols(k);
   out.sigma_k = svd.singularValues()[dim - k];
   out.c.resize(impacts, k);
@@ -43,10 +48,11 @@ bool KernelAtImpacts(const AnalysisBasis& b, const std::vector<double>& times, d
   // y0 is the state just after the impact at t = 0: record x_c there, then
   // flow to each t_i, record x_c (NC2) and apply that impact.
   for (int i = 0; i < impacts; ++i) {
+    const ModalContact& c = b.contacts[sequence.empty() ? 0 : sequence[i]];
     for (int j = 0; j < k; ++j) {
       if (i > 0) Flow(b, times[i - 1] - prev, y.col(j));
-      out.c(i, j) = ContactPosition(b, y.col(j));
-      if (i > 0) ElasticImpact(b, y.col(j));
+      out.c(i, j) = ContactPosition(b, c, y.col(j));
+      if (i > 0) Impact(b, c, AnalysisBasis::kRestitution, y.col(j));
     }
     if (i > 0) prev = times[i - 1];
   }

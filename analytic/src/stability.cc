@@ -30,8 +30,14 @@ Eigen::VectorXd Field(const ModalBasis& b, const Eigen::VectorXd& y) {
 // of that energy can have) is a graze: no linearisation.
 constexpr double kGrazeFraction = 1e-9;
 
-bool Grazes(const AnalysisBasis& b, const Eigen::VectorXd& y_minus, double speed_scale) {
-  return !(std::abs(ContactVelocity(b, y_minus)) > kGrazeFraction * speed_scale);
+bool Grazes(const AnalysisBasis& b, const ModalContact& c, const Eigen::VectorXd& y_minus, double speed_scale) {
+  return !(std::abs(ContactVelocity(b, c, y_minus)) > kGrazeFraction * speed_scale);
+}
+
+// The contact of the impact ending flight k (0-based; the last flight ends
+// with the impact at T, the first of the sequence).
+int ContactEnding(const Orbit& orbit, int k) {
+  return orbit.sequence.empty() ? 0 : orbit.sequence[(k + 1) % orbit.impacts];
 }
 
 // The monodromy by products of flows and saltation matrices; false if an
@@ -43,14 +49,16 @@ bool DenseMonodromy(const AnalysisBasis& b, const Orbit& orbit, Eigen::MatrixXd&
   double prev = 0.0;
   std::vector<double> ends = orbit.times;
   ends.push_back(orbit.period);
-  const double speed_scale = b.r.norm() * orbit.y0.norm();
   bool defined = true;
-  for (double t : ends) {
+  for (int k = 0; k < static_cast<int>(ends.size()); ++k) {
+    const double t = ends[k];
+    const int j = ContactEnding(orbit, k);
+    const ModalContact& c = b.contacts[j];
     Flow(b, t - prev, y);
-    if (Grazes(b, y, speed_scale)) defined = false;
+    if (Grazes(b, c, y, c.r.norm() * orbit.y0.norm())) defined = false;
     for (int col = 0; col < dim; ++col) Flow(b, t - prev, m.col(col));
-    m = SaltationMatrix(b, y) * m;
-    ElasticImpact(b, y);
+    m = SaltationMatrix(b, y, j) * m;
+    Impact(b, c, AnalysisBasis::kRestitution, y);
     prev = t;
   }
   return defined;
@@ -585,24 +593,25 @@ bool StructuredStability(const OneImpactSecular& s, const StabilityOptions& opti
 // Gt is derived for the symmetric 1-ipp orbit of one_impact.h,
 // y0 = sigma (r_i cot(w_i T / 2), r_i): other members of a larger ker A_1 (at
 // an internal resonance) take the dense path.
-bool SymmetricOneImpact(const AnalysisBasis& b, const Orbit& orbit) {
+bool SymmetricOneImpact(const AnalysisBasis& b, const ModalContact& c, const Orbit& orbit) {
   const Eigen::VectorXd s = orbit.y0.tail(b.n);
-  const double sigma = b.r.dot(s) / b.r_norm2;
-  double defect = (s - sigma * b.r).norm();
+  const double sigma = c.r.dot(s) / c.r_norm2;
+  double defect = (s - sigma * c.r).norm();
   for (int i = 0; i < b.n; ++i) {
     const double h = 0.5 * b.omega[i] * orbit.period;
-    defect = std::max(defect, std::abs(orbit.y0[i] - sigma * b.r[i] * std::cos(h) / std::sin(h)));
+    defect = std::max(defect, std::abs(orbit.y0[i] - sigma * c.r[i] * std::cos(h) / std::sin(h)));
   }
   return defect <= 1e-9 * orbit.y0.norm();
 }
 
 }  // namespace
 
-Eigen::MatrixXd SaltationMatrix(const AnalysisBasis& b, const Eigen::VectorXd& y_minus) {
-  const Eigen::MatrixXd reset = ImpactMatrix(b, AnalysisBasis::kRestitution);
+Eigen::MatrixXd SaltationMatrix(const AnalysisBasis& b, const Eigen::VectorXd& y_minus, int contact) {
+  const ModalContact& c = b.contacts[contact];
+  const Eigen::MatrixXd reset = ImpactMatrix(b, c, AnalysisBasis::kRestitution);
   const Eigen::VectorXd y_plus = reset * y_minus;
   Eigen::VectorXd normal = Eigen::VectorXd::Zero(2 * b.n);
-  normal.head(b.n) = b.r_over_omega;  // gradient of x_c
+  normal.head(b.n) = c.r_over_omega;  // gradient of x_c = n_j . x
   const Eigen::VectorXd f_minus = Field(b, y_minus);
   const double rate = normal.dot(f_minus);  // v_c just before the impact
   return reset + (Field(b, y_plus) - reset * f_minus) * normal.transpose() / rate;
@@ -620,11 +629,12 @@ double OneImpactSecular::Value(double x) const {
   return v;
 }
 
-OneImpactSecular OneImpactSecularFunction(const AnalysisBasis& b, double period) {
+OneImpactSecular OneImpactSecularFunction(const AnalysisBasis& b, double period, int contact) {
+  const ModalContact& mc = b.contacts[contact];
   OneImpactSecular s;
   std::vector<double> z, a, bb, c, free;
   for (int i = 0; i < b.n; ++i) {
-    const double rho = b.r[i] * b.r[i] / b.r_norm2;
+    const double rho = mc.r[i] * mc.r[i] / mc.r_norm2;
     const double h = 0.5 * b.omega[i] * period;
     if (rho == 0.0) {
       free.push_back(2.0 * std::cos(2.0 * h));
@@ -650,12 +660,14 @@ Stability OrbitStability(const AnalysisBasis& b, const Orbit& orbit, const Stabi
   const int dim = 2 * b.n;
   if (orbit.impacts == 1) {
     // The pre-impact state is N y0 (the impact is an involution).
+    const int j = ContactEnding(orbit, 0);
+    const ModalContact& c = b.contacts[j];
     Eigen::VectorXd y_minus = orbit.y0;
-    ElasticImpact(b, y_minus);
-    if (Grazes(b, y_minus, b.r.norm() * orbit.y0.norm())) return Undefined(dim);
+    Impact(b, c, AnalysisBasis::kRestitution, y_minus);
+    if (Grazes(b, c, y_minus, c.r.norm() * orbit.y0.norm())) return Undefined(dim);
     Stability out;
-    if (SymmetricOneImpact(b, orbit) &&
-        StructuredStability(OneImpactSecularFunction(b, orbit.period), options, out)) {
+    if (SymmetricOneImpact(b, c, orbit) &&
+        StructuredStability(OneImpactSecularFunction(b, orbit.period, j), options, out)) {
       return out;
     }
     out = DenseStability(b, orbit, options.tol);

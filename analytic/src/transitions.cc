@@ -24,11 +24,12 @@ std::string ToString(TransitionKind kind) {
   return "?";
 }
 
-std::vector<double> ModalPeriods(const AnalysisBasis& b, double from, double to) {
+std::vector<double> ModalPeriods(const AnalysisBasis& b, double from, double to, int contact) {
+  const ModalContact& c = b.contacts[contact];
   std::vector<double> out;
   const Eigen::VectorXd periods = b.Periods();
   for (int i = 0; i < b.n; ++i) {
-    if (std::abs(b.r[i]) < 1e-14 * std::sqrt(b.r_norm2)) continue;
+    if (std::abs(c.r[i]) < 1e-14 * std::sqrt(c.r_norm2)) continue;
     for (int k = std::max(1, static_cast<int>(std::ceil(from / periods[i]))); k * periods[i] <= to; ++k) {
       out.push_back(k * periods[i]);
     }
@@ -37,21 +38,22 @@ std::vector<double> ModalPeriods(const AnalysisBasis& b, double from, double to)
   return out;
 }
 
-std::vector<double> SingularPeriods(const AnalysisBasis& b, double from, double to) {
+std::vector<double> SingularPeriods(const AnalysisBasis& b, double from, double to, int contact) {
+  const ModalContact& c = b.contacts[contact];
   // Poles of D are the k T_i; D runs from +inf to -inf between consecutive poles.
   std::vector<double> poles{0.0};
-  for (double p : ModalPeriods(b, 0.0, to)) poles.push_back(p);
+  for (double p : ModalPeriods(b, 0.0, to, contact)) poles.push_back(p);
   const Eigen::VectorXd periods = b.Periods();
   double next = std::numeric_limits<double>::infinity();
   for (int i = 0; i < b.n; ++i) {
-    if (std::abs(b.r[i]) >= 1e-14 * std::sqrt(b.r_norm2)) {
+    if (std::abs(c.r[i]) >= 1e-14 * std::sqrt(c.r_norm2)) {
       next = std::min(next, (std::floor(to / periods[i]) + 1.0) * periods[i]);
     }
   }
   poles.push_back(next);
   std::sort(poles.begin(), poles.end());
   std::vector<double> out;
-  auto d = [&b](double t) { return SingularFunction(b, t); };
+  auto d = [&b, contact](double t) { return SingularFunction(b, t, contact); };
   for (std::size_t k = 0; k + 1 < poles.size(); ++k) {
     const double lo = poles[k], hi = poles[k + 1];
     if (hi - lo <= 1e-12 * hi) continue;  // coincident poles (commensurate periods)
@@ -68,9 +70,13 @@ std::vector<double> SingularPeriods(const AnalysisBasis& b, double from, double 
   return out;
 }
 
-double GrazingFunction(const AnalysisBasis& b, double period) {
-  const Orbit o = OneImpactOrbit(b, period);
-  return CheckSegment(b, o.y0, period).max_excess;
+double GrazingFunction(const AnalysisBasis& b, double period, int contact) {
+  const Orbit o = OneImpactOrbit(b, period, {}, contact);
+  return CheckSegment(b, b.contacts[contact], o.y0, period).max_excess;
+}
+
+double OtherGrazingFunction(const AnalysisBasis& b, double period, int contact) {
+  return OneImpactOrbit(b, period, {}, contact).other_excess;
 }
 
 std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, double from, double to, double step) {
@@ -85,14 +91,14 @@ std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, double from
 }
 
 std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, const std::vector<double>& periods,
-                                             const std::vector<bool>& grid_admissible) {
+                                             const std::vector<bool>& grid_admissible, int contact) {
   if (periods.size() < 2) return {};
   const double from = periods.front(), to = periods.back();
   // Bounded before it starts (work.h): the sweep's share is done, this is the search's.
   CheckSweepWork(b, from, (to - from) / static_cast<double>(periods.size() - 1), static_cast<long>(periods.size()), {},
                  "period", true);
-  const std::vector<double> singular = SingularPeriods(b, from, to);
-  const std::vector<double> modal = ModalPeriods(b, from, to);
+  const std::vector<double> singular = SingularPeriods(b, from, to, contact);
+  const std::vector<double> modal = ModalPeriods(b, from, to, contact);
   struct Special {
     double t;
     TransitionKind kind;
@@ -110,17 +116,29 @@ std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, const std::
   }
   std::sort(specials.begin(), specials.end(), [](const Special& x, const Special& y) { return x.t < y.t; });
 
-  auto admissible = [&b](double t) { return OneImpactOrbit(b, t).admissible; };
+  auto admissible = [&b, contact](double t) { return OneImpactOrbit(b, t, {}, contact).admissible; };
   std::vector<Transition> out;
   auto grazing = [&](double lo, double hi) {
-    // h changes sign on [lo, hi]: polish the grazing period.
-    auto h = [&b](double t) { return GrazingFunction(b, t); };
-    // Two special periods closer than 2e-6 T (many modes: k T_i cluster)
-    // leave no room between their probes.
+    // h changes sign on [lo, hi]: polish the grazing period. Two special
+    // periods closer than 2e-6 T (many modes: k T_i cluster) leave no room
+    // between their probes.
     if (!(lo < hi)) return;
-    if (!((h(lo) > 0.0) != (h(hi) > 0.0))) return;
-    const double tg = PolishRoot(h, lo, hi);
-    out.push_back({tg, TransitionKind::kGrazing, OneImpactOrbit(b, tg).energy});
+    auto h = [&b, contact](double t) { return GrazingFunction(b, t, contact); };
+    if ((h(lo) > 0.0) != (h(hi) > 0.0)) {
+      const double tg = PolishRoot(h, lo, hi);
+      out.push_back({tg, TransitionKind::kGrazing, OneImpactOrbit(b, tg, {}, contact).energy, contact});
+      return;
+    }
+    // Another contact's gap closing: where this family meets the families
+    // that strike that contact too. Which contact grazes is read at the
+    // polished period.
+    if (b.contacts.size() < 2) return;
+    auto g = [&b, contact](double t) { return OtherGrazingFunction(b, t, contact); };
+    if ((g(lo) > 0.0) != (g(hi) > 0.0)) {
+      const double tg = PolishRoot(g, lo, hi);
+      const Orbit o = OneImpactOrbit(b, tg, {}, contact);
+      out.push_back({tg, TransitionKind::kGrazing, o.energy, o.other_contact});
+    }
   };
   bool adm_prev = grid_admissible[0];
   for (std::size_t j = 1; j < periods.size(); ++j) {
@@ -147,8 +165,9 @@ std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, const std::
         if (before != after) {
           const double e = s.kind == TransitionKind::kSingular
                                ? std::numeric_limits<double>::infinity()
-                               : 0.5 * std::pow(b.omega[s.mode] * b.gap, 2) / (b.r[s.mode] * b.r[s.mode]);
-          out.push_back({s.t, s.kind, e});
+                               : 0.5 * std::pow(b.omega[s.mode] * b.contacts[contact].gap, 2) /
+                                     (b.contacts[contact].r[s.mode] * b.contacts[contact].r[s.mode]);
+          out.push_back({s.t, s.kind, e, contact});
         }
         left = s.t + delta;
         adm_left = after;
@@ -161,25 +180,25 @@ std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, const std::
 }
 
 std::vector<Transition> OneImpactMultiplierCrossings(const AnalysisBasis& b, const std::vector<double>& periods,
-                                                     const std::vector<bool>& admissible) {
+                                                     const std::vector<bool>& admissible, int contact) {
   // Gt(2) and Gt(-2) on the grid, from one secular function per period.
   std::vector<double> plus(periods.size()), minus(periods.size());
   for (std::size_t j = 0; j < periods.size(); ++j) {
-    const OneImpactSecular s = OneImpactSecularFunction(b, periods[j]);
+    const OneImpactSecular s = OneImpactSecularFunction(b, periods[j], contact);
     plus[j] = s.Value(2.0);
     minus[j] = s.Value(-2.0);
   }
   std::vector<Transition> out;
   for (const auto& [z, kind, g_grid] : {std::make_tuple(2.0, TransitionKind::kMultiplierPlusOne, &plus),
                                         std::make_tuple(-2.0, TransitionKind::kMultiplierMinusOne, &minus)}) {
-    auto g = [&b, z = z](double t) { return OneImpactSecularFunction(b, t).Value(z); };
+    auto g = [&b, z = z, contact](double t) { return OneImpactSecularFunction(b, t, contact).Value(z); };
     for (std::size_t j = 1; j < periods.size(); ++j) {
       const double g_prev = (*g_grid)[j - 1], g_next = (*g_grid)[j];
       if (admissible[j - 1] && admissible[j] && std::isfinite(g_prev) && std::isfinite(g_next) &&
           (g_prev < 0.0) != (g_next < 0.0)) {
         const double t = PolishRoot(g, periods[j - 1], periods[j]);
         if (std::abs(g(t)) <= 1e-6 * (std::abs(g_prev) + std::abs(g_next))) {
-          out.push_back({t, kind, OneImpactOrbit(b, t).energy});
+          out.push_back({t, kind, OneImpactOrbit(b, t, {}, contact).energy, contact});
         }
       }
     }
@@ -189,9 +208,9 @@ std::vector<Transition> OneImpactMultiplierCrossings(const AnalysisBasis& b, con
 }
 
 std::vector<Transition> OneImpactTransitionsAndCrossings(const AnalysisBasis& b, const std::vector<double>& periods,
-                                                         const std::vector<bool>& admissible) {
-  std::vector<Transition> out = OneImpactTransitions(b, periods, admissible);
-  for (const Transition& t : OneImpactMultiplierCrossings(b, periods, admissible)) out.push_back(t);
+                                                         const std::vector<bool>& admissible, int contact) {
+  std::vector<Transition> out = OneImpactTransitions(b, periods, admissible, contact);
+  for (const Transition& t : OneImpactMultiplierCrossings(b, periods, admissible, contact)) out.push_back(t);
   std::stable_sort(out.begin(), out.end(), [](const Transition& x, const Transition& y) { return x.period < y.period; });
   return out;
 }

@@ -27,12 +27,15 @@ constexpr double kSingularPeriod = 1e-14;
 
 }  // namespace
 
-SinusoidSum TwoImpactSignal(const AnalysisBasis& b, double period) {
-  // rho_i sin(w (t - T/2)) / (2 sin(w T/2)) = (rho_i / 2) (cot(w T/2) sin(w t) - cos(w t)).
+SinusoidSum TwoImpactSignal(const AnalysisBasis& b, double period, int first, int second) {
+  // rho_i sin(w (t - T/2)) / (2 sin(w T/2)) = (rho_i / 2) (cot(w T/2) sin(w t) - cos(w t)),
+  // rho_i = r1_i r2_i / (|r1| |r2|) (r_i^2 / |r|^2 for one contact).
+  const ModalContact &c1 = b.contacts[first], &c2 = b.contacts[second];
+  const double norms = first == second ? c1.r_norm2 : std::sqrt(c1.r_norm2 * c2.r_norm2);
   Eigen::VectorXd a(b.n), c(b.n);
   for (int i = 0; i < b.n; ++i) {
     const double h = 0.5 * b.omega[i] * period;
-    const double half_rho = 0.5 * b.r[i] * b.r[i] / b.r_norm2;
+    const double half_rho = 0.5 * c1.r[i] * c2.r[i] / norms;
     if (!(std::abs(std::sin(h)) > kSingularPeriod)) return {};
     a[i] = -half_rho;
     c[i] = half_rho * std::cos(h) / std::sin(h);
@@ -40,8 +43,9 @@ SinusoidSum TwoImpactSignal(const AnalysisBasis& b, double period) {
   return SinusoidSum(0.0, std::move(a), std::move(c), b.omega);
 }
 
-std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const TwoImpactOptions& options) {
-  const SinusoidSum p = TwoImpactSignal(b, period);
+std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const TwoImpactOptions& options, int first,
+                                   int second) {
+  const SinusoidSum p = TwoImpactSignal(b, period, first, second);
   if (p.omega.size() == 0) return {};
   const double half = 0.5 * period;
   const double min_width = 1e-12 * period;
@@ -71,33 +75,37 @@ std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const 
   return roots;
 }
 
-Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const TwoImpactOptions& options) {
+Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const TwoImpactOptions& options, int first,
+                       int second) {
   const int n = b.n;
-  // ker A_2 = span{X S(T - t2) p, X p} (two_impact.h); per mode, with
-  // X = [-1/2, -k; k, -1/2], k = cot(w T/2) / 2 and p_i = r_i / |r| in s:
+  const ModalContact &c1 = b.contacts[first], &c2 = b.contacts[second];
+  // ker A_2 = span{X S(T - t2) p2, X p1} (two_impact.h; p1 = p2 = p for one
+  // contact); per mode, with X = [-1/2, -k; k, -1/2], k = cot(w T/2) / 2 and
+  // p_i = r_i / |r| in s:
   //   X p = p_i (-k, -1/2),  X S(tau) p = p_i (-sin(w tau)/2 - k cos(w tau), k sin(w tau) - cos(w tau)/2).
   Eigen::MatrixXd kernel(2 * n, 2);
+  const double norm1 = std::sqrt(c1.r_norm2), norm2 = std::sqrt(c2.r_norm2);
   for (int i = 0; i < n; ++i) {
-    const double p_i = b.r[i] / std::sqrt(b.r_norm2);
+    const double p1 = c1.r[i] / norm1, p2 = c2.r[i] / norm2;
     const double k = 0.5 * std::cos(0.5 * b.omega[i] * period) / std::sin(0.5 * b.omega[i] * period);
     const double c = std::cos(b.omega[i] * (period - t2)), s = std::sin(b.omega[i] * (period - t2));
-    kernel(i, 0) = p_i * (-0.5 * s - k * c);
-    kernel(n + i, 0) = p_i * (k * s - 0.5 * c);
-    kernel(i, 1) = -p_i * k;
-    kernel(n + i, 1) = -0.5 * p_i;
+    kernel(i, 0) = p2 * (-0.5 * s - k * c);
+    kernel(n + i, 0) = p2 * (k * s - 0.5 * c);
+    kernel(i, 1) = -p1 * k;
+    kernel(n + i, 1) = -0.5 * p1;
   }
   // An orthonormal basis of the kernel, so that the rank test below compares
   // like with like whatever the scale of X.
   const Eigen::MatrixXd q = Eigen::HouseholderQR<Eigen::MatrixXd>(kernel).householderQ() *
                             Eigen::MatrixXd::Identity(2 * n, 2);
   const Eigen::VectorXd k1 = q.col(0), k2 = q.col(1);
-  // NC2: x_c(0) = d and x_c(t2-) = d for y0 = alpha k1 + beta k2.
+  // NC2: the first contact's x_c(0) = d and the second's x_c(t2-) = d for y0 = alpha k1 + beta k2.
   Eigen::VectorXd s1 = k1, s2 = k2;
   Flow(b, t2, s1);
   Flow(b, t2, s2);
   Eigen::Matrix2d c;
-  c << ContactPosition(b, k1), ContactPosition(b, k2), ContactPosition(b, s1), ContactPosition(b, s2);
-  const Eigen::Vector2d rhs(b.gap, b.gap);
+  c << ContactPosition(b, c1, k1), ContactPosition(b, c1, k2), ContactPosition(b, c2, s1), ContactPosition(b, c2, s2);
+  const Eigen::Vector2d rhs(c1.gap, c2.gap);
   Eigen::JacobiSVD<Eigen::Matrix2d> csvd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
   // The two conditions coincide (rank 1) when the smaller singular value is at
   // round-off level of the larger: then a line of y0 satisfies NC2.
@@ -109,7 +117,7 @@ Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const T
   } else {
     coef = c.partialPivLu().solve(rhs);
   }
-  Orbit orbit = EvaluateOrbit(b, coef[0] * k1 + coef[1] * k2, {t2}, period, options.admissibility);
+  Orbit orbit = EvaluateOrbit(b, coef[0] * k1 + coef[1] * k2, {t2}, period, options.admissibility, {first, second});
   orbit.degenerate = degenerate;
   // Within ~1e-4 of a multiple of a linear period the closed form divides by
   // sin(w T / 2) ~ 1e-3, whose rounding is not the flow's: the orbit is then
@@ -119,7 +127,8 @@ Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const T
   // those few orbits.
   constexpr double kRefineAbove = 1e-12;
   if (!degenerate && orbit.periodicity_residual > kRefineAbove) {
-    const std::optional<Orbit> refined = TwoImpactKernelOrbit(b, t2, period, b.gap, 1e-10, options.admissibility);
+    const std::optional<Orbit> refined =
+        TwoImpactKernelOrbit(b, t2, period, c2.gap, 1e-10, options.admissibility, first, second);
     if (refined && refined->periodicity_residual < orbit.periodicity_residual && refined->nc2_residual <= 1e-12) {
       return *refined;
     }
@@ -128,19 +137,23 @@ Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const T
 }
 
 std::optional<Orbit> TwoImpactKernelOrbit(const AnalysisBasis& b, double t2, double period, double at_t2,
-                                          double rank_tol, const AdmissibilityOptions& admissibility) {
+                                          double rank_tol, const AdmissibilityOptions& admissibility, int first,
+                                          int second) {
   KernelContacts kc;
-  if (!KernelAtImpacts(b, {t2}, period, 2, kc)) return std::nullopt;
+  if (!KernelAtImpacts(b, {t2}, period, 2, kc, {first, second})) return std::nullopt;
   const Eigen::Matrix2d c = kc.c;
   const Eigen::Vector2d s = Eigen::JacobiSVD<Eigen::Matrix2d>(c).singularValues();
   if (!(s[1] > rank_tol * s[0])) return std::nullopt;
-  return EvaluateOrbit(b, kc.basis * c.partialPivLu().solve(Eigen::Vector2d(b.gap, at_t2)), {t2}, period,
-                       admissibility);
+  return EvaluateOrbit(b, kc.basis * c.partialPivLu().solve(Eigen::Vector2d(b.contacts[first].gap, at_t2)), {t2},
+                       period, admissibility, {first, second});
 }
 
-std::vector<Orbit> TwoImpactOrbits(const AnalysisBasis& b, double period, const TwoImpactOptions& options) {
+std::vector<Orbit> TwoImpactOrbits(const AnalysisBasis& b, double period, const TwoImpactOptions& options, int first,
+                                   int second) {
   std::vector<Orbit> out;
-  for (double t2 : TwoImpactRoots(b, period, options)) out.push_back(TwoImpactOrbitAt(b, t2, period, options));
+  for (double t2 : TwoImpactRoots(b, period, options, first, second)) {
+    out.push_back(TwoImpactOrbitAt(b, t2, period, options, first, second));
+  }
   return out;
 }
 

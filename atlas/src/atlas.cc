@@ -5,6 +5,7 @@
 #include <optional>
 #include <sstream>
 
+#include "nsmodal/check.h"
 #include "nsmodal/error.h"
 #include "nsmodal/input_checks.h"
 #include "nsmodal/one_impact.h"
@@ -134,11 +135,13 @@ std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int imp
   CheckImpacts(impacts);
   b.CheckPeriod(period, field);
   CheckSweepWork(b, period, 0.0, 1, {impacts}, field);
+  NSMODAL_CHECK(options.sequence.empty() || static_cast<int>(options.sequence.size()) == impacts);
+  const int first = options.sequence.empty() ? 0 : options.sequence[0];
   std::vector<Orbit> orbits;
   if (impacts == 1) {
-    orbits.push_back(OneImpactOrbit(b, period));
+    orbits.push_back(OneImpactOrbit(b, period, {}, first));
   } else {
-    orbits = TwoImpactOrbits(b, period, options.two_impact);
+    orbits = TwoImpactOrbits(b, period, options.two_impact, first, options.sequence.empty() ? 0 : options.sequence[1]);
   }
   std::vector<OrbitRecord> records;
   records.reserve(orbits.size());
@@ -151,6 +154,22 @@ std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int imp
     records.push_back(std::move(r));
   }
   return records;
+}
+
+std::vector<int> ParseSequence(const std::string& text, int contacts, const std::string& field) {
+  const std::vector<double> values = ParseValues(text, field);
+  if (values.empty() || values.size() > 2) {
+    throw InputError(field, "must list the contact of each impact (1 or 2 entries, e.g. 1,2), got '" + text + "'");
+  }
+  std::vector<int> out;
+  for (double v : values) {
+    if (!(v >= 1 && v <= contacts) || v != std::floor(v)) {
+      throw InputError(field, "names contact " + FormatValue(v) + ", but the model has " + std::to_string(contacts) +
+                                  (contacts == 1 ? " contact" : " contacts") + " (numbered from 1)");
+    }
+    out.push_back(static_cast<int>(v) - 1);
+  }
+  return out;
 }
 
 void StreamSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, const SweepOptions& options,
@@ -213,11 +232,13 @@ std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& on
 
 void ZoneScan::Add(double period, const std::vector<OrbitRecord>& one_impact_orbits) {
   periods.push_back(period);
-  admissible.push_back(one_impact_orbits.front().orbit.admissible);
+  const Orbit& o = one_impact_orbits.front().orbit;
+  admissible.push_back(o.admissible);
+  if (!o.sequence.empty()) contact = o.sequence.front();
 }
 
 std::vector<Transition> ZoneScan::Transitions(const AnalysisBasis& b) const {
-  return OneImpactTransitionsAndCrossings(b, periods, admissible);
+  return OneImpactTransitionsAndCrossings(b, periods, admissible, contact);
 }
 
 Atlas ComputeAtlas(const AnalysisBasis& b, const PeriodGrid& grid, const AtlasOptions& options) {
@@ -244,7 +265,7 @@ Atlas ComputeAtlas(const AnalysisBasis& b, const PeriodGrid& grid, const AtlasOp
       options.sweep.progress);
   a.transitions = SweepTransitions(b, a.one);
   for (const Transition& t : a.transitions) {
-    if (t.kind != TransitionKind::kGrazing) continue;
+    if (t.kind != TransitionKind::kGrazing || t.contact != 0) continue;  // contact 1's own grazings
     BridgeSearch search = FindBridgeAt(b, t.period);
     if (search.found()) {
       a.bridges.push_back(std::move(search.bridge));

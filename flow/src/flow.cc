@@ -123,6 +123,12 @@ Eigen::MatrixXd ImpactMatrix(const ModalBasis& b, double e) {
   return m;
 }
 
+Eigen::MatrixXd ImpactMatrix(const ModalBasis& b, const ModalContact& c, double e) {
+  Eigen::MatrixXd m = Eigen::MatrixXd::Identity(2 * b.n, 2 * b.n);
+  m.bottomRightCorner(b.n, b.n) -= ((1.0 + e) / c.r_norm2) * c.r * c.r.transpose();
+  return m;
+}
+
 SinusoidSum::SinusoidSum(double c, Eigen::VectorXd a_in, Eigen::VectorXd b_in, Eigen::VectorXd omega_in)
     : offset(c), a(std::move(a_in)), b(std::move(b_in)), omega(std::move(omega_in)) {
   UpdateBounds();

@@ -57,7 +57,6 @@ const Model& ElasticModel(const Model& model) {
                            FormatValue(c.restitution));
     }
   }
-  RequireOneContact(model, "the periodic-orbit analysis (impact sequences over several contacts are not built yet)");
   // The nonsmooth modes are those of the conservative system (paper eq. 1).
   if (model.HasDamping()) {
     throw InputError("system", "has damping: nonsmooth modes are the periodic orbits of the undamped system; "

@@ -156,7 +156,9 @@ Columns<Transition> TransitionColumns() {
   return {{"T", K::kReal, [](const Transition& t) -> Cell { return t.period; }},
           {"kind", K::kText, [](const Transition& t) -> Cell { return ToString(t.kind); }},
           // inf at a singular transition (the energy diverges: no orbit there).
-          {"energy", K::kReal, [](const Transition& t) { return FiniteOrMissing(t.energy); }}};
+          {"energy", K::kReal, [](const Transition& t) { return FiniteOrMissing(t.energy); }},
+          // The contact concerned, from 1 (a grazing: the contact whose gap closes).
+          {"contact", K::kInteger, [](const Transition& t) -> Cell { return long{t.contact + 1}; }}};
 }
 
 Columns<Bridge> BridgeColumns() {

@@ -26,6 +26,9 @@ struct SegmentCheck {
 };
 
 SegmentCheck CheckSegment(const AnalysisBasis& b, const Eigen::Ref<const Eigen::VectorXd>& y, double duration);
+// The same for contact j's n_j . x - d_j (b.contacts[j]).
+SegmentCheck CheckSegment(const AnalysisBasis& b, const ModalContact& contact, const Eigen::Ref<const Eigen::VectorXd>& y,
+                          double duration);
 
 struct AdmissibilityOptions {
   // x_c - d may exceed 0 by rel_tol * max(d, position_scale): x_c is a sum of
@@ -39,8 +42,11 @@ struct AdmissibilityOptions {
 };
 
 // Fills energy, residuals, NC3 margin, potential, admissible and reason of an
-// orbit from y0, times and period (e = 1).
+// orbit from y0, times and period (e = 1). sequence: the contact of each
+// impact (0-based, m entries; empty: all on contact 1). NC2 on each impact's
+// own contact; NC3 on every contact's gap over every flight, each impact
+// arriving towards its wall and leaving it.
 Orbit EvaluateOrbit(const AnalysisBasis& b, const Eigen::VectorXd& y0, const std::vector<double>& times,
-                    double period, const AdmissibilityOptions& options = {});
+                    double period, const AdmissibilityOptions& options = {}, std::vector<int> sequence = {});
 
 }  // namespace nsmodal

@@ -17,16 +17,19 @@
 
 namespace nsmodal {
 
-double SingularFunction(const AnalysisBasis& b, double period);  // D(T)
+// Each function takes the contact struck (0-based, default contact 1): with
+// several contacts r is that contact's Phi' n_j and d its gap (the orbit of
+// the sequence (j); NC3 then checks every other contact's gap too).
+double SingularFunction(const AnalysisBasis& b, double period, int contact = 0);  // D(T)
 
 // The post-impact state y0 of the 1-ipp orbit of period T (scaled modal, the
 // closed form above), O(N) and nothing else: no NC3 search (whose work grows
 // with w_max T). Not finite where D(T) = 0 or T = k T_i.
-Eigen::VectorXd OneImpactState(const AnalysisBasis& b, double period);
+Eigen::VectorXd OneImpactState(const AnalysisBasis& b, double period, int contact = 0);
 
 // The potential 1-ipp orbit of period T in closed form, evaluated (NC2, NC3,
 // periodicity by propagation). potential = false where D(T) = 0 or T = k T_i.
-Orbit OneImpactOrbit(const AnalysisBasis& b, double period, const AdmissibilityOptions& options = {});
+Orbit OneImpactOrbit(const AnalysisBasis& b, double period, const AdmissibilityOptions& options = {}, int contact = 0);
 
 // The same orbit from the kernel of A_1 (SVD), scaled so that x_c(0) = d: the
 // paper's route, kept as an independent check of the closed form.

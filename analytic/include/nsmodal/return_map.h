@@ -12,10 +12,14 @@
 
 namespace nsmodal {
 
-// times = {t2, ..., tm} (t1 = 0 is implicit); period T.
-Eigen::MatrixXd ReturnMap(const AnalysisBasis& b, const std::vector<double>& times, double period);
-inline Eigen::MatrixXd MatrixA(const AnalysisBasis& b, const std::vector<double>& times, double period) {
-  return ReturnMap(b, times, period) - Eigen::MatrixXd::Identity(2 * b.n, 2 * b.n);
+// times = {t2, ..., tm} (t1 = 0 is implicit); period T. sequence: the
+// contact of each impact (0-based, m entries: N is then N_{j_i}, each
+// contact's own reflection); empty: every impact on contact 1.
+Eigen::MatrixXd ReturnMap(const AnalysisBasis& b, const std::vector<double>& times, double period,
+                          const std::vector<int>& sequence = {});
+inline Eigen::MatrixXd MatrixA(const AnalysisBasis& b, const std::vector<double>& times, double period,
+                               const std::vector<int>& sequence = {}) {
+  return ReturnMap(b, times, period, sequence) - Eigen::MatrixXd::Identity(2 * b.n, 2 * b.n);
 }
 
 // Pfaffian of a skew-symmetric matrix (Parlett-Reid elimination with pivoting);
@@ -41,7 +45,7 @@ struct KernelContacts {
   double sigma_k = 0.0;
 };
 bool KernelAtImpacts(const AnalysisBasis& b, const std::vector<double>& times, double period, int k,
-                     KernelContacts& out);
+                     KernelContacts& out, const std::vector<int>& sequence = {});
 
 // Dimension of ker A: singular values of A below tol (A is O(1) for e = 1).
 int KernelDimension(const Eigen::MatrixXd& a, double tol);

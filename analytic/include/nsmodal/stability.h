@@ -84,7 +84,8 @@ Stability OrbitStability(const AnalysisBasis& b, const Orbit& orbit, const Stabi
 Eigen::MatrixXd Monodromy(const AnalysisBasis& b, const Orbit& orbit);
 
 // The saltation matrix of the elastic impact at pre-impact state y-.
-Eigen::MatrixXd SaltationMatrix(const AnalysisBasis& b, const Eigen::VectorXd& y_minus);
+// At an impact on contact j (0-based; orbit.sequence says which for each impact).
+Eigen::MatrixXd SaltationMatrix(const AnalysisBasis& b, const Eigen::VectorXd& y_minus, int contact = 0);
 
 // Gt(z) of the 1-ipp orbit of period T (above), with its poles: Gt(2) = 0 at
 // a +1 crossing of a nontrivial pair, Gt(-2) = 0 at a -1 crossing (a period
@@ -94,6 +95,6 @@ struct OneImpactSecular {
   Eigen::VectorXd uncoupled;   // z_j of the modes with r_j = 0: roots of det(lambda - M) themselves
   double Value(double x) const;
 };
-OneImpactSecular OneImpactSecularFunction(const AnalysisBasis& b, double period);
+OneImpactSecular OneImpactSecularFunction(const AnalysisBasis& b, double period, int contact = 0);
 
 }  // namespace nsmodal

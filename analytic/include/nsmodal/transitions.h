@@ -29,6 +29,10 @@ struct Transition {
   double period = 0.0;
   TransitionKind kind = TransitionKind::kGrazing;
   double energy = 0.0;  // infinite for a singular transition
+  // The contact concerned (0-based): the family's own, or for kGrazing the
+  // contact whose gap closes (another contact's: where this family meets
+  // those that strike it too, issue 24).
+  int contact = 0;
 };
 
 // The stability changes of the admissible 1-ipp family on a grid of periods
@@ -37,27 +41,35 @@ struct Transition {
 // relative; a sign change through a pole of Gt (|Gt| at the polished point
 // not below 1e-6 of its values at the cell's ends) is not a crossing. Sorted,
 // energies of the orbit there.
+//
+// Each function takes the family's contact (0-based, the sequence (j); default
+// contact 1).
 std::vector<Transition> OneImpactMultiplierCrossings(const AnalysisBasis& b, const std::vector<double>& periods,
-                                                     const std::vector<bool>& admissible);
+                                                     const std::vector<bool>& admissible, int contact = 0);
 // Both lists (OneImpactTransitions, then the crossings) in one, sorted by T:
 // the rows of transitions.csv.
 std::vector<Transition> OneImpactTransitionsAndCrossings(const AnalysisBasis& b, const std::vector<double>& periods,
-                                                         const std::vector<bool>& admissible);
+                                                         const std::vector<bool>& admissible, int contact = 0);
 
 // Every root of D(T) in [from, to].
-std::vector<double> SingularPeriods(const AnalysisBasis& b, double from, double to);
+std::vector<double> SingularPeriods(const AnalysisBasis& b, double from, double to, int contact = 0);
 // Every k T_i in [from, to] (modes that do not move x_c, r_i = 0, excluded).
-std::vector<double> ModalPeriods(const AnalysisBasis& b, double from, double to);
+std::vector<double> ModalPeriods(const AnalysisBasis& b, double from, double to, int contact = 0);
 
 // h(T): the largest x_c - d at an interior maximum of the 1-ipp orbit of period T.
-double GrazingFunction(const AnalysisBasis& b, double period);
+double GrazingFunction(const AnalysisBasis& b, double period, int contact = 0);
+// g(T): the largest n_k . x - d_k of the other contacts over the 1-ipp orbit
+// of period T on `contact` (Orbit::other_excess; -inf with one contact).
+double OtherGrazingFunction(const AnalysisBasis& b, double period, int contact);
 
 // The boundaries of the admissible 1-ipp zones seen on an increasing grid of
 // periods whose admissibility is already known (admissible[j] for periods[j]),
 // each refined and classified. Two boundaries inside one grid cell cancel and
 // are not seen; anything else is.
+// An admissibility change with no own-contact grazing in its cell is
+// looked for as another contact's grazing (OtherGrazingFunction).
 std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, const std::vector<double>& periods,
-                                             const std::vector<bool>& admissible);
+                                             const std::vector<bool>& admissible, int contact = 0);
 // The same on the grid from:to:step, evaluating admissibility itself.
 std::vector<Transition> OneImpactTransitions(const AnalysisBasis& b, double from, double to, double step);
 

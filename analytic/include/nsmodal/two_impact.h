@@ -43,16 +43,25 @@ struct TwoImpactOptions {
 
 // P(t2) for the period T as a sum of sinusoids in t2 (NC1 is P = 0), or an
 // empty sum (no terms) when T is a multiple of a linear period.
-SinusoidSum TwoImpactSignal(const AnalysisBasis& b, double period);
+//
+// Two contacts (the sequence (j, k), issue 24): with p1, p2 the two contacts'
+// unit impulse directions the same substitution gives the matrix
+// [0, 2P; 2P, 0] with rho_i = r1_i r2_i / (|r1| |r2|) in P (p' X p = -1/2
+// for any such unit p, which empties the diagonal), the kernel
+// span{X S(T - t2) p2, X p1}, and NC2 on contact j at 0 and contact k at t2.
+// first, second: the contacts (0-based) of the impacts at 0 and at t2.
+SinusoidSum TwoImpactSignal(const AnalysisBasis& b, double period, int first = 0, int second = 0);
 
 // All roots t2 in (0, T) of det A_2(., T), sorted, T/2 included; none when
 // T is a multiple of a linear period. The isolation's work limit (1000 cells
 // per half-oscillation of the fastest mode, ~25 times what it needs) is an
 // internal bound: hitting it throws std::runtime_error.
-std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const TwoImpactOptions& options = {});
+std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const TwoImpactOptions& options = {},
+                                   int first = 0, int second = 0);
 
 // The potential orbit at a root (t2, T).
-Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const TwoImpactOptions& options = {});
+Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const TwoImpactOptions& options = {},
+                       int first = 0, int second = 0);
 
 // The member of the kernel of the computed A_2 at (t2, T) (its two smallest
 // singular vectors, return_map.h KernelAtImpacts) with x_c(0) = d and
@@ -63,10 +72,12 @@ Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const T
 // where the closed form's rounding leaves it less periodic; another at_t2 a
 // motion that satisfies NC1 but not NC2 (the paper's Fig. 2).
 std::optional<Orbit> TwoImpactKernelOrbit(const AnalysisBasis& b, double t2, double period, double at_t2,
-                                          double rank_tol, const AdmissibilityOptions& admissibility = {});
+                                          double rank_tol, const AdmissibilityOptions& admissibility = {},
+                                          int first = 0, int second = 0);
 
 // Every potential 2-ipp orbit of period T (one per root t2).
-std::vector<Orbit> TwoImpactOrbits(const AnalysisBasis& b, double period, const TwoImpactOptions& options = {});
+std::vector<Orbit> TwoImpactOrbits(const AnalysisBasis& b, double period, const TwoImpactOptions& options = {},
+                                   int first = 0, int second = 0);
 
 // Pseudo-arclength continuation of the NC1 root curve through (t2, T): the
 // zero set of the signed indicator F(t2, T) (return_map.h), followed in

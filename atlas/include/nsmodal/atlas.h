@@ -70,6 +70,9 @@ struct SweepOptions {
   // modulus and the multipliers off the unit circle (stability.h).
   StabilityOptions stability_options;
   TwoImpactOptions two_impact;  // root scan of the 2-ipp sweep
+  // The impact sequence (issue 24): the contact of each impact, 0-based, as
+  // many entries as impacts (1 or 2); empty: every impact on contact 1.
+  std::vector<int> sequence;
   int threads = 0;              // worker threads (0: all cores)
   std::function<void(long done, long count)> progress;
 };
@@ -108,6 +111,11 @@ void ToPhysical(const ModalTruncation& t, std::vector<OrbitRecord>& orbits);
 std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int impacts,
                                   const SweepOptions& options = {}, const std::string& field = "period");
 
+// A sequence "1,2" as the contacts' 0-based indices, checked against the
+// basis's contacts: 1 or 2 entries, each a contact's number; throws
+// InputError naming `field` and the value otherwise.
+std::vector<int> ParseSequence(const std::string& text, int contacts, const std::string& field);
+
 // The potential orbits of the grid with each number of impacts in `impacts`
 // (1 and/or 2), period by period and in that order: what `validate` checks.
 std::vector<Orbit> PotentialOrbits(const AnalysisBasis& b, const PeriodGrid& grid, const std::vector<int>& impacts,
@@ -122,12 +130,13 @@ std::vector<Transition> SweepTransitions(const AnalysisBasis& b, const Sweep& on
 struct ZoneScan {
   std::vector<double> periods;
   std::vector<bool> admissible;
+  int contact = 0;  // the family's contact (its orbits' sequence)
   void Add(double period, const std::vector<OrbitRecord>& one_impact_orbits);
   std::vector<Transition> Transitions(const AnalysisBasis& b) const;
 };
 
 struct AtlasOptions {
-  SweepOptions sweep{.stability = StabilityPolicy::kAdmissible, .stability_options = {}, .two_impact = {}, .threads = 0, .progress = {}};
+  SweepOptions sweep{.stability = StabilityPolicy::kAdmissible, .stability_options = {}, .two_impact = {}, .sequence = {}, .threads = 0, .progress = {}};
 };
 
 struct Atlas {

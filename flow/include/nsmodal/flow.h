@@ -21,12 +21,20 @@ inline void ElasticImpact(const AnalysisBasis& b, Eigen::Ref<Eigen::VectorXd> y)
 }
 Eigen::MatrixXd FlowMatrix(const ModalBasis& b, double t);
 Eigen::MatrixXd ImpactMatrix(const ModalBasis& b, double e);
+Eigen::MatrixXd ImpactMatrix(const ModalBasis& b, const ModalContact& contact, double e);
 
 inline double ContactPosition(const ModalBasis& b, const Eigen::Ref<const Eigen::VectorXd>& y) {
   return b.r_over_omega.dot(y.head(b.n));
 }
 inline double ContactVelocity(const ModalBasis& b, const Eigen::Ref<const Eigen::VectorXd>& y) {
   return b.r.dot(y.tail(b.n));
+}
+// The same for contact j's projection (b.contacts[j]): n_j . x and n_j . v.
+inline double ContactPosition(const ModalBasis& b, const ModalContact& c, const Eigen::Ref<const Eigen::VectorXd>& y) {
+  return c.r_over_omega.dot(y.head(b.n));
+}
+inline double ContactVelocity(const ModalBasis& b, const ModalContact& c, const Eigen::Ref<const Eigen::VectorXd>& y) {
+  return c.r.dot(y.tail(b.n));
 }
 inline double Energy(const Eigen::Ref<const Eigen::VectorXd>& y) { return 0.5 * y.squaredNorm(); }
 

@@ -38,7 +38,7 @@ SweepWritten WriteSweepTable(const OutputDir& dir, const std::string& name, cons
                          int impacts, const SweepOptions& options, const ModalTruncation* truncation = nullptr,
                          TableFormat format = TableFormat::kCsv);
 
-// transitions.csv: T,kind,energy.
+// transitions.csv: T,kind,energy,contact (from 1).
 Columns<Transition> TransitionColumns();
 
 // The bridges of an atlas: T,t2,energy_min,energy_max,s_begin,s_end,kind.
