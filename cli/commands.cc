@@ -34,27 +34,10 @@ void CheckImpacts(int impacts) {
   }
 }
 
-// --sequence (the contact of each impact) or --impacts m (m impacts on
-// contact 1): the impacts and the sequence, 0-based; checked against the
-// model's contacts.
-std::pair<int, std::vector<int>> ImpactSequence(int impacts, const std::optional<std::string>& sequence,
-                                                const AnalysisBasis& b) {
-  if (!sequence) {
-    CheckImpacts(impacts);
-    return {impacts, std::vector<int>(impacts, 0)};
-  }
-  std::vector<int> s = ParseSequence(*sequence, static_cast<int>(b.contacts.size()), "--sequence");
-  if (impacts != 1 && impacts != static_cast<int>(s.size())) {
-    throw InputError("--impacts", std::to_string(impacts) + " disagrees with --sequence " + *sequence +
-                                      " (" + std::to_string(s.size()) + " impacts): give one of them");
-  }
-  return {static_cast<int>(s.size()), std::move(s)};
-}
-
 }  // namespace
 
 int RunOrbits(const OrbitsArgs& a) {
-  if (!a.sequence) CheckImpacts(a.impacts);
+  if (!a.sequence) CheckImpacts(a.impacts);  // before the scene is read
   const PeriodGrid grid = PeriodGrid::Parse(a.period);
   const Scene scene = LoadScene(a.scene);
   // --modes K: the sweep on the first K modes; orbits.csv in the N dofs, with the bound's column.
@@ -62,7 +45,8 @@ int RunOrbits(const OrbitsArgs& a) {
   if (a.modes) truncation = TruncateModesAsGiven(scene.model, *a.modes, "--modes");
   if (truncation) report::PrintSweepTruncation(std::cout, *truncation);
   const AnalysisBasis b(truncation ? truncation->model : scene.model);
-  const auto [impacts, sequence] = ImpactSequence(a.impacts, a.sequence, b);
+  const auto [impacts, sequence] =
+      ImpactSequence(a.impacts, a.sequence, static_cast<int>(b.contacts.size()), FieldNames("--"));
   CheckSweepWork(b, grid, {impacts}, "--period", impacts == 1);
   const report::TableFormat format = report::ParseTableFormat(a.format);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, report::TableFileNames({"orbits", "transitions"}));
@@ -196,7 +180,8 @@ int RunOrbit(const OrbitArgs& a) {
     throw InputError("--period", "must be positive, got " + FormatValue(a.period));
   }
   const AnalysisBasis b(LoadScene(a.scene).model);
-  const auto [impacts, sequence] = ImpactSequence(a.impacts, a.sequence, b);
+  const auto [impacts, sequence] =
+      ImpactSequence(a.impacts, a.sequence, static_cast<int>(b.contacts.size()), FieldNames("--"));
   SweepOptions opt;  // stability: potential
   opt.sequence = sequence;
   const std::vector<OrbitRecord> orbits = OrbitsAt(b, a.period, impacts, opt, "--period");

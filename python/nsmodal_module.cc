@@ -21,6 +21,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <variant>
 #include <vector>
 
@@ -391,6 +392,17 @@ FieldNames ModelKeywordNames() {
   }
   names.Set("contact", "contacts");
   return names.Set("form", "masses");
+}
+
+// sequence=[1, 2] (contact numbers) as the text ParseSequence reads; None: none.
+std::optional<std::string> SequenceText(const py::object& sequence) {
+  if (sequence.is_none()) return std::nullopt;
+  if (py::isinstance<py::str>(sequence)) return sequence.cast<std::string>();
+  std::string text;
+  for (py::handle item : sequence.cast<py::iterable>()) {
+    text += (text.empty() ? "" : ",") + std::to_string(IntOf(item, "sequence"));
+  }
+  return text;
 }
 
 // contacts=[dict(dof=2, side="upper", gap=1.0, restitution=1.0), ...]: each
@@ -900,21 +912,29 @@ directory, a larger file or a path holding a NUL raise ValueError naming
   mod.def(
       "orbits",
       [](const Model& model, Integer<"impacts"> impacts, const py::object& period, const std::string& stability,
-         Integer<"threads"> threads, bool all_multipliers, const py::object& progress) {
+         Integer<"threads"> threads, bool all_multipliers, const py::object& progress, const py::object& sequence) {
         CheckThreads(threads, "threads");
         const AnalysisBasis b(model);
         const PeriodGrid grid = GridOf(period);
         SweepOptions opt;
+        int m = impacts;
+        std::tie(m, opt.sequence) = ImpactSequence(impacts, SequenceText(sequence),
+                                                   static_cast<int>(b.contacts.size()), FieldNames());
         opt.stability = PolicyOf(stability);
         opt.stability_options.all_multipliers = all_multipliers;
         opt.threads = threads;
         opt.progress = ProgressOf(progress);
-        const Sweep sweep = Interruptible([&] { return ComputeSweep(b, grid, impacts, opt); });
+        const Sweep sweep = Interruptible([&] { return ComputeSweep(b, grid, m, opt); });
         return OrbitsDict(sweep, b.n);
       },
       py::arg("model"), py::arg("impacts") = 1, py::arg("period"), py::arg("stability") = "potential",
       py::arg("threads") = 0, py::arg("all_multipliers") = true, py::arg("progress") = py::none(),
-      Signed("orbits(model, impacts=1, *, period, stability='potential', threads=0, all_multipliers=True, progress=None)", R"doc(Potential orbits with 1 or 2 impacts per period over a grid of periods.
+      py::arg("sequence") = py::none(),
+      Signed("orbits(model, impacts=1, *, period, stability='potential', threads=0, all_multipliers=True, progress=None, "
+             "sequence=None)", R"doc(Potential orbits with 1 or 2 impacts per period over a grid of periods.
+
+sequence: with several contacts, the contact of each impact (numbered from 1
+as given), e.g. [1, 2]; None: every impact on contact 1 (impacts= of them).
 
 period: (from, to, step), "FROM:TO:STEP", one period T, or a NumPy array of
 evenly spaced periods (np.arange, np.linspace).
@@ -938,17 +958,21 @@ Needs restitution = 1 (ValueError naming system.restitution otherwise).)doc"));
 
   mod.def(
       "orbit",
-      [](const Model& model, Real<"period"> period, Integer<"impacts"> impacts) {
+      [](const Model& model, Real<"period"> period, Integer<"impacts"> impacts, const py::object& sequence) {
         const AnalysisBasis b(model);
         SweepOptions opt;
+        int m = impacts;
+        std::tie(m, opt.sequence) = ImpactSequence(impacts, SequenceText(sequence),
+                                                   static_cast<int>(b.contacts.size()), FieldNames());
         PeriodGrid{period, period, 1.0}.Validate("period");
         py::list out;
-        for (const OrbitRecord& r : OrbitsAt(b, period, impacts, opt)) out.append(OrbitRecordDict(r));
+        for (const OrbitRecord& r : OrbitsAt(b, period, m, opt)) out.append(OrbitRecordDict(r));
         return out;
       },
-      py::arg("model"), py::arg("period"), py::arg("impacts") = 1,
-      Signed("orbit(model, period, impacts=1)", R"doc(Every potential orbit of period T as a list of dicts (as `nsmodal orbit --json`):
-"T", "impact_times", "t2", "energy", "potential", "admissible", "degenerate",
+      py::arg("model"), py::arg("period"), py::arg("impacts") = 1, py::arg("sequence") = py::none(),
+      Signed("orbit(model, period, impacts=1, sequence=None)", R"doc(Every potential orbit of period T as a list of dicts (as `nsmodal orbit --json`):
+"T", "impact_times", "t2", "sequence" (the contact of each impact, from 1),
+"energy", "potential", "admissible", "degenerate",
 residuals, "nc3_margin", "x", "v", "reason", "stable", "max_multiplier",
 "multipliers"; impact_times, x and v float arrays, the multipliers a complex
 array, as in orbits().)doc"));

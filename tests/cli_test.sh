@@ -12,10 +12,21 @@ expect_error "system.gap" "$bin" orbit "$(scene gap '[system]\nrestitution=1\nma
 expect_error "system.restitution" "$bin" orbit "$(scene e15 '[system]\ngap=1\nmasses=[1,1]\nsprings=[1,1]\nrestitution=1.5\n')" --period 3
 expect_error "only for e = 1" "$bin" orbits "$(scene e05 '[system]\ngap=1\nmasses=[1,1]\nsprings=[1,1]\nrestitution=0.5\n')" --period 1:2:0.5 --out "$tmp/o"
 expect_error "scene" "$bin" orbit "$(scene malformed '[system\nmasses=[1,1]\n')" --period 3
+# Several contacts (issue 24): each refusal names the contact's index and field.
+two='[system]\nmasses=[1,1]\nsprings=[0.85,2]\n[[contact]]\ndof=2\ngap=1\nrestitution=1\n'
+expect_error "contact\\[2\\].normal: is zero" "$bin" orbit "$(scene zeronormal "$two"'[[contact]]\nnormal=[0,0]\ngap=1\nrestitution=1\n')" --period 3
+expect_error "contact\\[2\\].gap" "$bin" orbit "$(scene gap2 "$two"'[[contact]]\ndof=1\ngap=-1\nrestitution=1\n')" --period 3
+expect_error "contact\\[2\\].normal: duplicates contact 1" "$bin" orbit "$(scene dup "$two"'[[contact]]\ndof=2\ngap=2\nrestitution=1\n')" --period 3
+expect_error "contact\\[2\\].restitution" "$bin" orbits "$(scene lossy2 "$two"'[[contact]]\ndof=2\nside="lower"\ngap=1\nrestitution=0.5\n')" --period 1:2:0.5 --out "$tmp/o"
+clear2=$(scene clear2 "$two"'[[contact]]\ndof=2\nside="lower"\ngap=1.2\nrestitution=1\n')
+expect_error "\\-\\-sequence: names contact 3" "$bin" orbits "$clear2" --sequence 1,3 --period 2:3:0.5 --out "$tmp/o"
+expect_error "\\-\\-sequence: must list" "$bin" orbit "$clear2" --sequence 1,2,1 --period 3
+expect_error "\\-\\-impacts: 2 disagrees" "$bin" orbit "$clear2" --impacts 2 --sequence 2 --period 3
+expect_error "contact 2 (x2 >= -1.2)" "$bin" simulate "$clear2" --x0 0 -1.3 --v0 0 0 --out "$tmp/o"
 expect_error "cannot open" "$bin" orbit "$tmp/missing.toml" --period 3
 # A built-in scene by name (compiled in from configs/), from a directory that has no such file.
 if env -C "$tmp" "$bin" orbit paper --period 7.5 | grep -q "admissible"; then ok; else bad "orbit paper: no built-in scene"; fi
-expect_error "no built-in scene of that name (bar, forced, paper-simulate, paper)" env -C "$tmp" "$bin" orbit papr --period 3
+expect_error "no built-in scene of that name (bar, clearance, forced, paper-simulate, paper)" env -C "$tmp" "$bin" orbit papr --period 3
 expect_error "\-\-period" "$bin" orbits "$paper" --period 1:2 --out "$tmp/o"
 expect_error "\-\-period" "$bin" orbits "$paper" --period 5:1:0.1 --out "$tmp/o"
 expect_error "\-\-period" "$bin" orbits "$paper" --period 1:2:0 --out "$tmp/o"

@@ -33,9 +33,9 @@ double ParseNumber(const std::string& s, const std::string& field, const std::st
   return *v;
 }
 
-void CheckImpacts(int impacts) {
+void CheckImpacts(int impacts, const std::string& field = "impacts") {
   if (impacts != 1 && impacts != 2) {
-    throw InputError("impacts", "sweeps compute 1 or 2 impacts per period, got " + std::to_string(impacts));
+    throw InputError(field, "sweeps compute 1 or 2 impacts per period, got " + std::to_string(impacts));
   }
 }
 
@@ -170,6 +170,20 @@ std::vector<int> ParseSequence(const std::string& text, int contacts, const std:
     out.push_back(static_cast<int>(v) - 1);
   }
   return out;
+}
+
+std::pair<int, std::vector<int>> ImpactSequence(int impacts, const std::optional<std::string>& sequence, int contacts,
+                                                const FieldNames& names) {
+  if (!sequence) {
+    CheckImpacts(impacts, names("impacts"));
+    return {impacts, std::vector<int>(impacts, 0)};
+  }
+  std::vector<int> s = ParseSequence(*sequence, contacts, names("sequence"));
+  if (impacts != 1 && impacts != static_cast<int>(s.size())) {
+    throw InputError(names("impacts"), std::to_string(impacts) + " disagrees with the sequence " + *sequence + " (" +
+                                           std::to_string(s.size()) + " impacts): give one of them");
+  }
+  return {static_cast<int>(s.size()), std::move(s)};
 }
 
 void StreamSweep(const AnalysisBasis& b, const PeriodGrid& grid, int impacts, const SweepOptions& options,

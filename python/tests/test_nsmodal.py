@@ -593,3 +593,55 @@ def test_a_built_in_name_is_taken_unless_a_regular_file_has_it(tmp_path, monkeyp
     assert nsmodal.load_scene("paper").dofs == 2
     with pytest.raises(ValueError, match="empty"):
         nsmodal.load_scene("")
+
+
+# Several contacts (issue 24).
+def clearance(**changes):
+    kw = dict(masses=[1.0, 1.0], springs=[0.85, 2.0],
+              contacts=[dict(dof=2, side="upper", gap=1.0, restitution=1.0),
+                        dict(dof=2, side="lower", gap=1.2, restitution=1.0)])
+    kw.update(changes)
+    return nsmodal.Model(**kw)
+
+
+def test_contacts_are_given_as_dicts_and_read_back():
+    m = clearance()
+    assert m.contacts == [dict(dof=2, side="upper", gap=1.0, restitution=1.0),
+                          dict(dof=2, side="lower", gap=1.2, restitution=1.0)]
+    assert "x2 >= -1.2" in repr(m)
+    damper = nsmodal.Model(masses=[1.0, 0.2], springs=[1.0, 0.0],
+                           contacts=[dict(between=(1, 2), gap=0.1, restitution=0.6),
+                                     dict(between=(2, 1), gap=0.1, restitution=0.6)])
+    assert damper.contacts[0]["between"] == (1, 2)
+    import pickle
+    again = pickle.loads(pickle.dumps(m))
+    assert again.contacts == m.contacts
+    assert m.replace(masses=[2.0, 1.0], springs=[0.85, 2.0]).contacts == m.contacts
+    with pytest.raises(ValueError, match=r"contact\[2\]\.gap"):
+        clearance(contacts=[dict(dof=2, gap=1.0, restitution=1.0), dict(dof=1, gap=0.0, restitution=1.0)])
+    with pytest.raises(ValueError, match="contacts: give the contacts either"):
+        clearance(gap=1.0, restitution=1.0)
+    with pytest.raises(TypeError, match=r"contacts\[0\]: unexpected key 'height'"):
+        clearance(contacts=[dict(dof=2, gap=1.0, restitution=1.0, height=2.0)])
+    with pytest.raises(ValueError, match="change them with contacts="):
+        m.replace(gap=2.0)
+
+
+def test_a_two_contact_simulation_counts_per_contact():
+    s = nsmodal.simulate(clearance(), x0=[0.3, 0.2], v0=[1.2, 1.5], t_end=30.0)
+    assert len(s["impacts_per_contact"]) == 2
+    assert sum(s["impacts_per_contact"]) == s["impacts"]
+    assert min(s["impacts_per_contact"]) > 0
+    assert set(np.unique(s["impact_log"]["contact"])) == {1, 2}
+
+
+def test_orbits_of_an_impact_sequence():
+    o = nsmodal.orbits(clearance(), sequence=[1, 2], period=(2.0, 20.0, 0.5))
+    assert len(o["T"]) > 20
+    assert o["admissible"].any()
+    one = nsmodal.orbit(clearance(), 7.0, sequence=[1, 2])
+    assert all(list(x["sequence"]) == [1, 2] for x in one)
+    with pytest.raises(ValueError, match="sequence: names contact 3"):
+        nsmodal.orbits(clearance(), sequence=[1, 3], period=(2.0, 3.0, 0.5))
+    with pytest.raises(ValueError, match="impacts: 2 disagrees"):
+        nsmodal.orbits(clearance(), impacts=2, sequence=[1], period=(2.0, 3.0, 0.5))

@@ -53,6 +53,10 @@ nlohmann::json OrbitJson(const OrbitRecord& record) {
                    {"v", v},
                    {"reason", o.reason}};
   j["t2"] = OrNull(!o.times.empty(), o.times.empty() ? 0.0 : o.times[0]);
+  // The contact of each impact, numbered from 1 (issue 24's impact sequence).
+  std::vector<int> sequence;
+  for (int c : o.sequence) sequence.push_back(c + 1);
+  j["sequence"] = sequence;
   if (const auto& s = record.stability) {
     j["stable"] = s->stable;
     j["max_multiplier"] = s->max_modulus;

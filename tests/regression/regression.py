@@ -156,6 +156,7 @@ def cases(src):
     sim = os.path.join(src, "configs/paper-simulate.toml")
     forced = os.path.join(src, "configs/forced.toml")
     bar = os.path.join(src, "configs/bar.toml")
+    clearance = os.path.join(src, "configs/clearance.toml")
     # The bar at rest, its velocity rising linearly to 2 m/s at the free
     # end: x_c reaches the wall 0.1 mm away after 59 us.
     bar_start = ["--x0"] + ["0"] * 100 + ["--v0"] + [repr(2.0 * (i + 1) / 100) for i in range(100)]
@@ -175,6 +176,10 @@ def cases(src):
         sweep_files)
     add("orbits-bar-2-modes2", ["orbits", bar, "--impacts", "2", "--period", "0.0008:0.0016:0.0004", "--modes", "2"],
         ["orbits.csv"])
+    # Several contacts (issue 24): the clearance's families of the sequences
+    # (1, 2) and (1), the latter's transitions with the lower wall's grazings.
+    add("orbits-clearance-12", ["orbits", clearance, "--sequence", "1,2", "--period", "2:20:0.5"], ["orbits.csv"])
+    add("orbits-clearance-1", ["orbits", clearance, "--sequence", "1", "--period", "1:30:0.25"], sweep_files)
     # orbit --json: a stable 1-ipp orbit; the 2-ipp roots of T = 6 (Fig. 6).
     add("orbit-paper-1-T7.5", ["orbit", paper, "--impacts", "1", "--period", "7.5", "--json"], [], stdout="orbit.json")
     add("orbit-paper-2-T6", ["orbit", paper, "--impacts", "2", "--period", "6", "--json"], [], stdout="orbit.json")
@@ -198,6 +203,8 @@ def cases(src):
         add("simulate-paper-" + integrator, ["simulate", sim, "--t-end", "50", "--sample-dt", "0.5"] + flags,
             sim_files, rule)
         add("simulate-forced-" + integrator, ["simulate", forced, "--t-end", "150", "--sample-dt", "1"] + flags,
+            sim_files, rule)
+        add("simulate-clearance-" + integrator, ["simulate", clearance, "--t-end", "30", "--sample-dt", "0.5"] + flags,
             sim_files, rule)
         add("simulate-bar-modes8-" + integrator,
             ["simulate", bar, "--t-end", "0.002", "--sample-dt", "0.0002", "--modes", "8", "--step", "1e-7"]

@@ -7,9 +7,11 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nsmodal/bridge.h"
+#include "nsmodal/field_names.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/orbit.h"
 #include "nsmodal/stability.h"
@@ -115,6 +117,14 @@ std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int imp
 // basis's contacts: 1 or 2 entries, each a contact's number; throws
 // InputError naming `field` and the value otherwise.
 std::vector<int> ParseSequence(const std::string& text, int contacts, const std::string& field);
+
+// A face's impacts and sequence (CLI --impacts/--sequence, Python's
+// impacts=/sequence=): the sequence if given (impacts then 1, its default, or
+// its length), else `impacts` (1 or 2) on contact 1. Returns the impacts and
+// the 0-based sequence; throws InputError naming names("impacts") or
+// names("sequence").
+std::pair<int, std::vector<int>> ImpactSequence(int impacts, const std::optional<std::string>& sequence, int contacts,
+                                                const FieldNames& names);
 
 // The potential orbits of the grid with each number of impacts in `impacts`
 // (1 and/or 2), period by period and in that order: what `validate` checks.

@@ -16,7 +16,8 @@
 
 namespace nsmodal::report {
 
-// impacts, T, impact_times, t2 (null for one impact), energy, potential,
+// impacts, T, impact_times, t2 (null for one impact), sequence (the contact of
+// each impact, from 1), energy, potential,
 // admissible, degenerate, residuals, nc3_margin (null when not finite), x, v,
 // reason, and with stability: stable, max_multiplier, multipliers [[re, im]].
 nlohmann::json OrbitJson(const OrbitRecord& record);
