@@ -145,6 +145,38 @@ BENCHMARK(BM_ChainOneImpactSweep)
 void BM_ChainTwoImpactSweep(benchmark::State& state) { ChainSweep(state, 2, PeriodGrid{2.0, 30.0, 0.1}); }
 BENCHMARK(BM_ChainTwoImpactSweep)->Args({10, 1})->Args({100, 1})->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 
+// Issue 24, several contacts: the paper's chain between two stops (x2 <= 1,
+// x2 >= -1.2: configs/clearance.toml), the family of the impact sequence
+// (1, 2) over T = 2:27:0.005 (5,001 periods) with every potential orbit's
+// stability, on one core (arg 1) and on both (arg 0: all cores). Target:
+// under 1 s.
+void BM_TwoContactSweep(benchmark::State& state) {
+  Model m = PaperModel();
+  m.contacts = {DofContact(2, 1, true, 1.0, 1.0), DofContact(2, 1, false, 1.2, 1.0)};
+  const AnalysisBasis b(m);
+  SweepOptions opt;
+  opt.stability = StabilityPolicy::kPotential;
+  opt.sequence = {0, 1};
+  opt.threads = static_cast<int>(state.range(0));
+  const PeriodGrid grid{2.0, 27.0, 0.005};
+  long orbits = 0, admissible = 0, stable = 0;
+  for (auto _ : state) {
+    orbits = admissible = stable = 0;
+    StreamSweep(b, grid, 2, opt, [&](double, std::vector<OrbitRecord>& list) {
+      for (const OrbitRecord& r : list) {
+        ++orbits;
+        admissible += r.orbit.admissible;
+        stable += r.stable();
+      }
+    });
+  }
+  state.counters["periods"] = static_cast<double>(grid.Count());
+  state.counters["orbits"] = static_cast<double>(orbits);
+  state.counters["admissible"] = static_cast<double>(admissible);
+  state.counters["stable"] = static_cast<double>(stable);
+}
+BENCHMARK(BM_TwoContactSweep)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
 void BM_TransitionsTo40(benchmark::State& state) {
   const AnalysisBasis b(PaperModel());
   double worst = 0.0;

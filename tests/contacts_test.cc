@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <optional>
 #include <string>
 #include <vector>
@@ -180,7 +181,52 @@ TEST(Contacts, CoupledSimultaneousImpactsSatisfyMoreausLaw) {
       EXPECT_LE(std::abs(p[j] * slack), kTol * std::max(1.0, p.norm())) << j;
     }
   }
-  // The LCP solver on its own: a problem with a known solution.
+  // The LCP solver on its own: a problem with a known solution, then random
+  // SPD problems of 2 to 6 unknowns against the enumeration of all 2^n
+  // index sets (the unique solution of an SPD LCP is the one set whose block
+  // solve gives z >= 0 and w >= 0). Tolerance: both solve the same blocks,
+  // round-off of an O(1) system, 1e-12.
+  std::srand(7);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int n = 2 + trial % 5;
+    const Eigen::MatrixXd r = Eigen::MatrixXd::Random(n, n);
+    const Eigen::MatrixXd g = r * r.transpose() + 0.1 * Eigen::MatrixXd::Identity(n, n);
+    const Eigen::VectorXd q = Eigen::VectorXd::Random(n);
+    const LcpSolution sol = SolveLcp(g, q);
+    ASSERT_TRUE(sol.solved) << sol.message;
+    int found = 0;
+    for (int mask = 0; mask < (1 << n); ++mask) {
+      Eigen::VectorXd z = Eigen::VectorXd::Zero(n);
+      std::vector<int> idx;
+      for (int i = 0; i < n; ++i) {
+        if (mask & (1 << i)) idx.push_back(i);
+      }
+      const int k = static_cast<int>(idx.size());
+      Eigen::MatrixXd block(k, k);
+      Eigen::VectorXd rhs(k);
+      for (int a_i = 0; a_i < k; ++a_i) {
+        rhs[a_i] = -q[idx[a_i]];
+        for (int b_i = 0; b_i < k; ++b_i) block(a_i, b_i) = g(idx[a_i], idx[b_i]);
+      }
+      if (k > 0) {
+        const Eigen::VectorXd zb = block.ldlt().solve(rhs);
+        for (int a_i = 0; a_i < k; ++a_i) z[idx[a_i]] = zb[a_i];
+      }
+      const Eigen::VectorXd w = g * z + q;
+      bool ok = z.minCoeff() >= -1e-12;
+      for (int i = 0; i < n; ++i) ok = ok && ((mask & (1 << i)) || w[i] >= -1e-12);
+      if (ok) {
+        ++found;
+        EXPECT_LE((z - sol.z).cwiseAbs().maxCoeff(), 1e-12) << trial;
+      }
+    }
+    EXPECT_GE(found, 1) << trial;
+  }
+  // Dependent normals: a singular Delassus matrix is refused, not guessed.
+  Eigen::Matrix2d singular;
+  singular << 1.0, 1.0, 1.0, 1.0;
+  EXPECT_FALSE(SolveLcp(singular, Eigen::Vector2d(-1.0, -2.0)).solved);
+  // A problem with a known solution.
   Eigen::Matrix2d a;
   a << 2.0, 1.0, 1.0, 2.0;
   const LcpSolution s = SolveLcp(a, Eigen::Vector2d(-1.0, -1.0));

@@ -17,30 +17,45 @@ SegmentCheck CheckSegment(const AnalysisBasis& b, const Eigen::Ref<const Eigen::
   return CheckSegment(b, b.contacts.front(), y, duration);
 }
 
-SegmentCheck CheckSegment(const AnalysisBasis& b, const ModalContact& contact, const Eigen::Ref<const Eigen::VectorXd>& y,
-                          double duration) {
-  const ContactSignal f(b, contact, y);
+namespace {
+
+// CheckSegment on the signal f = n . x of a flight; its critical points
+// (the roots of v_c) isolated here, or taken from `reuse` (those of a
+// contact whose r is parallel: the same roots), and left in `critical`.
+SegmentCheck CheckSignal(const ContactSignal& f, double gap, double duration, const std::vector<double>* reuse,
+                         std::vector<double>& critical) {
   SegmentCheck out{-std::numeric_limits<double>::infinity(), 0.0, f.Velocity(0.0), f.Velocity(duration), 0.0,
                    0.0, true};
   out.position_scale = f.bound[0];
   out.velocity_scale = f.bound[1];
-  // Tangencies of v_c (inflections of x_c at zero slope) resolved to 1e-12 of the segment.
-  // Work limit from the problem's scale: v_c has about w_max duration / pi
-  // roots, each isolated in ~40 halvings.
-  const double w_max = f.omega.size() > 0 ? f.omega.maxCoeff() : 0.0;
-  const long max_cells = static_cast<long>(std::min(1e9, 1000.0 * (2.0 + w_max * duration / M_PI)));
-  const std::vector<double> critical =
-      IsolateRoots([&f](double t) { return f.VelocityAcceleration(t); }, f.bound[2], f.bound[3], 0.0, duration,
-                   1e-12 * duration, max_cells, &out.complete);
+  if (reuse != nullptr) {
+    critical = *reuse;
+  } else {
+    // Tangencies of v_c (inflections of x_c at zero slope) resolved to 1e-12 of the segment.
+    // Work limit from the problem's scale: v_c has about w_max duration / pi
+    // roots, each isolated in ~40 halvings.
+    const double w_max = f.omega.size() > 0 ? f.omega.maxCoeff() : 0.0;
+    const long max_cells = static_cast<long>(std::min(1e9, 1000.0 * (2.0 + w_max * duration / M_PI)));
+    critical = IsolateRoots([&f](double t) { return f.VelocityAcceleration(t); }, f.bound[2], f.bound[3], 0.0,
+                            duration, 1e-12 * duration, max_cells, &out.complete);
+  }
   for (double t : critical) {
     if (t <= 0.0 || t >= duration) continue;
-    const double excess = f.Position(t) - contact.gap;
+    const double excess = f.Position(t) - gap;
     if (excess > out.max_excess) {
       out.max_excess = excess;
       out.t_at_max = t;
     }
   }
   return out;
+}
+
+}  // namespace
+
+SegmentCheck CheckSegment(const AnalysisBasis& b, const ModalContact& contact, const Eigen::Ref<const Eigen::VectorXd>& y,
+                          double duration) {
+  std::vector<double> critical;
+  return CheckSignal(ContactSignal(b, contact, y), contact.gap, duration, nullptr, critical);
 }
 
 Orbit EvaluateOrbit(const AnalysisBasis& b, const Eigen::VectorXd& y0, const std::vector<double>& times,
@@ -62,6 +77,10 @@ Orbit EvaluateOrbit(const AnalysisBasis& b, const Eigen::VectorXd& y0, const std
 
   std::ostringstream why;
   bool nc3 = true;
+  // Each flight's critical points per contact: a contact whose r is parallel
+  // to an earlier one's (two walls of one dof) has the same ones.
+  std::vector<std::vector<double>> critical(contacts);
+  std::vector<bool> complete(contacts, true);
   const ModalContact& first = b.contacts[sequence[0]];
   double nc2 = std::abs(ContactPosition(b, first, y0) - first.gap) / first.gap;
   Eigen::VectorXd y = y0;
@@ -74,7 +93,10 @@ Orbit EvaluateOrbit(const AnalysisBasis& b, const Eigen::VectorXd& y0, const std
       // The contacts struck at the flight's ends first (the one-contact checks), then the others.
       const bool at_start = c == from, at_end = c == to;
       const ModalContact& mc = b.contacts[c];
-      const SegmentCheck seg = CheckSegment(b, mc, y, duration);
+      const std::vector<double>* reuse = mc.parallel >= 0 ? &critical[mc.parallel] : nullptr;
+      SegmentCheck seg = CheckSignal(ContactSignal(b, mc, y), mc.gap, duration, reuse, critical[c]);
+      if (reuse != nullptr) seg.complete = complete[mc.parallel];
+      complete[c] = seg.complete;
       const double xtol = options.rel_tol * std::max(mc.gap, seg.position_scale);
       const double vtol = options.rel_tol * seg.velocity_scale;
       if (in_sequence[c]) {

@@ -37,6 +37,10 @@ ModalBasis MakeModalBasis(const Model& model) {
     mc.r_over_omega = mc.r.cwiseQuotient(b.u_scale);
     mc.r_norm2 = mc.r.squaredNorm();
     mc.gap = c.gap;
+    for (int k = 0; k < static_cast<int>(b.contacts.size()) && mc.parallel < 0; ++k) {
+      const ModalContact& o = b.contacts[k];
+      if (std::abs(o.r.dot(mc.r)) >= (1.0 - 1e-14) * std::sqrt(o.r_norm2 * mc.r_norm2)) mc.parallel = k;
+    }
     b.contacts.push_back(std::move(mc));
   }
   b.r = b.contacts.front().r;

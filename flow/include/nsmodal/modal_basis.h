@@ -28,6 +28,9 @@ struct ModalContact {
   Eigen::VectorXd r_over_omega;  // r_i / u_scale_i: n_j . x = sum (r_i / w_i) u_i (+ rigid r_i q_i)
   double r_norm2 = 0.0;          // |r|^2 = n_j' M^-1 n_j
   double gap = 1.0;              // d_j
+  // An earlier contact whose r is parallel to this one's (to 1e-14: two walls
+  // of one dof), whose signal's critical points are this one's; -1: none.
+  int parallel = -1;
 };
 
 struct ModalBasis {
