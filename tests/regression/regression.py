@@ -219,6 +219,11 @@ def cases(src):
                                                                "--atol", "1e-12"], validate_files, "cvode")
     add("validate-paper-moreau-jean", ["validate", paper] + grid + ["--integrators", "moreau-jean", "--step", "1e-4"],
         validate_files, "moreau-jean")
+    # validate the clearance's (1, 2) family (issue 24): exact and CVODE.
+    seq = ["--period", "3:12:1", "--sequence", "1,2", "--periods", "20"]
+    add("validate-clearance-exact", ["validate", clearance] + seq + ["--integrators", "exact"], validate_files)
+    add("validate-clearance-cvode", ["validate", clearance] + seq + ["--integrators", "cvode", "--rtol", "1e-10",
+                                                                      "--atol", "1e-12"], validate_files, "cvode")
     # response: a frequency sweep with its backbone and every point
     # validated by the exact integrator; an amplitude sweep at w = 0.5.
     add("response-forced-frequency",

@@ -64,8 +64,8 @@ double PenetrationTolerance(Integrator integrator, const ValidateOptions& o, dou
 // the whole evaluated orbit, whose NC3 search scans w_max T' / pi roots, four
 // times per golden-section step, 320 times per impact: with w_max T ~ 1.3e5,
 // a stiff chain at T = 2, 20 periods of this run did not end in 30 s.)
-double FamilyDistance(const AnalysisBasis& b, const Eigen::VectorXd& z, double period) {
-  auto dist = [&](double tp) { return (PhysicalOf(b, OneImpactState(b, tp)) - z).norm(); };
+double FamilyDistance(const AnalysisBasis& b, const Eigen::VectorXd& z, double period, int contact) {
+  auto dist = [&](double tp) { return (PhysicalOf(b, OneImpactState(b, tp, contact)) - z).norm(); };
   double lo = period * (1.0 - 1e-3), hi = period * (1.0 + 1e-3);
   for (int i = 0; i < 80; ++i) {  // golden section: the value at the minimum is what counts
     const double m1 = lo + 0.381966 * (hi - lo), m2 = lo + 0.618034 * (hi - lo);
@@ -77,12 +77,12 @@ double FamilyDistance(const AnalysisBasis& b, const Eigen::VectorXd& z, double p
 
 // Largest distance to the family of the post-impact states of a run from z0.
 double ManifoldRun(const Model& model, const AnalysisBasis& b, const Eigen::VectorXd& z0, double period, int periods,
-                   SimulateOptions opt) {
+                   SimulateOptions opt, int contact) {
   opt.t_end = periods * period + 0.5 * period;
   opt.sample_dt = 0.0;
   double worst = 0.0;
   SimulationObserver obs;
-  obs.on_impact = [&](const ContactEvent& ev) { worst = std::max(worst, FamilyDistance(b, ev.after, period)); };
+  obs.on_impact = [&](const ContactEvent& ev) { worst = std::max(worst, FamilyDistance(b, ev.after, period, contact)); };
   const int n = model.dofs();
   Simulate(model, z0.head(n), z0.tail(n), opt, obs);
   return worst / z0.norm();
@@ -275,8 +275,19 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
                              : 0.1;
   bool broken = false;
   double time_error = 0.0;  // over the first period's impacts that have a predicted time
+  bool wrong_contact = false;  // a first-period impact on another contact than the sequence's
+  // The run's k-th impact of the first period ends flight k + 1 (from t_mid):
+  // the sequence's impact k + 1, the last one the impact at T (the first).
+  std::vector<int> sequence = orbit.sequence;
+  if (sequence.empty()) sequence.assign(orbit.impacts, 0);
+  // The deepest penetration over every wall.
+  auto penetration = [&](const Eigen::VectorXd& z) {
+    double p = -std::numeric_limits<double>::infinity();
+    for (const Contact& c : model.contacts) p = std::max(p, c.Along(z.head(n)) - c.gap);
+    return p;
+  };
   obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
-    v.max_penetration = std::max(v.max_penetration, z[model.FirstContact().dof] - model.FirstContact().gap);
+    v.max_penetration = std::max(v.max_penetration, penetration(z));
     if (t == 0.0) return;
     const double dev = (z - z_mid).norm() / z_mid.norm();
     v.deviation.push_back(dev);
@@ -284,15 +295,19 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
   };
   obs.on_impact = [&](const ContactEvent& ev) {
     ++v.impacts;
-    v.max_penetration = std::max(v.max_penetration, ev.before[model.FirstContact().dof] - model.FirstContact().gap);
+    v.max_penetration = std::max(v.max_penetration, penetration(ev.before));
     if (ev.t < period - t_mid + 0.5 * first_flight) {  // the first period of the run
       const std::size_t k = static_cast<std::size_t>(v.first_period_impacts++);
-      if (k < predicted.size()) time_error = std::max(time_error, std::abs(ev.t - predicted[k]));
+      if (k < predicted.size()) {
+        time_error = std::max(time_error, std::abs(ev.t - predicted[k]));
+        wrong_contact = wrong_contact || ev.contact != sequence[(k + 1) % sequence.size()];
+      }
     }
   };
   obs.stop_requested = [&] { return broken; };
   const SimulationSummary sum = Simulate(model, z_mid.head(n), z_mid.tail(n), opt, obs);
-  if (v.first_period_impacts == orbit.impacts && orbit.impacts > 0) v.impact_time_error = time_error;
+  // Impacts on other walls than the sequence's have no predicted times.
+  if (v.first_period_impacts == orbit.impacts && orbit.impacts > 0 && !wrong_contact) v.impact_time_error = time_error;
   v.energy_drift = sum.energy_drift;
   v.wall_time_s = sum.wall_time_s;
 
@@ -315,18 +330,25 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
 
   if (orbit.impacts == 1 && integrator == Integrator::kExact) {
     const int manifold_periods = std::min(options.periods, 20);
-    v.manifold_distance = ManifoldRun(model, b, orbit.z0, period, manifold_periods, opt);
-    const Orbit shifted = OneImpactOrbit(b, period * (1.0 + options.perturbation));
-    v.perturbed_manifold_distance = ManifoldRun(model, b, shifted.z0, shifted.period, manifold_periods, opt);
+    v.manifold_distance = ManifoldRun(model, b, orbit.z0, period, manifold_periods, opt, sequence[0]);
+    const Orbit shifted = OneImpactOrbit(b, period * (1.0 + options.perturbation), {}, sequence[0]);
+    v.perturbed_manifold_distance =
+        ManifoldRun(model, b, shifted.z0, shifted.period, manifold_periods, opt, sequence[0]);
   }
 
   // Verdict.
   RunFacts facts{orbit.admissible, v.stability.stable, orbit.impacts, v.stability.growth_per_period,
                  v.first_period_impacts, v.impact_time_error, v.max_penetration, v.deviation, broken,
                  growth, floor, sum};
-  const double v_scale = std::sqrt(2.0 * orbit.energy * b.r_norm2);
-  Judge(facts, integrator, options, PenetrationTolerance(integrator, options, model.FirstContact().gap, v_scale), &v.consistent,
-        &v.reason);
+  // The scales of the walls struck: the fastest normal speed and the smallest gap.
+  double r_norm2 = 0.0, gap = std::numeric_limits<double>::infinity();
+  for (int j : sequence) {
+    r_norm2 = std::max(r_norm2, b.contacts[j].r_norm2);
+    gap = std::min(gap, b.contacts[j].gap);
+  }
+  const double v_scale = std::sqrt(2.0 * orbit.energy * r_norm2);
+  Judge(facts, integrator, options, PenetrationTolerance(integrator, options, gap, v_scale), &v.consistent, &v.reason);
+  if (wrong_contact) v.reason += " (a first-period impact struck another wall than the sequence's)";
   return v;
 }
 

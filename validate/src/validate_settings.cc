@@ -26,6 +26,10 @@ const SettingTable<ValidationRequest>& ValidateSettings() {
                             r.impacts = IntegerListOf(v);
                           }
                         }});
+    settings.push_back(TextSetting<R>(
+        {"sequence", {}, "sequence", "--sequence", "sequence", "",
+         "With several contacts, the contact of each impact, e.g. 1,2 (1 or 2 impacts; replaces impacts)", validate},
+        &R::sequence));
     // Lifted twice: ValidationRequest::options, then ValidateOptions::simulate.
     std::vector<Setting<ValidateOptions>> own;
     own.push_back(IntegerSetting<ValidateOptions>(
@@ -65,11 +69,21 @@ ValidationPlan PlanValidation(const AnalysisBasis& basis, const Configured<Valid
   if (r.period.empty()) {
     throw InputError(names("period"), "is missing: give it with --period, validate.period or period=");
   }
-  ValidationPlan plan{r.options, PeriodGrid::Parse(r.period, names("period")), {}};
-  if (r.impacts.empty()) throw InputError(names("impacts"), "must name 1, 2 or both");
-  for (long m : r.impacts) {
-    if (m != 1 && m != 2) throw InputError(names("impacts"), "takes 1 and/or 2, got " + std::to_string(m));
-    plan.impacts.push_back(static_cast<int>(m));
+  ValidationPlan plan{r.options, PeriodGrid::Parse(r.period, names("period")), {}, {}};
+  if (!r.sequence.empty()) {
+    plan.sequence = ParseSequence(r.sequence, static_cast<int>(basis.contacts.size()), names("sequence"));
+    const auto impacts = request.origin.find("impacts");
+    if (impacts != request.origin.end() && impacts->second.source != SettingSource::kDefault &&
+        r.impacts != std::vector<long>{static_cast<long>(plan.sequence.size())}) {
+      throw InputError(names("impacts"), "disagrees with " + names("sequence") + " " + r.sequence + ": give one of them");
+    }
+    plan.impacts = {static_cast<int>(plan.sequence.size())};
+  } else {
+    if (r.impacts.empty()) throw InputError(names("impacts"), "must name 1, 2 or both");
+    for (long m : r.impacts) {
+      if (m != 1 && m != 2) throw InputError(names("impacts"), "takes 1 and/or 2, got " + std::to_string(m));
+      plan.impacts.push_back(static_cast<int>(m));
+    }
   }
   plan.options.Validate(names);
   CheckSweepWork(basis, plan.grid, plan.impacts, names("period"));
@@ -81,6 +95,7 @@ GridValidation RunValidation(const Model& model, const AnalysisBasis& basis, con
   SweepOptions sweep;
   sweep.stability = StabilityPolicy::kNone;
   sweep.threads = plan.options.threads;
+  sweep.sequence = plan.sequence;
   GridValidation v;
   v.orbits = PotentialOrbits(basis, plan.grid, plan.impacts, sweep);
   v.results = ValidateOrbits(model, v.orbits, plan.options, progress, names);

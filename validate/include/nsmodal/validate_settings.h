@@ -22,6 +22,7 @@ struct ValidationRequest {
   ValidateOptions options;
   std::string period;              // FROM:TO:STEP; required
   std::vector<long> impacts{1, 2};  // 1 and/or 2
+  std::string sequence;            // "1,2": the contact of each impact (empty: every impact on contact 1)
 };
 
 const SettingTable<ValidationRequest>& ValidateSettings();
@@ -32,6 +33,7 @@ struct ValidationPlan {
   ValidateOptions options;
   PeriodGrid grid;
   std::vector<int> impacts;
+  std::vector<int> sequence;  // 0-based contacts of each impact; empty: contact 1
 };
 // Throws InputError naming each field as the request's origins say.
 ValidationPlan PlanValidation(const AnalysisBasis& basis, const Configured<ValidationRequest>& request);
