@@ -885,6 +885,84 @@ void Figure16(Context& c) {
   Draw(c, "fig16_three_impact_family", body.str(), note.str());
 }
 
+// Fig. 18 (several contacts, issue 24): the frequency-energy plot of every
+// family of one and two impacts per period, one colour per impact sequence:
+// (j) for each contact, (j, j) and (j, k), j < k ((k, j) is (j, k) shifted
+// by t2). Admissible orbits only, over the atlas's grid; 1-impact families
+// as lines (solid stable, dashed unstable), 2-impact ones as points (filled
+// stable, open unstable).
+void Figure18(Context& c) {
+  const int k = static_cast<int>(c.b.contacts.size());
+  if (k < 2) return;
+  std::vector<std::vector<int>> sequences;
+  for (int j = 0; j < k; ++j) sequences.push_back({j});
+  for (int j = 0; j < k; ++j) {
+    for (int l = j; l < k; ++l) sequences.push_back({j, l});
+  }
+  report::ResultFile out(c.dir, "fig18_sequences_fep.csv");
+  std::ostream& os = out.stream();
+  os << "sequence,index,T,t2,energy,stable\n";
+  std::vector<std::string> labels, titles;
+  SweepOptions opt;
+  opt.stability = StabilityPolicy::kAdmissible;
+  double lo = INFINITY, hi = -INFINITY;
+  for (std::size_t s = 0; s < sequences.size(); ++s) {
+    const std::vector<int>& seq = sequences[s];
+    // (A stream: GCC 12 warns falsely (-Wrestrict) on chains of string + literal.)
+    std::ostringstream label, title;
+    title << "(";
+    for (std::size_t i = 0; i < seq.size(); ++i) {
+      label << (i ? "-" : "") << seq[i] + 1;
+      title << (i ? ", " : "") << seq[i] + 1;
+    }
+    title << ")";
+    labels.push_back(label.str());
+    titles.push_back(title.str());
+    opt.sequence = seq;
+    int last = -2;
+    for (std::size_t i = 0; i < c.periods.size(); ++i) {
+      for (const OrbitRecord& r : OrbitsAt(c.b, c.periods[i], static_cast<int>(seq.size()), opt)) {
+        if (!r.orbit.admissible) continue;
+        // A 1-impact family is a line: broken where a period has no admissible orbit.
+        if (seq.size() == 1 && last >= 0 && static_cast<int>(i) != last + 1) os << "\n";
+        last = static_cast<int>(i);
+        os << labels.back() << "," << s << "," << r.orbit.period << "," << (seq.size() == 1 ? 0.0 : r.orbit.times[0]) << ","
+           << r.orbit.energy << "," << IsStable(r.stability) << "\n";
+        lo = std::min(lo, r.orbit.energy);
+        hi = std::max(hi, r.orbit.energy);
+      }
+    }
+  }
+  out.Commit();
+  if (!(lo < hi)) {
+    c.log << "  fig18_sequences_fep: no admissible orbit of any sequence on the grid: not drawn\n";
+    return;
+  }
+  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d", "#666666"};
+  std::ostringstream body;
+  body << "set logscale y\nset format y '10^{%T}'\nset yrange [" << 0.5 * lo << ":" << 2.0 * hi << "]\n"
+       << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n"
+       << "set key outside right\nplot ";
+  for (std::size_t s = 0; s < sequences.size(); ++s) {
+    const std::string colour = colours[s % 8], &title = titles[s];
+    std::ostringstream select;
+    select << "(strcol(1) eq '" << labels[s] << "' && $6 == ";
+    const std::string sel = select.str();
+    if (s > 0) body << ", ";
+    if (sequences[s].size() == 1) {
+      body << "'fig18_sequences_fep.csv' using 3:" << sel << "1 ? $5 : 1/0) with lines lw 2.5 lc rgb '" << colour
+           << "' title '" << title << " stable', '' using 3:" << sel << "0 ? $5 : 1/0) with lines lw 1.5 dt 2 lc rgb '"
+           << colour << "' title '" << title << " unstable'";
+    } else {
+      body << "'fig18_sequences_fep.csv' using 3:" << sel << "1 ? $5 : 1/0) with points pt 7 ps 0.35 lc rgb '" << colour
+           << "' title '" << title << " stable', '' using 3:" << sel << "0 ? $5 : 1/0) with points pt 6 ps 0.35 lc rgb '"
+           << colour << "' title '" << title << " unstable'";
+    }
+  }
+  body << "\n";
+  Draw(c, "fig18_sequences_fep", body.str(), std::to_string(sequences.size()) + " impact sequences");
+}
+
 FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas& atlas, const OutputDir& dir,
                                std::ostream& log) {
   Context c{.b = b,
@@ -908,6 +986,7 @@ FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas&
   Figures13To15(c);
   Figure16(c);
   Figure17(c);
+  Figure18(c);
   c.log << c.drawn << " figures drawn" << (c.failed ? ", " + std::to_string(c.failed) + " failed" : "") << "\n";
   return {c.drawn, c.failed};
 }
