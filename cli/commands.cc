@@ -133,7 +133,7 @@ int RunSimulate(const SimulateArgs& a) {
   const Configured<SimulationRequest> request = SimulateSettings().Resolve({&scene.simulate, &a.flags});
   const SimulateOptions& opt = request.options.options;
   const SimulationPlan plan = PlanSimulation(m, request);
-  report::PrintSimulationTruncation(std::cout, plan, m.FirstContact().dof);
+  report::PrintSimulationTruncation(std::cout, plan, m.FirstContact());
   const report::TableFormat format = report::ParseTableFormat(a.format);
   std::vector<std::string> owned = report::TableFileNames({"trajectory", "impacts"});
   owned.push_back("summary.json");
@@ -220,6 +220,12 @@ int RunExplore(const ExploreArgs& a) {
 
 int RunFigures(const FiguresArgs& a) {
   const Scene scene = LoadScene(a.scene);
+  // The paper's figures draw x_c of one dof against the wall x_c = d above it.
+  const Contact& first = scene.model.FirstContact();
+  if (first.form != Contact::Form::kDof || !first.upper) {
+    throw InputError("contact", "figures draw contact 1 as the paper's stop x_c <= d on one dof; contact 1 here is " +
+                                    first.Describe() + ": write that wall first, or as an upper dof stop");
+  }
   const AnalysisBasis b(scene.model);
   const PeriodGrid grid = FiguresGrid(b, a.period, "--period");
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"fig[01][0-9]_*"});

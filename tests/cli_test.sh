@@ -23,6 +23,20 @@ expect_error "\\-\\-sequence: names contact 3" "$bin" orbits "$clear2" --sequenc
 expect_error "\\-\\-sequence: must list" "$bin" orbit "$clear2" --sequence 1,2,1 --period 3
 expect_error "\\-\\-impacts: 2 disagrees" "$bin" orbit "$clear2" --impacts 2 --sequence 2 --period 3
 expect_error "contact 2 (x2 >= -1.2)" "$bin" simulate "$clear2" --x0 0 -1.3 --v0 0 0 --out "$tmp/o"
+# Decoupled contacts (no common mode): the (1, 2) sequence is a continuum, refused naming the sequence.
+expect_error "sequence: contacts 1 and 2 move no common mode" "$bin" orbit "$(scene decoupled '[system]\nmass_matrix=[[1,0],[0,1]]\nstiffness_matrix=[[1,0],[0,2]]\n[[contact]]\ndof=1\ngap=1\nrestitution=1\n[[contact]]\ndof=2\ngap=1\nrestitution=1\n')" --sequence 1,2 --period 4
+# The paper's figures need contact 1 as an upper stop on a dof.
+expect_error "figures draw contact 1" "$bin" figures "$(scene lowerfirst '[system]\nmasses=[1,1]\nsprings=[0.85,2]\n[[contact]]\ndof=2\nside="lower"\ngap=1\nrestitution=1\n')" --out "$tmp/f"
+# A forced response against a lower wall (the forced scene mirrored: wall and
+# force flipped) is validated as the upper one is: the same orbits, each consistent.
+up=$(scene fup '[system]\nmasses=[1,1]\nsprings=[0.85,2]\ngap=1\nrestitution=0.8\ndamping_ratios=[0.02,0.02]\n[forcing]\namplitude=[0.3,0]\nfrequency=0.5\n')
+down=$(scene fdown '[system]\nmasses=[1,1]\nsprings=[0.85,2]\ndamping_ratios=[0.02,0.02]\n[[contact]]\ndof=2\nside="lower"\ngap=1\nrestitution=0.8\n[forcing]\namplitude=[-0.3,0]\nfrequency=0.5\n')
+if "$bin" response "$up" --frequency 0.8:1.0:0.1 --validate 3 --integrators exact --out "$tmp/rup" >/dev/null 2>&1 &&
+   "$bin" response "$down" --frequency 0.8:1.0:0.1 --validate 3 --integrators exact --out "$tmp/rdown" >/dev/null 2>&1; then
+  ok
+else
+  bad "a forced response against a lower wall is not validated as against the upper one"
+fi
 expect_error "cannot open" "$bin" orbit "$tmp/missing.toml" --period 3
 # A built-in scene by name (compiled in from configs/), from a directory that has no such file.
 if env -C "$tmp" "$bin" orbit paper --period 7.5 | grep -q "admissible"; then ok; else bad "orbit paper: no built-in scene"; fi

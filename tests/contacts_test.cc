@@ -142,8 +142,14 @@ TEST(Contacts, DecoupledSimultaneousImpactsEachTakeTheirOwnLaw) {
     const Trace both = SimulateTrace(two, x0, v0, integrator, 10.0);
     const Trace a = SimulateTrace(alone_elastic, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, 2.0), integrator, 10.0);
     const Trace b = SimulateTrace(alone_lossy, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, 2.0), integrator, 10.0);
-    // The first impact is simultaneous: one event, both contacts' laws.
-    ASSERT_FALSE(both.impacts.empty());
+    // Every impact of each mass is counted on its contact, simultaneous or
+    // not: as many as each mass alone has.
+    EXPECT_EQ(both.summary.impacts_per_contact, (std::vector<long>{a.summary.impacts, b.summary.impacts}))
+        << ToString(integrator);
+    EXPECT_EQ(both.summary.impacts, a.summary.impacts + b.summary.impacts);
+    // The first impact is simultaneous: both contacts' laws at once.
+    ASSERT_GE(both.impacts.size(), 2u);
+    EXPECT_EQ(both.impacts[0].t, both.impacts[1].t);
     const Eigen::VectorXd& after = both.impacts[0].after;
     EXPECT_NEAR(after[2], a.impacts[0].after[1], 1e-9) << ToString(integrator);
     EXPECT_NEAR(after[3], b.impacts[0].after[1], 1e-9) << ToString(integrator);
@@ -275,6 +281,37 @@ TEST(Contacts, ZenoAndStickingAreCountedPerContact) {
     // Held on the lower wall at the end.
     EXPECT_NEAR(r.summary.final_state[0], -0.5, 1e-9) << ToString(integrator);
   }
+}
+
+// Two masses on springs pushed down onto their own lower walls (a constant
+// force; e = 0.5): mass 2, released higher, bounces on its wall while mass 1
+// already rests on its own. Each comes to rest (a Zeno sequence each), and
+// both are held together to the end: several contacts held at once. A
+// bounce of mass 2 leaves mass 1 on its wall (one sticking phase each).
+// The three integrators agree on the time spent held: Moreau-Jean to its
+// first order (a few h = 1e-5 per phase), CVODE to its resolution.
+TEST(Contacts, TwoContactsHeldAtOnce) {
+  Model m;
+  m.mass = Eigen::Matrix2d::Identity();
+  m.stiffness = Eigen::Matrix2d::Identity();
+  m.contacts = {DofContact(2, 0, false, 0.5, 0.5), DofContact(2, 1, false, 0.5, 0.5)};
+  m.forcing.constant = Eigen::Vector2d(-2.0, -2.0);  // static positions -2: beyond both walls
+  Validate(m);
+  const Eigen::Vector2d x0(-0.5, 0.1), v0(0.0, 0.0);
+  const Trace exact = SimulateTrace(m, x0, v0, Integrator::kExact, 10.0);
+  const Trace cvode = SimulateTrace(m, x0, v0, Integrator::kCvode, 10.0, 1e-10);
+  const Trace mj = SimulateTrace(m, x0, v0, Integrator::kMoreauJean, 10.0, 1e-10, 1e-5);
+  for (const Trace* t : {&exact, &cvode}) {
+    EXPECT_EQ(t->summary.sticking_per_contact, (std::vector<long>{1, 1}));
+    EXPECT_NEAR(t->summary.final_state[0], -0.5, 1e-9);
+    EXPECT_NEAR(t->summary.final_state[1], -0.5, 1e-9);
+    EXPECT_NEAR(t->summary.final_state[2], 0.0, 1e-9);
+    EXPECT_NEAR(t->summary.final_state[3], 0.0, 1e-9);
+  }
+  // Held time: mass 1 from t = 0, mass 2 from its accumulation point.
+  EXPECT_NEAR(cvode.summary.sticking_time, exact.summary.sticking_time, 1e-6);
+  EXPECT_NEAR(mj.summary.sticking_time, exact.summary.sticking_time, 1e-3);
+  EXPECT_NEAR(mj.summary.final_state[1], -0.5, 1e-4);
 }
 
 // A relative contact (an impact damper's cavity): a free mass m2 rattling
@@ -449,6 +486,15 @@ TEST(Contacts, BadContactsAreRefusedNamingTheContactAndField) {
     ADD_FAILURE() << "no room was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("leaves no room between the walls"), std::string::npos) << e.what();
+  }
+  // A dof contact whose normal says another wall (a hand-made or unpickled state).
+  Model mismatch = Clearance(1.0, 1.0, 1.0, 1.0);
+  mismatch.contacts[1].normal[0] = 5.0;
+  try {
+    Validate(mismatch);
+    ADD_FAILURE() << "a normal that is not its form's was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("contact[2].normal: does not match"), std::string::npos) << e.what();
   }
   // A start beyond any wall names it.
   try {

@@ -47,6 +47,15 @@ std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const 
                                    int second) {
   const SinusoidSum p = TwoImpactSignal(b, period, first, second);
   if (p.omega.size() == 0) return {};
+  // Two contacts that share no mode (r1_i r2_i = 0 for every i: decoupled
+  // parts) make P vanish for every t2: each wall's 1-impact orbit at any
+  // phase, a continuum of orbits, not isolated roots.
+  if (first != second && !(p.a.cwiseAbs().maxCoeff() > 0.5e-14)) {
+    throw InputError("sequence", "contacts " + std::to_string(first + 1) + " and " + std::to_string(second + 1) +
+                                     " move no common mode (decoupled parts): every t2 is a root, the orbits of "
+                                     "the sequence are each contact's 1-impact orbits at any phase; ask for "
+                                     "each contact's family instead");
+  }
   const double half = 0.5 * period;
   const double min_width = 1e-12 * period;
   // As CheckSegment (admissibility.cc): P has about w_max T / pi roots, each

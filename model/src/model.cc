@@ -78,6 +78,16 @@ void ValidateContacts(const Model& model, double stiffness_max) {
                                             std::to_string(c.normal.size()));
     }
     if (!c.normal.allFinite()) throw InputError(field("normal"), "has a non-finite entry");
+    // The dof and between forms read their dofs (Along, RowOf), the rest of
+    // nsmodal the normal: the two must say the same wall.
+    if (c.form != Contact::Form::kNormal) {
+      const Contact expected = c.form == Contact::Form::kDof ? DofContact(n, c.dof, c.upper, c.gap, c.restitution)
+                                                             : BetweenContact(n, c.dof, c.other, c.gap, c.restitution);
+      if (c.normal != expected.normal) {
+        throw InputError(field("normal"), "does not match the contact's form " + expected.Describe() +
+                                              " (a contact's normal is built from its dof or pair)");
+      }
+    }
     if (!(c.normal.cwiseAbs().maxCoeff() > 0.0)) {
       throw InputError(field("normal"), "is zero: a contact needs a direction (g = gap - normal . x)");
     }

@@ -70,7 +70,7 @@ void PrintSweepTruncation(std::ostream& out, const ModalTruncation& t) {
   out << ": the neglected modes carry at most sqrt(2 E f_res) of x_c at energy E (orbits.csv, neglected_xc_bound)\n";
 }
 
-void PrintSimulationTruncation(std::ostream& out, const SimulationPlan& plan, int contact) {
+void PrintSimulationTruncation(std::ostream& out, const SimulationPlan& plan, const Contact& contact) {
   if (!plan.truncation) return;
   const ModalTruncation& t = *plan.truncation;
   PrintTruncation(out, t);
@@ -78,7 +78,7 @@ void PrintSimulationTruncation(std::ostream& out, const SimulationPlan& plan, in
       << t.ContactBound(plan.initial_energy)
       << " m of x_c in the full model (for as long as the energy does not grow: unforced, e <= 1); "
       << "the run starts from the kept modes' part of the initial state (x_c " << (t.from_physical * plan.x0)[0]
-      << " of " << plan.x0[contact] << ")\n";
+      << " of " << contact.Along(plan.x0) << ")\n";
 }
 
 void PrintExplore(std::ostream& out, const ExploreReport& r, long periods) {

@@ -52,7 +52,9 @@ void ContactModel::ApplyImpact(int j, double e, Eigen::Ref<Eigen::VectorXd> v) c
   v -= ((1.0 + e) * model.contacts[j].Along(v) / c.w) * c.minv_n;
 }
 
-bool ContactModel::ApplyImpacts(const std::vector<int>& set, Eigen::Ref<Eigen::VectorXd> v, bool plastic) const {
+bool ContactModel::ApplyImpacts(const std::vector<int>& set, Eigen::Ref<Eigen::VectorXd> v, bool plastic,
+                                std::vector<int>* struck) const {
+  if (struck != nullptr) struck->clear();
   auto e_of = [&](int j) { return plastic ? 0.0 : model.contacts[j].restitution; };
   const int k = static_cast<int>(set.size());
   bool diagonal = true;
@@ -70,7 +72,10 @@ bool ContactModel::ApplyImpacts(const std::vector<int>& set, Eigen::Ref<Eigen::V
     // Independent: each contact's own law (the normal velocities of the
     // others do not change: n_i . M^-1 n_j = G_ij = 0).
     for (int j : set) {
-      if (model.contacts[j].Along(v) > 0.0) ApplyImpact(j, e_of(j), v);
+      if (model.contacts[j].Along(v) > 0.0) {
+        ApplyImpact(j, e_of(j), v);
+        if (struck != nullptr) struck->push_back(j);
+      }
     }
     return true;
   }
@@ -82,7 +87,11 @@ bool ContactModel::ApplyImpacts(const std::vector<int>& set, Eigen::Ref<Eigen::V
   }
   const LcpSolution p = SolveLcp(g, q);
   if (!p.solved) return false;
-  for (int a = 0; a < k; ++a) v -= p.z[a] * terms[set[a]].minv_n;
+  for (int a = 0; a < k; ++a) {
+    if (!(p.z[a] > 0.0)) continue;
+    v -= p.z[a] * terms[set[a]].minv_n;
+    if (struck != nullptr) struck->push_back(set[a]);
+  }
   return true;
 }
 
@@ -119,29 +128,74 @@ ContactDecision DecideContact(double vc, double ac, double e, const ContactResol
   return {ContactOutcome::kImpact};
 }
 
-HeldSpace::HeldSpace(const Contact& contact, int dofs)
-    : normal(contact.normal), scale(contact.gap / contact.normal.squaredNorm()) {
-  if (contact.form == Contact::Form::kDof) {
+HeldSpace::HeldSpace(const ContactModel& cm, std::vector<int> held) : set(std::move(held)) {
+  std::sort(set.begin(), set.end());
+  const int n = cm.model.dofs(), k = static_cast<int>(set.size());
+  bool dof_stops = true;
+  std::vector<bool> taken(n, false);
+  for (int j : set) {
+    const Contact& c = cm.contact(j);
+    normals.push_back(c.normal);
+    dof_stops = dof_stops && c.form == Contact::Form::kDof && !taken[c.dof];
+    if (c.form == Contact::Form::kDof) taken[c.dof] = true;
+  }
+  if (k == 1) {
+    coefficients = {cm.contact(set[0]).gap / normals[0].squaredNorm()};
+  } else {
+    Eigen::MatrixXd hh(k, k);
+    Eigen::VectorXd d(k);
+    for (int a = 0; a < k; ++a) {
+      d[a] = cm.contact(set[a]).gap;
+      for (int b = 0; b < k; ++b) hh(a, b) = normals[a].dot(normals[b]);
+    }
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(hh);
+    if (lu.rank() < k) {
+      throw InputError("contact", "the held contacts have dependent normals: holding them together is not modelled");
+    }
+    const Eigen::VectorXd c = lu.solve(d);
+    coefficients.assign(c.data(), c.data() + k);
+  }
+  if (dof_stops) {
     // The other dofs' unit vectors: held coordinates are those dofs' own.
-    z = Eigen::MatrixXd::Zero(dofs, dofs - 1);
-    for (int i = 0, j = 0; i < dofs; ++i) {
-      if (i != contact.dof) {
+    z = Eigen::MatrixXd::Zero(n, n - k);
+    for (int i = 0, col = 0; i < n; ++i) {
+      if (!taken[i]) {
         others.push_back(i);
-        z(i, j++) = 1.0;
+        z(i, col++) = 1.0;
       }
     }
     return;
   }
-  // An orthonormal complement of n: the last N - 1 columns of the
-  // Householder Q of n (its first column is n / |n| up to sign).
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Eigen::MatrixXd(contact.normal));
-  z = Eigen::MatrixXd(qr.householderQ()).rightCols(dofs - 1);
+  // An orthonormal complement of the normals: the last N - |S| columns of
+  // the Householder Q of H'.
+  Eigen::MatrixXd ht(n, k);
+  for (int a = 0; a < k; ++a) ht.col(a) = normals[a];
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(ht);
+  z = Eigen::MatrixXd(qr.householderQ()).rightCols(n - k);
+}
+
+Eigen::VectorXd HeldSpace::Particular() const {
+  Eigen::VectorXd x = coefficients[0] * normals[0];
+  for (std::size_t a = 1; a < normals.size(); ++a) x += coefficients[a] * normals[a];
+  return x;
+}
+
+Eigen::VectorXd HeldSpace::Times(const Eigen::MatrixXd& a) const {
+  Eigen::VectorXd out = coefficients[0] * (a * normals[0]);
+  for (std::size_t i = 1; i < normals.size(); ++i) out += coefficients[i] * (a * normals[i]);
+  return out;
+}
+
+double HeldSpace::RowTimes(const Eigen::RowVectorXd& row, const Eigen::MatrixXd& a) const {
+  double out = coefficients[0] * row.dot(a * normals[0]);
+  for (std::size_t i = 1; i < normals.size(); ++i) out += coefficients[i] * row.dot(a * normals[i]);
+  return out;
 }
 
 Eigen::VectorXd HeldSpace::Reduce(const Eigen::Ref<const Eigen::VectorXd>& y, bool position) const {
-  const int nr = static_cast<int>(z.cols());
+  const int nr = Reduced();
   Eigen::VectorXd out(nr);
-  if (!others.empty()) {
+  if (!others.empty() || nr == 0) {
     for (int j = 0; j < nr; ++j) out[j] = y[others[j]];
     return out;
   }
@@ -150,7 +204,7 @@ Eigen::VectorXd HeldSpace::Reduce(const Eigen::Ref<const Eigen::VectorXd>& y, bo
 
 Eigen::VectorXd HeldSpace::Expand(const Eigen::Ref<const Eigen::VectorXd>& xi, bool position) const {
   const int n = static_cast<int>(z.rows());
-  if (!others.empty()) {
+  if (!others.empty() || Reduced() == 0) {
     Eigen::VectorXd out = position ? Particular() : Eigen::VectorXd::Zero(n);
     for (std::size_t j = 0; j < others.size(); ++j) out[others[j]] = xi[j];
     return out;
@@ -158,37 +212,67 @@ Eigen::VectorXd HeldSpace::Expand(const Eigen::Ref<const Eigen::VectorXd>& xi, b
   return position ? Eigen::VectorXd(Particular() + z * xi) : Eigen::VectorXd(z * xi);
 }
 
-StickingFlow::StickingFlow(const ContactModel& cm, int contact)
-    : cm_(&cm), j_(contact), space_(cm.contact(contact), cm.model.dofs()) {
+Eigen::MatrixXd HeldForceRows(const ContactModel& cm, const std::vector<int>& set) {
+  const int k = static_cast<int>(set.size()), n = cm.model.dofs();
+  Eigen::MatrixXd rows(k, n);
+  for (int a = 0; a < k; ++a) rows.row(a) = cm.terms[set[a]].minv_n.transpose();  // n_j' M^-1 (M^-1 symmetric)
+  if (k == 1) return rows;
+  Eigen::MatrixXd g(k, k);
+  for (int a = 0; a < k; ++a) {
+    for (int b = 0; b < k; ++b) g(a, b) = cm.delassus(set[a], set[b]);
+  }
+  return g.ldlt().solve(rows);
+}
+
+StickingFlow::StickingFlow(const ContactModel& cm, std::vector<int> held)
+    : cm_(&cm), space_(cm, std::move(held)) {
   const Model& m = cm.model;
-  const int n = m.dofs();
-  nr_ = n - 1;
+  nr_ = space_.Reduced();
+  const int k = static_cast<int>(space_.set.size());
   const Eigen::MatrixXd& z = space_.z;
-  const Eigen::RowVectorXd row = cm.terms[j_].k_row;  // n_j' M^-1 K
+  // Each held contact's force row against x: row_i M^-1 K (for one contact
+  // n_j' M^-1 K, the k_row of the one-contact flow).
+  Eigen::MatrixXd force_k(k, m.dofs());
+  if (k == 1) {
+    force_k.row(0) = cm.terms[space_.set[0]].k_row;
+  } else {
+    force_k = HeldForceRows(cm, space_.set) * m.stiffness;
+  }
+  a0_.resize(k);
   if (nr_ == 0) {
-    a0_ = -row.dot(space_.Particular());
+    for (int i = 0; i < k; ++i) a0_[i] = -force_k.row(i).dot(space_.Particular());
     return;
   }
   const Eigen::MatrixXd mr = z.transpose() * m.mass * z;
   const Eigen::MatrixXd kr = z.transpose() * m.stiffness * z;
-  // Held, the other dofs must not drift: a rigid-body mode that the contact
-  // does not hold (a part of the system not tied to the contact) would
+  // Held, the other dofs must not drift: a rigid-body mode that the held
+  // contacts do not hold (a part of the system not tied to them) would
   // leave K_r singular.
   const int rigid = RigidBodyModes(kr);
   if (rigid > 0) {
+    std::string which;
+    for (int j : space_.set) which += (which.empty() ? "" : ", ") + std::to_string(j + 1) + " (" + cm.contact(j).Describe() + ")";
     throw InputError("system.stiffness_matrix",
-                     "holding contact " + std::to_string(j_ + 1) + " (" + cm.contact(j_).Describe() + ") leaves " +
-                         std::to_string(rigid) + " rigid-body mode(s) of the other directions (a part not tied to it): " +
+                     "holding contact " + which + " leaves " + std::to_string(rigid) +
+                         " rigid-body mode(s) of the other directions (a part not tied to it): " +
                          "the sticking phase of such a system is not modelled; tie that part with a spring");
   }
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(kr, mr);
   omega_ = ges.eigenvalues().cwiseSqrt();
   phi_ = ges.eigenvectors();
   phi_inv_ = phi_.transpose() * mr;
-  xi_star_ = -space_.scale * kr.ldlt().solve(z.transpose() * m.stiffness * space_.normal);
-  // a_j = -row . (Z (xi* + Phi_r eta) + x_p) = a0 + rho . eta
-  a0_ = -row.dot(z * xi_star_ + space_.scale * space_.normal);
-  rho_ = -(row * z * phi_).transpose();
+  const Eigen::LDLT<Eigen::MatrixXd> kr_ldlt(kr);
+  xi_star_ = -space_.coefficients[0] * kr_ldlt.solve(z.transpose() * m.stiffness * space_.normals[0]);
+  for (int i = 1; i < k; ++i) {
+    xi_star_ -= space_.coefficients[i] * kr_ldlt.solve(z.transpose() * m.stiffness * space_.normals[i]);
+  }
+  // force_i = -row_i . (Z (xi* + Phi_r eta) + x_p) = a0_i + rho_i . eta
+  rho_.resize(nr_, k);
+  for (int i = 0; i < k; ++i) {
+    const Eigen::RowVectorXd row = force_k.row(i);
+    a0_[i] = -row.dot(z * xi_star_ + space_.Particular());
+    rho_.col(i) = -(row * z * phi_).transpose();
+  }
 }
 
 Eigen::VectorXd StickingFlow::Enter(const Eigen::VectorXd& x, const Eigen::VectorXd& v) const {
@@ -221,10 +305,10 @@ Eigen::VectorXd StickingFlow::Physical(const Eigen::VectorXd& yr) const {
   return z;
 }
 
-SinusoidSum StickingFlow::ContactAcceleration(const Eigen::VectorXd& yr) const {
-  if (nr_ == 0) return SinusoidSum(a0_, Eigen::VectorXd(), Eigen::VectorXd(), Eigen::VectorXd());
-  const Eigen::VectorXd r = rho_.cwiseQuotient(omega_);
-  return SinusoidSum(a0_, r.cwiseProduct(yr.head(nr_)), r.cwiseProduct(yr.tail(nr_)), omega_);
+SinusoidSum StickingFlow::ContactAcceleration(int i, const Eigen::VectorXd& yr) const {
+  if (nr_ == 0) return SinusoidSum(a0_[i], Eigen::VectorXd(), Eigen::VectorXd(), Eigen::VectorXd());
+  const Eigen::VectorXd r = rho_.col(i).cwiseQuotient(omega_);
+  return SinusoidSum(a0_[i], r.cwiseProduct(yr.head(nr_)), r.cwiseProduct(yr.tail(nr_)), omega_);
 }
 
 SinusoidSum StickingFlow::OtherGap(int k, const Eigen::VectorXd& yr) const {
@@ -245,7 +329,7 @@ namespace {
 ForcedFlow HeldFlow(const ContactModel& cm, const HeldSpace& space) {
   const Model& m = cm.model;
   const Eigen::MatrixXd& z = space.z;
-  const Eigen::VectorXd f0 = m.ConstantForce() - space.scale * (m.stiffness * space.normal);
+  const Eigen::VectorXd f0 = m.ConstantForce() - space.Times(m.stiffness);
   return ForcedFlow(z.transpose() * m.mass * z, z.transpose() * m.DampingMatrix() * z,
                     z.transpose() * m.stiffness * z, z.transpose() * f0, z.transpose() * m.ForceAmplitude(),
                     m.forcing.frequency);
@@ -253,42 +337,49 @@ ForcedFlow HeldFlow(const ContactModel& cm, const HeldSpace& space) {
 
 }  // namespace
 
-ForcedStickingFlow::ForcedStickingFlow(const ContactModel& cm, int contact)
-    : cm_(&cm), j_(contact), space_(cm.contact(contact), cm.model.dofs()), flow_(HeldFlow(cm, space_)) {
+ForcedStickingFlow::ForcedStickingFlow(const ContactModel& cm, std::vector<int> held)
+    : cm_(&cm), space_(cm, std::move(held)), flow_(HeldFlow(cm, space_)) {
   const Model& m = cm.model;
-  const int n = m.dofs();
+  const int nr = space_.Reduced();
   const Eigen::MatrixXd& z = space_.z;
-  // a_j = row (f0 + f cos(w t) - C Z xi' - K (Z xi + x_p)), row = n_j' M^-1;
-  // the release signal is -a_j.
-  const Eigen::RowVectorXd row = cm.terms[j_].minv_n.transpose();  // M^-1 symmetric: n_j' M^-1 = (M^-1 n_j)'
-  release_row_.resize(2 * (n - 1));
-  release_row_.head(n - 1) = row * m.stiffness * z;
-  release_row_.tail(n - 1) = row * m.DampingMatrix() * z;
-  release_c0_ = -(cm.terms[j_].f0 - space_.scale * row.dot(m.stiffness * space_.normal));
-  release_c1_ = -cm.terms[j_].f;
+  // force_i = row_i (f0 + f cos(w t) - C Z xi' - K (Z xi + x_p)) (HeldForceRows;
+  // one contact: row = n_j' M^-1); the release signal is -force_i.
+  const Eigen::MatrixXd rows = HeldForceRows(cm, space_.set);
+  for (int i = 0; i < static_cast<int>(space_.set.size()); ++i) {
+    const Eigen::RowVectorXd row = rows.row(i);
+    Eigen::RowVectorXd r(2 * nr);
+    r.head(nr) = row * m.stiffness * z;
+    r.tail(nr) = row * m.DampingMatrix() * z;
+    release_rows_.push_back(r);
+    // One contact: n_j . M^-1 f0 and n_j . M^-1 f as the one-contact flow had them.
+    const bool one = space_.set.size() == 1;
+    const ContactTerms& t = cm.terms[space_.set[0]];
+    release_c0_.push_back(-((one ? t.f0 : row.dot(m.ConstantForce())) - space_.RowTimes(row, m.stiffness)));
+    release_c1_.push_back(-(one ? t.f : row.dot(m.ForceAmplitude())));
+  }
 }
 
 Eigen::VectorXd ForcedStickingFlow::Enter(const Eigen::VectorXd& z) const {
-  const int n = cm_->model.dofs(), nr = n - 1;
+  const int n = cm_->model.dofs(), nr = space_.Reduced();
   Eigen::VectorXd zr(2 * nr);
   zr << space_.Reduce(z.head(n), true), space_.Reduce(z.tail(n), false);
   return zr;
 }
 
 Eigen::VectorXd ForcedStickingFlow::Physical(const Eigen::VectorXd& zr) const {
-  const int n = cm_->model.dofs(), nr = n - 1;
+  const int n = cm_->model.dofs(), nr = space_.Reduced();
   Eigen::VectorXd z(2 * n);
   z << space_.Expand(zr.head(nr), true), space_.Expand(zr.tail(nr), false);
   return z;
 }
 
-void ForcedStickingFlow::Release(double t, const Eigen::VectorXd& zr, DampedSignal& out) const {
-  flow_.Observe(t, zr, release_row_, release_c0_, release_c1_, out);
+void ForcedStickingFlow::Release(int i, double t, const Eigen::VectorXd& zr, DampedSignal& out) const {
+  flow_.Observe(t, zr, release_rows_[i], release_c0_[i], release_c1_[i], out);
 }
 
 void ForcedStickingFlow::OtherGap(int k, double t, const Eigen::VectorXd& zr, DampedSignal& out) const {
   const Contact& c = cm_->contact(k);
-  const int nr = cm_->model.dofs() - 1;
+  const int nr = space_.Reduced();
   Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(2 * nr);
   row.head(nr) = c.normal.transpose() * space_.z;
   flow_.Observe(t, zr, row, c.Along(space_.Particular()) - c.gap, 0.0, out);

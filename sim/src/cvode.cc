@@ -16,6 +16,7 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -30,7 +31,17 @@ namespace {
 
 struct UserData {
   const ContactModel* cm;
-  int held = -1;  // the held contact (-1: none)
+  std::vector<int> held;    // the held contacts
+  Eigen::MatrixXd g_inv;    // several held: (H M^-1 H')^-1 over them
+  // The held contacts' forces from the free acceleration a: lambda = W H a
+  // (one contact: a_j / w_j; several: G^-1 H a).
+  Eigen::VectorXd Forces(const Eigen::Ref<const Eigen::VectorXd>& a) const {
+    const int k = static_cast<int>(held.size());
+    Eigen::VectorXd u(k);
+    for (int i = 0; i < k; ++i) u[i] = cm->contact(held[i]).Along(a);
+    if (k == 1) return Eigen::VectorXd::Constant(1, u[0] / cm->terms[held[0]].w);
+    return g_inv * u;
+  }
 };
 
 int Rhs(realtype t, N_Vector zv, N_Vector dzv, void* data) {
@@ -44,10 +55,9 @@ int Rhs(realtype t, N_Vector zv, N_Vector dzv, void* data) {
   if (cm.model.HasDamping()) dz.tail(n).noalias() -= cm.minv_d * z.tail(n);
   if (cm.model.forcing.HasConstant()) dz.tail(n) += cm.minv_f0;
   if (cm.model.forcing.HasHarmonic()) dz.tail(n) += std::cos(cm.model.forcing.frequency * t) * cm.minv_f;
-  if (ud->held >= 0) {
-    const ContactTerms& c = cm.terms[ud->held];
-    const double lambda = cm.contact(ud->held).Along(dz.tail(n)) / c.w;
-    dz.tail(n) -= lambda * c.minv_n;
+  if (!ud->held.empty()) {
+    const Eigen::VectorXd lambda = ud->Forces(dz.tail(n));
+    for (std::size_t i = 0; i < ud->held.size(); ++i) dz.tail(n) -= lambda[i] * cm.terms[ud->held[i]].minv_n;
   }
   return 0;
 }
@@ -58,10 +68,16 @@ int Jac(realtype, N_Vector, N_Vector, SUNMatrix jm, void* data, N_Vector, N_Vect
   // d(acceleration)/d(x, v) = [-M^-1 K, -M^-1 C], projected while sticking.
   Eigen::MatrixXd a(n, 2 * n);
   a << -ud->cm->minv_k, -ud->cm->minv_d;
-  if (ud->held >= 0) {
-    const ContactTerms& c = ud->cm->terms[ud->held];
-    const Eigen::RowVectorXd row = ud->cm->contact(ud->held).RowOf(a) / c.w;
+  const int k = static_cast<int>(ud->held.size());
+  if (k == 1) {
+    const ContactTerms& c = ud->cm->terms[ud->held[0]];
+    const Eigen::RowVectorXd row = ud->cm->contact(ud->held[0]).RowOf(a) / c.w;
     a -= c.minv_n * row;
+  } else if (k > 1) {
+    Eigen::MatrixXd rows(k, 2 * n);
+    for (int i = 0; i < k; ++i) rows.row(i) = ud->cm->contact(ud->held[i]).RowOf(a);
+    const Eigen::MatrixXd lambda = ud->g_inv * rows;
+    for (int i = 0; i < k; ++i) a -= ud->cm->terms[ud->held[i]].minv_n * lambda.row(i);
   }
   SUNMatZero(jm);
   for (int i = 0; i < n; ++i) {
@@ -77,12 +93,20 @@ int Roots(realtype t, N_Vector zv, realtype* g, void* data) {
   const int n = cm.model.dofs();
   Eigen::Map<const Eigen::VectorXd> z(N_VGetArrayPointer(zv), 2 * n);
   for (int j = 0; j < cm.NumContacts(); ++j) {
-    if (j == ud->held) {
-      g[2 * j] = cm.FreeContactAcceleration(j, t, z.head(n), z.tail(n));
-      g[2 * j + 1] = 1.0;  // inactive
-    } else {
-      g[2 * j] = cm.Gap(j, z.head(n));
-      g[2 * j + 1] = cm.NormalVelocity(j, z.tail(n));
+    g[2 * j] = cm.Gap(j, z.head(n));
+    g[2 * j + 1] = cm.NormalVelocity(j, z.tail(n));
+  }
+  // A held contact's root is its force (one: its free normal acceleration, a
+  // positive multiple of it); its velocity root is inactive.
+  if (ud->held.size() == 1) {
+    const int j = ud->held[0];
+    g[2 * j] = cm.FreeContactAcceleration(j, t, z.head(n), z.tail(n));
+    g[2 * j + 1] = 1.0;
+  } else if (!ud->held.empty()) {
+    const Eigen::VectorXd lambda = ud->Forces(cm.FreeAcceleration(t, z.head(n), z.tail(n)));
+    for (std::size_t i = 0; i < ud->held.size(); ++i) {
+      g[2 * ud->held[i]] = lambda[i];
+      g[2 * ud->held[i] + 1] = 1.0;
     }
   }
   return 0;
@@ -149,8 +173,15 @@ class Cvode {
   Cvode& operator=(const Cvode&) = delete;
 
   Eigen::Map<Eigen::VectorXd> State() { return {N_VGetArrayPointer(y_), 2 * n_}; }
-  void Restart(double t, int held) {
+  void Restart(double t, const std::vector<int>& held) {
     ud_.held = held;
+    if (held.size() > 1) {
+      Eigen::MatrixXd g(held.size(), held.size());
+      for (std::size_t a = 0; a < held.size(); ++a) {
+        for (std::size_t b = 0; b < held.size(); ++b) g(a, b) = ud_.cm->delassus(held[a], held[b]);
+      }
+      ud_.g_inv = g.inverse();
+    }
     Check(CVodeReInit(mem_, t, y_), "CVodeReInit");
   }
   // One internal step towards tout, never past it (a stop time: roots and
@@ -254,7 +285,7 @@ class CvodeStepper {
     double tout = t_end_;
     if (sampler.active()) tout = std::min(t_end_, sampler.NextTime());
     const int flag = solver_.Step(tout, &t_);
-    if (held_ >= 0) a.held = t_ - t0;
+    if (!held_.empty()) a.held = t_ - t0;
     // Beyond a wall with no root reported (two crossings in one step): locate
     // the rising crossing on the dense output of the step. A step that starts
     // at or beyond the wall is a restart there: after an impact, which
@@ -267,7 +298,7 @@ class CvodeStepper {
     int first = -1;
     double lo = 0.0;
     for (int j = 0; j < k_; ++j) {
-      if (j == held_ || !(Position(j) > Gap(j) + xtol_[j])) continue;
+      if (IsHeld(j) || !(Position(j) > Gap(j) + xtol_[j])) continue;
       if (first < 0) lo = solver_.LastStepStart();
       const double start = cm_.contact(j).Along(solver_.Interpolate(lo).head(n_)) - Gap(j);
       if (start < 0.0 || Position(j) - Gap(j) > start + xtol_[j]) {
@@ -298,7 +329,7 @@ class CvodeStepper {
     // maximum of x_c in the contact band (a graze, or held).
     const std::vector<int> info = solver_.RootInfo();
     for (int j = 0; j < k_; ++j) {
-      if (info[2 * j] != 0 || (j != held_ && info[2 * j + 1] != 0 && Position(j) >= Gap(j) - xtol_[j])) {
+      if (info[2 * j] != 0 || (!IsHeld(j) && info[2 * j + 1] != 0 && Position(j) >= Gap(j) - xtol_[j])) {
         a.event = Advance::Event::kWitness;
         a.contact = j;
         return a;
@@ -311,33 +342,47 @@ class CvodeStepper {
   // crossing slower than sqrt(2 |a_c| xtol) cannot be told from a graze, and a
   // rebound lower than xtol would never move the root function away from zero
   // after the restart.
+  // While others are held: contact j's acceleration along the held motion.
   ContactKinematics Contact(int j) const {
-    const double ac = Acceleration(j);
+    const double ac = held_.empty() ? Acceleration(j) : HeldAcceleration(j);
     return {Velocity(j), ac,
             {std::max(vtol_floor_[j], std::sqrt(2.0 * std::abs(ac) * xtol_[j])), xtol_[j], zeno_flight_}};
   }
+  ContactKinematics Resting(int j) const { return Contact(j); }
   Eigen::VectorXd Physical() const { return z_; }
   // Newton's law at j, and at every other contact in its band and not moving
   // away at that instant (struck at once: contact.h's law).
-  void Impact(int j, double e) {
-    std::vector<int> set{j};
+  std::vector<int> Impact(int j, double e) {
+    std::vector<int> set{j}, struck{j};
     for (int k = 0; k < k_; ++k) {
       if (k != j && Position(k) >= Gap(k) - xtol_[k] && Velocity(k) >= -vtol_floor_[k]) set.push_back(k);
     }
     if (set.size() == 1) {
       cm_.ApplyImpact(j, e, z_.tail(n_));
-    } else if (!cm_.ApplyImpacts(set, z_.tail(n_))) {
+    } else if (!cm_.ApplyImpacts(set, z_.tail(n_), false, &struck)) {
       throw SolverError("the LCP of the contacts struck at once at t = " + std::to_string(t_) + " has no solution");
     }
+    if (struck.empty()) struck = {j};  // round-off left no impulse: the contact found is the event
     if (project_ && std::abs(cm_.EnergyOf(z_.head(n_), z_.tail(n_)) - e0_) > band_) ProjectOnEnergy(cm_, e0_, z_);
+    return struck;
   }
+  // Hold j: alone (plastic: n_j . v -> 0), or with the contacts already held
+  // (a plastic impulse over all of them: contact.h's law with e = 0).
   void Hold(int j) {
-    const nsmodal::Contact& c = cm_.contact(j);
-    if (c.form == nsmodal::Contact::Form::kDof) z_[n_ + c.dof] = 0.0;  // plastic: the held contact has no velocity
-    cm_.ApplyImpact(j, 0.0, z_.tail(n_));
-    held_ = j;
+    if (held_.empty()) {
+      const nsmodal::Contact& c = cm_.contact(j);
+      if (c.form == nsmodal::Contact::Form::kDof) z_[n_ + c.dof] = 0.0;  // plastic: the held contact has no velocity
+      cm_.ApplyImpact(j, 0.0, z_.tail(n_));
+      held_ = {j};
+      return;
+    }
+    held_.push_back(j);
+    std::sort(held_.begin(), held_.end());
+    if (!cm_.ApplyImpacts(held_, z_.tail(n_), true)) {
+      throw SolverError("the LCP of the contacts held at once at t = " + std::to_string(t_) + " has no solution");
+    }
   }
-  void Release(int) { held_ = -1; }
+  void Release(int j) { held_.erase(std::remove(held_.begin(), held_.end(), j), held_.end()); }
   void Restart() {
     base_steps_ += solver_.Steps();  // CVodeReInit resets the counters
     solver_.Restart(t_, held_);
@@ -358,6 +403,24 @@ class CvodeStepper {
   double Velocity(int j) const { return cm_.NormalVelocity(j, z_.tail(n_)); }
   double Gap(int j) const { return cm_.contact(j).gap; }
   double Acceleration(int j) const { return cm_.FreeContactAcceleration(j, t_, z_.head(n_), z_.tail(n_)); }
+  bool IsHeld(int j) const { return std::find(held_.begin(), held_.end(), j) != held_.end(); }
+  // n_j . x'' with the held contacts' forces (the RHS's constrained acceleration).
+  double HeldAcceleration(int j) const {
+    UserData ud;
+    ud.cm = &cm_;
+    ud.held = held_;
+    if (held_.size() > 1) {
+      Eigen::MatrixXd g(held_.size(), held_.size());
+      for (std::size_t a = 0; a < held_.size(); ++a) {
+        for (std::size_t b = 0; b < held_.size(); ++b) g(a, b) = cm_.delassus(held_[a], held_[b]);
+      }
+      ud.g_inv = g.inverse();
+    }
+    Eigen::VectorXd a = cm_.FreeAcceleration(t_, z_.head(n_), z_.tail(n_));
+    const Eigen::VectorXd lambda = ud.Forces(a);
+    for (std::size_t i = 0; i < held_.size(); ++i) a -= lambda[i] * cm_.terms[held_[i]].minv_n;
+    return cm_.contact(j).Along(a);
+  }
 
   const ContactModel& cm_;
   const int n_, k_;
@@ -367,7 +430,7 @@ class CvodeStepper {
   std::vector<double> xtol_, vtol_floor_;
   Cvode solver_;
   Eigen::Map<Eigen::VectorXd> z_;
-  int held_ = -1;
+  std::vector<int> held_;  // the held contacts, ascending
   double t_ = 0.0, crossing_ = 0.0;
   long base_steps_ = 0;
 };

@@ -18,9 +18,11 @@
 //   std::optional<int> InitialContact();  the start is a contact (of that index)
 //   Advance Step(Sampler&);          advance once (see Advance)
 //   ContactKinematics Contact(int j) const;  at the contact just found
+//   ContactKinematics Resting(int j);        contact j now (on its wall), free or held
 //   Eigen::VectorXd Physical() const;        the state (x, v) now
-//   void Impact(int j, double e);    Newton's law on contact j (and on every
-//                                    other contact struck at the same instant)
+//   std::vector<int> Impact(int j, double e);  Newton's law on contact j (and on
+//                                    every other contact struck at the same
+//                                    instant); returns the contacts given an impulse
 //   void Hold(int j);                n_j . v -> 0 and the held motion from here
 //   void Release(int j);             free flight from the held state
 //   void Restart();                  after every contact decision
@@ -29,6 +31,8 @@
 // Stepper and instantiates RunIntegrator with it (integrators.h declares them).
 #include <Eigen/Dense>
 #include <cmath>
+#include <cstdlib>
+#include <algorithm>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -68,11 +72,11 @@ struct ContactKinematics {
   ContactResolution resolution;
 };
 
-// Consecutive holds, each starting within this many zeno_flight of the
-// previous one's end on another contact, that mean several contacts are
-// held at once: a state the integrators' sticking flows (one held contact)
-// do not model; the run ends with a solver error saying so instead of
-// alternating between them for ever.
+// Consecutive holds, each starting within zeno_flight of the previous
+// release of another contact: contacts that take turns being held without
+// time passing. Several contacts held at once are modelled (a held set); this
+// bounds what would otherwise loop for ever (a set the held flows cannot
+// represent): the run ends with a solver error saying so.
 inline constexpr int kMaxAlternatingHolds = 8;
 
 template <typename Stepper>
@@ -84,7 +88,7 @@ SimulationSummary RunEventLoop(Stepper& s, const ContactModel& cm, const Simulat
   sum.grazes_per_contact.assign(k, 0);
   sum.zeno_per_contact.assign(k, 0);
   sum.sticking_per_contact.assign(k, 0);
-  int held = -1;  // the held contact (-1: none)
+  std::vector<int> held;  // the held contacts
   int alternating = 0;
   double released_at = -1.0;
   int released = -1;
@@ -92,12 +96,40 @@ SimulationSummary RunEventLoop(Stepper& s, const ContactModel& cm, const Simulat
   Sampler sampler(opt, observer);
   sampler.Emit(0.0, [&](double) { return s.Physical(); });
 
+  auto hold = [&](int j, bool counted = true) {
+    if (!counted) {
+      // A contact that stays on its wall through an impact elsewhere.
+    } else if (released >= 0 && released != j && s.Time() - released_at <= zeno_span) {
+      if (++alternating >= kMaxAlternatingHolds) {
+        throw SolverError("contacts " + std::to_string(released + 1) + " and " + std::to_string(j + 1) +
+                          " take turns being held at t = " + std::to_string(s.Time()) +
+                          " without time passing: not resolved by this integrator");
+      }
+    } else {
+      alternating = 0;
+    }
+    s.Hold(j);
+    held.push_back(j);
+    if (counted) {  // (a contact held on through an impact elsewhere never left its wall: the same phase)
+      ++sum.sticking_phases;
+      ++sum.sticking_per_contact[j];
+    }
+  };
+  auto release = [&](int j) {
+    s.Release(j);
+    held.erase(std::find(held.begin(), held.end(), j));
+    released = j;
+    released_at = s.Time();
+  };
   auto count_impact = [&](int j) {
     ++sum.impacts;
     ++sum.impacts_per_contact[j];
   };
   // contact.h's decision at contact j, with the integrator's resolution.
-  auto handle_contact = [&](int j) {
+  // others_held: contacts were held just before (released for this impact;
+  // they stay held through it if it leaves them at rest): the time to a Zeno
+  // accumulation is then held time already.
+  auto handle_contact = [&](int j, bool others_held = false) {
     const double e = cm.contact(j).restitution;
     const ContactKinematics kin = s.Contact(j);
     const ContactDecision dec = DecideContact(kin.velocity, kin.acceleration, e, kin.resolution);
@@ -107,41 +139,26 @@ SimulationSummary RunEventLoop(Stepper& s, const ContactModel& cm, const Simulat
     } else if (dec.outcome != ContactOutcome::kHold) {
       ContactEvent ev;
       if (observer.on_impact) ev = ContactEvent{s.Time(), s.Physical(), {}, j};
-      s.Impact(j, e);
-      count_impact(j);
+      // Every contact the impulse acts on is an impact (several struck at
+      // once: one event each, with the same states).
+      const std::vector<int> struck = s.Impact(j, e);
+      for (int c : struck) count_impact(c);
       if (observer.on_impact) {
         ev.after = s.Physical();
-        observer.on_impact(ev);
+        for (int c : struck) {
+          ev.contact = c;
+          observer.on_impact(ev);
+        }
       }
     }
     if (dec.outcome == ContactOutcome::kImpactZeno) {
       ++sum.zeno_events;
       ++sum.zeno_per_contact[j];
       if (sum.first_zeno_time < 0.0) sum.first_zeno_time = s.Time() + dec.accumulation;
-      sum.sticking_time -= dec.accumulation;  // held from the accumulation time on
+      if (!others_held) sum.sticking_time -= dec.accumulation;  // held from the accumulation time on
     }
-    if (dec.outcome != ContactOutcome::kGraze && dec.outcome != ContactOutcome::kImpact) {
-      if (released >= 0 && released != j && s.Time() - released_at <= zeno_span) {
-        if (++alternating >= kMaxAlternatingHolds) {
-          throw SolverError("contacts " + std::to_string(released + 1) + " and " + std::to_string(j + 1) +
-                            " are held at once at t = " + std::to_string(s.Time()) +
-                            ": several contacts held together are not modelled by this integrator yet");
-        }
-      } else {
-        alternating = 0;
-      }
-      s.Hold(j);
-      held = j;
-      ++sum.sticking_phases;
-      ++sum.sticking_per_contact[j];
-    }
+    if (dec.outcome != ContactOutcome::kGraze && dec.outcome != ContactOutcome::kImpact) hold(j);
     s.Restart();
-  };
-  auto release = [&]() {
-    s.Release(held);
-    released = held;
-    released_at = s.Time();
-    held = -1;
   };
 
   long next_progress = 0;
@@ -171,18 +188,55 @@ SimulationSummary RunEventLoop(Stepper& s, const ContactModel& cm, const Simulat
           sum.message = a.message;
           break;
         case Advance::Event::kCaptured:
-          for (int j : a.captured) count_impact(j);
-          if (observer.on_impact) observer.on_impact(a.event_states);
-          break;
-        case Advance::Event::kWitness:
-          if (held == a.contact) {
-            release();
-            s.Restart();
-          } else {
-            if (held >= 0) release();  // another contact struck while held: free first
-            handle_contact(a.contact);
+          for (int j : a.captured) {
+            count_impact(j);
+            if (observer.on_impact) {
+              ContactEvent ev = a.event_states;
+              ev.contact = j;
+              observer.on_impact(ev);
+            }
           }
           break;
+        case Advance::Event::kWitness: {
+          const int j = a.contact;
+          if (std::find(held.begin(), held.end(), j) != held.end()) {
+            release(j);
+            s.Restart();
+          } else if (!held.empty()) {
+            // Another contact reached while some are held: decided on the
+            // held motion. At rest and pushed in, it joins them; a graze
+            // leaves them; an impact frees them all first.
+            const ContactKinematics kin = s.Contact(j);
+            const ContactDecision dec =
+                DecideContact(kin.velocity, kin.acceleration, cm.contact(j).restitution, kin.resolution);
+            if (dec.outcome == ContactOutcome::kGraze) {
+              ++sum.grazes;
+              ++sum.grazes_per_contact[j];
+              s.Restart();
+            } else if (dec.outcome == ContactOutcome::kHold) {
+              hold(j);
+              s.Restart();
+            } else {
+              // An impact: Newton's law over it and the held contacts (in
+              // their bands, at rest: struck at once, contact.h); those the
+              // impulse leaves at rest and still pushed in stay held.
+              const std::vector<int> was = held;
+              while (!held.empty()) release(held.back());
+              handle_contact(j, true);
+              for (int h : was) {
+                if (std::find(held.begin(), held.end(), h) != held.end()) continue;
+                const ContactKinematics rest = s.Resting(h);
+                if (std::abs(rest.velocity) <= rest.resolution.vtol && rest.acceleration > 0.0) {
+                  hold(h, false);
+                  s.Restart();
+                }
+              }
+            }
+          } else {
+            handle_contact(j);
+          }
+          break;
+        }
       }
       if (sum.status == SimulationStatus::kSolverError) break;
     }

@@ -6,6 +6,7 @@
 //   ForcedFlight        damping and forces: physical state, forced_flow.h.
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -21,10 +22,10 @@ struct ConservativeFlight {
   using Signal = SinusoidSum;
   const ContactModel& cm;
   const ModalBasis& b;
-  // Built at a contact's first sticking phase: it refuses a rigid-body mode
-  // the held contact does not stop, which only matters if it is ever held.
-  std::vector<std::optional<StickingFlow>> stick;
-  int held = -1;  // the contact of the sticking phase flown
+  // Built at a held set's first sticking phase: it refuses a rigid-body mode
+  // the held contacts do not stop, which only matters if they are ever held.
+  std::map<std::vector<int>, StickingFlow> stick;
+  const StickingFlow* held = nullptr;  // the sticking phase flown
   std::vector<ContactSignal> gaps;  // one per contact
   SinusoidSum release, other;
   // The flights' impact search sweeps (first_rise.h) from this many modes
@@ -34,7 +35,7 @@ struct ConservativeFlight {
   static constexpr int kSweepFromModes = 8;
   std::optional<SinusoidSweep> sweep;
 
-  explicit ConservativeFlight(const ContactModel& c) : cm(c), b(c.basis), stick(c.NumContacts()) {
+  explicit ConservativeFlight(const ContactModel& c) : cm(c), b(c.basis) {
     for (int j = 0; j < c.NumContacts(); ++j) {
       gaps.emplace_back(c.basis, c.basis.contacts[j], Eigen::VectorXd::Zero(2 * c.basis.n));
       gaps.back().offset = -c.contact(j).gap;
@@ -60,23 +61,25 @@ struct ConservativeFlight {
   }
   void Impact(int j, double e, State& y) const { nsmodal::Impact(b, b.contacts[j], e, y); }
   double ContactVelocity(int j, const State& y) const { return b.contacts[j].r.dot(y.tail(b.n)); }
-  Held Hold(int j, double, const State& y) {
+  Held Hold(const std::vector<int>& set, double, const State& y) {
     const Eigen::VectorXd z = PhysicalOf(b, y);
-    if (!stick[j]) stick[j].emplace(cm, j);
-    held = j;
-    return stick[j]->Enter(z.head(b.n), z.tail(b.n));
+    auto it = stick.find(set);
+    if (it == stick.end()) it = stick.emplace(set, StickingFlow(cm, set)).first;
+    held = &it->second;
+    return held->Enter(z.head(b.n), z.tail(b.n));
   }
-  const SinusoidSum& Release(double, const Held& yr) {
-    const SinusoidSum ac = stick[held]->ContactAcceleration(yr);
-    release = SinusoidSum(-ac.offset, -ac.a, -ac.b, ac.omega);  // release when -a_j rises to 0
+  // The i-th held contact's release signal: minus its force, rising to 0.
+  const SinusoidSum& Release(int i, double, const Held& yr) {
+    const SinusoidSum ac = held->ContactAcceleration(i, yr);
+    release = SinusoidSum(-ac.offset, -ac.a, -ac.b, ac.omega);
     return release;
   }
   const SinusoidSum& OtherGap(int k, double, const Held& yr) {
-    other = stick[held]->OtherGap(k, yr);
+    other = held->OtherGap(k, yr);
     return other;
   }
-  void FlyHeld(double, double s, Held& yr) const { stick[held]->Advance(s, yr); }
-  Eigen::VectorXd PhysicalHeld(const Held& yr) const { return stick[held]->Physical(yr); }
+  void FlyHeld(double, double s, Held& yr) const { held->Advance(s, yr); }
+  Eigen::VectorXd PhysicalHeld(const Held& yr) const { return held->Physical(yr); }
 };
 
 struct ForcedFlight {
@@ -85,16 +88,16 @@ struct ForcedFlight {
   using Signal = DampedSignal;
   const ContactModel& cm;
   ForcedFlow flow;
-  // Built at a contact's first sticking phase: a held system resonating with
-  // the forcing (undamped) only matters if the mass is ever held.
-  std::vector<std::optional<ForcedStickingFlow>> stick;
-  int held = -1;
+  // Built at a held set's first sticking phase: a held system resonating
+  // with the forcing (undamped) only matters if it is ever held.
+  std::map<std::vector<int>, ForcedStickingFlow> stick;
+  const ForcedStickingFlow* held = nullptr;
   std::vector<Eigen::RowVectorXd> gap_rows;  // (n_j', 0)
   std::vector<DampedSignal> gaps;
   DampedSignal release, other;
 
   explicit ForcedFlight(const ContactModel& c)
-      : cm(c), flow(c.model), stick(c.NumContacts()), gaps(c.NumContacts()) {
+      : cm(c), flow(c.model), gaps(c.NumContacts()) {
     const int n = c.model.dofs();
     for (int j = 0; j < c.NumContacts(); ++j) {
       gap_rows.push_back(Eigen::RowVectorXd::Zero(2 * n));
@@ -118,21 +121,22 @@ struct ForcedFlight {
     if (e == 0.0 && c.form == Contact::Form::kDof) z[n + c.dof] = 0.0;  // exactly, not to round-off
   }
   double ContactVelocity(int j, const State& z) const { return cm.contact(j).Along(z.tail(cm.model.dofs())); }
-  Held Hold(int j, double, const State& z) {
-    if (!stick[j]) stick[j].emplace(cm, j);
-    held = j;
-    return stick[j]->Enter(z);
+  Held Hold(const std::vector<int>& set, double, const State& z) {
+    auto it = stick.find(set);
+    if (it == stick.end()) it = stick.emplace(set, ForcedStickingFlow(cm, set)).first;
+    held = &it->second;
+    return held->Enter(z);
   }
-  const DampedSignal& Release(double t, const Held& zr) {
-    stick[held]->Release(t, zr, release);
+  const DampedSignal& Release(int i, double t, const Held& zr) {
+    held->Release(i, t, zr, release);
     return release;
   }
   const DampedSignal& OtherGap(int k, double t, const Held& zr) {
-    stick[held]->OtherGap(k, t, zr, other);
+    held->OtherGap(k, t, zr, other);
     return other;
   }
-  void FlyHeld(double t, double s, Held& zr) const { stick[held]->Advance(t, s, zr); }
-  Eigen::VectorXd PhysicalHeld(const Held& zr) const { return stick[held]->Physical(zr); }
+  void FlyHeld(double t, double s, Held& zr) const { held->Advance(t, s, zr); }
+  Eigen::VectorXd PhysicalHeld(const Held& zr) const { return held->Physical(zr); }
 };
 
 // The exact integrator's advance (event_loop.h's Stepper): one flight to the
@@ -183,7 +187,7 @@ class ExactStepper {
   Advance Step(Sampler& sampler) {
     const double horizon = t_end_ - t_;
     Advance a;
-    if (held_ < 0) {
+    if (held_.empty()) {
       // Each contact's n_j . x - d_j on this flight, searched up to the
       // earliest crossing found so far.
       FirstRiseResult best;
@@ -220,14 +224,25 @@ class ExactStepper {
       }
       return a;
     }
-    // Held: the release (-a_j rising to 0) or another contact's crossing.
-    const auto& g = f_.Release(t_, yr_);
-    const double tol = root_tol_ * std::max(std::abs(g.offset), g.bound[0]);
-    FirstRiseResult best = FirstRise(g, horizon, tol);
-    steps_ += best.steps;
-    int first = best.found ? held_ : -1;
+    // Held: a release (minus a held contact's force rising to 0) or another
+    // contact's crossing, each searched up to the earliest found so far.
+    FirstRiseResult best;
+    best.s = horizon;
+    int first = -1;
+    for (int i = 0; i < static_cast<int>(held_.size()) && !best.stalled; ++i) {
+      const auto& g = f_.Release(i, t_, yr_);
+      const double tol = root_tol_ * std::max(std::abs(g.offset), g.bound[0]);
+      const FirstRiseResult r = FirstRise(g, best.s, tol);
+      steps_ += r.steps;
+      if (r.stalled) best = r;
+      if (r.found) {
+        best.found = true;
+        best.s = r.s;
+        first = held_[i];
+      }
+    }
     for (int k = 0; k < k_ && !best.stalled; ++k) {
-      if (k == held_) continue;
+      if (std::find(held_.begin(), held_.end(), k) != held_.end()) continue;
       const auto& o = Band(k, f_.OtherGap(k, t_, yr_));
       const FirstRiseResult r = FirstRise(o, best.s, tol_[k]);
       steps_ += r.steps;
@@ -236,6 +251,7 @@ class ExactStepper {
         best.found = true;
         best.s = r.s;
         first = k;
+        held_ac_ = o.Acceleration(r.s);  // n_k . x'' along the held motion
       }
     }
     EmitAlong(sampler, t_ + best.s, yr_, [&](double s, Held& y) { f_.FlyHeld(t_, s, y); },
@@ -251,7 +267,7 @@ class ExactStepper {
     if (best.found) {
       a.event = Advance::Event::kWitness;
       a.contact = first;
-      if (first != held_) pending_ = first;  // struck while held: its kinematics after the release
+      if (std::find(held_.begin(), held_.end(), first) == held_.end()) pending_ = first;  // struck while held
     }
     return a;
   }
@@ -260,13 +276,27 @@ class ExactStepper {
   // -2 tol, first_rise.h): such a sequence is summed as Zeno, not flown as
   // unarmed micro-flights that each end tol further out (4 tol: margin for
   // the acceleration's change over the rebound).
+  // While others are held: contact j's velocity and acceleration along the held motion.
   ContactKinematics Contact(int j) const {
+    if (!held_.empty()) {
+      const Eigen::VectorXd z = f_.PhysicalHeld(yr_);
+      const int n = cm_.model.dofs();
+      return {cm_.contact(j).Along(z.tail(n)), held_ac_, {vtol_[j], 4.0 * tol_[j], zeno_flight_}};
+    }
     return {f_.ContactVelocity(j, y_), ac_, {vtol_[j], 4.0 * tol_[j], zeno_flight_}};
   }
-  Eigen::VectorXd Physical() const { return held_ >= 0 ? f_.PhysicalHeld(yr_) : f_.Physical(y_); }
+  ContactKinematics Resting(int j) {
+    if (held_.empty()) {
+      const auto& g = Band(j, f_.Gap(j, t_, y_));
+      return {g.Velocity(0.0), g.Acceleration(0.0), {vtol_[j], 4.0 * tol_[j], zeno_flight_}};
+    }
+    const auto& g = Band(j, f_.OtherGap(j, t_, yr_));
+    return {g.Velocity(0.0), g.Acceleration(0.0), {vtol_[j], 4.0 * tol_[j], zeno_flight_}};
+  }
+  Eigen::VectorXd Physical() const { return !held_.empty() ? f_.PhysicalHeld(yr_) : f_.Physical(y_); }
   // Newton's law at contact j, and at every other contact in its band and
   // not moving away at that instant (struck at once: contact.h's law).
-  void Impact(int j, double e) {
+  std::vector<int> Impact(int j, double e) {
     set_.assign(1, j);
     for (int k = 0; k < k_; ++k) {
       if (k == j) continue;
@@ -275,29 +305,50 @@ class ExactStepper {
     }
     if (set_.size() == 1) {
       f_.Impact(j, e, y_);
-      return;
+      return set_;
     }
     Eigen::VectorXd z = f_.Physical(y_);
-    if (!cm_.ApplyImpacts(set_, z.tail(cm_.model.dofs()))) {
+    std::vector<int> struck;
+    if (!cm_.ApplyImpacts(set_, z.tail(cm_.model.dofs()), false, &struck)) {
       throw SolverError("the LCP of the contacts struck at once at t = " + std::to_string(t_) + " has no solution");
     }
     y_ = f_.FromPhysical(z);
+    if (struck.empty()) struck = {j};  // round-off left no impulse: the contact found is the event
+    return struck;
   }
+  // Hold j: alone (n_j . v -> 0), or with the contacts already held (a
+  // plastic impulse over all of them: contact.h's law with e = 0).
   void Hold(int j) {
-    f_.Impact(j, 0.0, y_);  // n_j . v -> 0
-    yr_ = f_.Hold(j, t_, y_);
-    held_ = j;
+    if (held_.empty()) {
+      f_.Impact(j, 0.0, y_);  // n_j . v -> 0
+      held_ = {j};
+      yr_ = f_.Hold(held_, t_, y_);
+      return;
+    }
+    Eigen::VectorXd z = f_.PhysicalHeld(yr_);
+    held_.push_back(j);
+    std::sort(held_.begin(), held_.end());
+    if (!cm_.ApplyImpacts(held_, z.tail(cm_.model.dofs()), true)) {
+      throw SolverError("the LCP of the contacts held at once at t = " + std::to_string(t_) + " has no solution");
+    }
+    yr_ = f_.Hold(held_, t_, f_.FromPhysical(z));
   }
-  void Release(int) {
-    y_ = f_.FromPhysical(f_.PhysicalHeld(yr_));
-    held_ = -1;
+  // Release j: free flight, or the others held on from the same state.
+  void Release(int j) {
+    const Eigen::VectorXd z = f_.PhysicalHeld(yr_);
+    held_.erase(std::remove(held_.begin(), held_.end(), j), held_.end());
+    if (!held_.empty()) {
+      yr_ = f_.Hold(held_, t_, f_.FromPhysical(z));
+      return;
+    }
+    y_ = f_.FromPhysical(z);
     if (pending_ >= 0) {
       const auto& g = Band(pending_, f_.Gap(pending_, t_, y_));
       ac_ = g.Acceleration(0.0);
       pending_ = -1;
     }
   }
-  void Restart() {}
+  void Restart() { pending_ = -1; }
   void Finish(SimulationSummary& sum) const {
     sum.steps = steps_;
     sum.sweep_steps = sweep_steps_;
@@ -337,8 +388,9 @@ class ExactStepper {
   const double t_end_, root_tol_, zeno_flight_;
   State y_;   // free-flight state
   Held yr_;   // sticking state
-  int held_ = -1;  // the held contact (-1: free flight)
-  int pending_ = -1;  // a contact struck while held_ was: decided after the release
+  std::vector<int> held_;  // the held contacts, ascending (none: free flight)
+  int pending_ = -1;       // a contact struck while others were held: its free kinematics after the release
+  double held_ac_ = 0.0;   // its n . x'' along the held motion
   double t_ = 0.0;
   std::vector<double> tol_, vtol_;  // each contact's band, from its last signal
   double ac_ = 0.0;                 // the free normal acceleration at the contact found

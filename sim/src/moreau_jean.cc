@@ -159,12 +159,13 @@ class MoreauJeanStepper {
 
   // Never called: the LCP decides inside the step.
   ContactKinematics Contact(int) const { return {}; }
+  ContactKinematics Resting(int) const { return {}; }
   Eigen::VectorXd Physical() const {
     Eigen::VectorXd z(2 * n_);
     z << x_, v_;
     return z;
   }
-  void Impact(int, double) {}
+  std::vector<int> Impact(int, double) { return {}; }
   void Hold(int) {}
   void Release(int) {}
   void Restart() {}

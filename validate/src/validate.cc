@@ -451,10 +451,11 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
     return v;
   }
   const Eigen::VectorXd z0 = problem.StateAt(orbit, 0.0);
-  if (z0[m.FirstContact().dof] > m.FirstContact().gap * (1.0 + 1e-12)) {
+  const Contact& contact = m.FirstContact();  // the forced analysis's one contact (RequireOneContact)
+  if (contact.Along(z0.head(n)) > contact.gap * (1.0 + 1e-12)) {
     // Only a non-admissible orbit can be beyond the wall: no motion follows it.
     v.consistent = !orbit.admissible;
-    v.reason = "x_c(0) = " + FormatEstimate(z0[m.FirstContact().dof]) + " lies beyond the obstacle: " +
+    v.reason = "x_c(0) = " + FormatEstimate(contact.Along(z0.head(n))) + " lies beyond the obstacle: " +
                (orbit.admissible ? "yet the orbit was found admissible" : "it breaks, as predicted (not admissible)");
     return v;
   }
@@ -470,7 +471,7 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
   double time_error = 0.0;  // over the first period's impacts that have a predicted time
   SimulationObserver obs;
   obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
-    v.max_penetration = std::max(v.max_penetration, z[m.FirstContact().dof] - m.FirstContact().gap);
+    v.max_penetration = std::max(v.max_penetration, contact.Along(z.head(n)) - contact.gap);
     if (t == 0.0) return;
     const double dev = (z - z0).norm() / z0.norm();
     v.deviation.push_back(dev);
@@ -478,7 +479,7 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
   };
   obs.on_impact = [&](const ContactEvent& ev) {
     ++v.impacts;
-    v.max_penetration = std::max(v.max_penetration, ev.before[m.FirstContact().dof] - m.FirstContact().gap);
+    v.max_penetration = std::max(v.max_penetration, contact.Along(ev.before.head(n)) - contact.gap);
     if (ev.t < period) {
       const std::size_t k = static_cast<std::size_t>(v.first_period_impacts++);
       if (k < predicted.size()) time_error = std::max(time_error, std::abs(ev.t - predicted[k]));
@@ -494,10 +495,10 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
   if (growth) v.measured_growth = *growth;
   // The velocity scale of the penetration tolerance: the largest impact velocity.
   double v_scale = 0.0;
-  for (const Eigen::VectorXd& zb : orbit.before) v_scale = std::max(v_scale, std::abs(zb[n + m.FirstContact().dof]));
+  for (const Eigen::VectorXd& zb : orbit.before) v_scale = std::max(v_scale, std::abs(contact.Along(zb.tail(n))));
   const RunFacts facts{orbit.admissible, orbit.stable, orbit.impacts, predicted_rate, v.first_period_impacts,
                        v.impact_time_error, v.max_penetration, v.deviation, broken, growth, floor, sum};
-  Judge(facts, integrator, options, PenetrationTolerance(integrator, options, m.FirstContact().gap, v_scale), &v.consistent,
+  Judge(facts, integrator, options, PenetrationTolerance(integrator, options, contact.gap, v_scale), &v.consistent,
         &v.reason);
   return v;
 }

@@ -35,7 +35,7 @@ void PrintSweepTruncation(std::ostream& out, const ModalTruncation& t);
 // The line of a simulation on the kept modes (simulate --modes or
 // --contact-tolerance): PrintTruncation, the bound at the initial energy and
 // the kept modes' part of the start; nothing when the plan keeps every dof.
-void PrintSimulationTruncation(std::ostream& out, const SimulationPlan& plan, int contact);
+void PrintSimulationTruncation(std::ostream& out, const SimulationPlan& plan, const Contact& contact);
 
 // explore's summary: the grid samples, dim ker A_m, the potential orbits by
 // kind, the smallest defect, the paper's conjecture, and a line per new

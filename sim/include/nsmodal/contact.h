@@ -54,8 +54,10 @@ struct ContactModel {
   void ApplyImpact(int j, double e, Eigen::Ref<Eigen::VectorXd> v) const;
   // The contacts of `set` struck at once, each with its restitution (or
   // `plastic`: e = 0 for all, a hold), by the law above; returns false when
-  // the LCP solver failed (v unchanged).
-  bool ApplyImpacts(const std::vector<int>& set, Eigen::Ref<Eigen::VectorXd> v, bool plastic = false) const;
+  // the LCP solver failed (v unchanged). `struck`, when given, receives the
+  // contacts given an impulse (p_j > 0).
+  bool ApplyImpacts(const std::vector<int>& set, Eigen::Ref<Eigen::VectorXd> v, bool plastic = false,
+                    std::vector<int>* struck = nullptr) const;
   // The acceleration of free flight, M^-1 (f0 + f cos(w t) - C v - K x).
   Eigen::VectorXd FreeAcceleration(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
                                    const Eigen::Ref<const Eigen::VectorXd>& v) const;
@@ -94,80 +96,95 @@ struct ContactDecision {
 // vc: contact velocity before the contact (> 0 moving in); ac: free contact acceleration.
 ContactDecision DecideContact(double vc, double ac, double e, const ContactResolution& r);
 
-// The held subspace of contact j: n_j . x = d_j, n_j . v = 0, as
-// x = x_p + Z xi with x_p = (d_j / |n_j|^2) n_j and Z an orthonormal basis of
-// the other directions (for a dof contact, the other dofs' unit vectors).
+// The held subspace of a set S of contacts (several held at once):
+// n_j . x = d_j and n_j . v = 0 for j in S, as x = x_p + Z xi with
+// x_p = sum_j c_j n_j, c = (H H')^-1 d_S (H the normals of S as rows; for one
+// contact c = d_j / |n_j|^2, for stops on distinct dofs c_j = d_j), and Z an
+// orthonormal basis of the other directions (for dof contacts, the other
+// dofs' unit vectors). The normals of S must be independent (InputError
+// naming "contact" otherwise: the held set would not be a subspace of that
+// dimension).
 struct HeldSpace {
-  Eigen::MatrixXd z;       // N x (N - 1)
-  Eigen::VectorXd normal;  // n_j
-  double scale = 0.0;      // d_j / |n_j|^2: x_p = scale n_j
-  std::vector<int> others; // a dof contact: the other dofs (Z's columns are their unit vectors)
-  HeldSpace(const Contact& contact, int dofs);
-  Eigen::VectorXd Particular() const { return scale * normal; }
+  std::vector<int> set;              // the held contacts, ascending
+  Eigen::MatrixXd z;                 // N x (N - |S|)
+  std::vector<Eigen::VectorXd> normals;
+  std::vector<double> coefficients;  // c_j: x_p = sum c_j n_j
+  std::vector<int> others;           // dof contacts: the other dofs (Z's columns are their unit vectors)
+  HeldSpace(const ContactModel& cm, std::vector<int> held);
+  int Reduced() const { return static_cast<int>(z.cols()); }
+  Eigen::VectorXd Particular() const;  // x_p
+  // A x_p as sum_j c_j (A n_j), and row . (A x_p) as sum_j c_j (row . A n_j):
+  // for one contact exactly the products the one-contact flow made.
+  Eigen::VectorXd Times(const Eigen::MatrixXd& a) const;
+  double RowTimes(const Eigen::RowVectorXd& row, const Eigen::MatrixXd& a) const;
   // xi = Z'(x - x_p) (position) or Z' v, and back: x_p + Z xi or Z xi'.
   Eigen::VectorXd Reduce(const Eigen::Ref<const Eigen::VectorXd>& y, bool position) const;
   Eigen::VectorXd Expand(const Eigen::Ref<const Eigen::VectorXd>& xi, bool position) const;
 };
 
+// The contact forces of a held set S as rows: lambda_S = W H M^-1 (f - K x - C v)
+// with W = G_S^-1 (G_S = H M^-1 H'), and for one contact W = 1 (its a_j =
+// w_j lambda_j: the sign is the force's, the scale the one-contact flow's).
+// rows(i) = W_i H M^-1 (N entries): the i-th held contact's.
+Eigen::MatrixXd HeldForceRows(const ContactModel& cm, const std::vector<int>& set);
+
 // The sticking phase in closed form (conservative model). With x = Z xi + x_p
 // (HeldSpace), M_r = Z'MZ, K_r = Z'KZ, the held system is M_r xi'' + K_r xi + Z'K x_p = 0:
-// oscillations of its own modes about xi* = -K_r^-1 Z'K x_p. The contact
-// force lambda = a_j / w_j, with a_j = -n_j . M^-1 K x a constant plus a
-// sum of sinusoids: the mass is released when a_j falls through 0. The
-// other contacts' gaps are sums of sinusoids of the same held flow.
+// oscillations of its own modes about xi* = -K_r^-1 Z'K x_p. Each held
+// contact's force (HeldForceRows: -row K x) is a constant plus a sum of
+// sinusoids: that contact is released when it falls through 0. The other
+// contacts' gaps are sums of sinusoids of the same held flow.
 class StickingFlow {
  public:
   // Throws InputError naming "system.stiffness_matrix" when K_r is singular
-  // (a rigid-body mode the held contact does not stop).
-  StickingFlow(const ContactModel& cm, int contact);
+  // (a rigid-body mode the held contacts do not stop).
+  StickingFlow(const ContactModel& cm, std::vector<int> held);
   int reduced_dofs() const { return nr_; }
-  // State on entry (physical x, v with x_c = d, v_c = 0) -> scaled reduced modal state.
+  const std::vector<int>& held() const { return space_.set; }
+  // State on entry (physical x, v on the held walls) -> scaled reduced modal state.
   Eigen::VectorXd Enter(const Eigen::VectorXd& x, const Eigen::VectorXd& v) const;
   void Advance(double dt, Eigen::Ref<Eigen::VectorXd> yr) const;
   Eigen::VectorXd Physical(const Eigen::VectorXd& yr) const;  // (x, v)
-  // a_j(s) for s >= 0 from the reduced state yr.
-  SinusoidSum ContactAcceleration(const Eigen::VectorXd& yr) const;
+  // The force of the i-th held contact (as HeldForceRows scales it), s >= 0.
+  SinusoidSum ContactAcceleration(int i, const Eigen::VectorXd& yr) const;
   // n_k . x(s) - d_k of another contact k along the held flow from yr (it
   // is struck when this rises to 0).
   SinusoidSum OtherGap(int k, const Eigen::VectorXd& yr) const;
-  int contact() const { return j_; }
 
  private:
   const ContactModel* cm_;
-  int j_ = 0;
   int nr_ = 0;
   HeldSpace space_;
-  Eigen::VectorXd omega_, xi_star_, rho_;
-  Eigen::MatrixXd phi_, phi_inv_;
-  double a0_ = 0.0;
+  Eigen::VectorXd omega_, xi_star_;
+  Eigen::MatrixXd phi_, phi_inv_, rho_;  // rho_: one column per held contact
+  Eigen::VectorXd a0_;
 };
 
 // The sticking phase of a damped or forced model, in closed form: the held
 // system M_r xi'' + C_r xi' + K_r xi = Z'(f0 - K x_p) + Z' f cos(w t)
-// flies as a ForcedFlow, and the contact acceleration
-//   a_j = n_j . M^-1 (f0 + f cos(w t) - C Z xi' - K (Z xi + x_p))
-// is a DampedSignal along it: the mass is released when a_j falls through 0,
-// at whatever phase of the forcing that happens.
+// flies as a ForcedFlow, and each held contact's force
+//   row_i (f0 + f cos(w t) - C Z xi' - K (Z xi + x_p))   (HeldForceRows)
+// is a DampedSignal along it: that contact is released when it falls
+// through 0, at whatever phase of the forcing that happens.
 class ForcedStickingFlow {
  public:
-  ForcedStickingFlow(const ContactModel& cm, int contact);
-  // Physical z = (x, v) on entry (n_j . x = d_j, n_j . v = 0) -> reduced (xi, xi').
+  ForcedStickingFlow(const ContactModel& cm, std::vector<int> held);
+  const std::vector<int>& held() const { return space_.set; }
+  // Physical z = (x, v) on entry (on the held walls) -> reduced (xi, xi').
   Eigen::VectorXd Enter(const Eigen::VectorXd& z) const;
   void Advance(double t, double s, Eigen::Ref<Eigen::VectorXd> zr) const { flow_.Advance(t, s, zr); }
   Eigen::VectorXd Physical(const Eigen::VectorXd& zr) const;  // (x, v)
-  // -a_j(t + s) for s >= 0 from zr = the reduced state at t (reuses out).
-  void Release(double t, const Eigen::VectorXd& zr, DampedSignal& out) const;
+  // minus the i-th held contact's force at t + s, s >= 0, from zr = the reduced state at t (reuses out).
+  void Release(int i, double t, const Eigen::VectorXd& zr, DampedSignal& out) const;
   // n_k . x(t + s) - d_k of another contact k along the held flow (reuses out).
   void OtherGap(int k, double t, const Eigen::VectorXd& zr, DampedSignal& out) const;
-  int contact() const { return j_; }
 
  private:
   const ContactModel* cm_;
-  int j_ = 0;
   HeldSpace space_;
   ForcedFlow flow_;
-  Eigen::RowVectorXd release_row_;  // -a_c's state part
-  double release_c0_ = 0.0, release_c1_ = 0.0;
+  std::vector<Eigen::RowVectorXd> release_rows_;  // minus each force's state part
+  std::vector<double> release_c0_, release_c1_;
 };
 
 }  // namespace nsmodal

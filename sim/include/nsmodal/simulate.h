@@ -111,7 +111,7 @@ struct SimulationSummary {
   long sticking_phases = 0;
   // The same counts per contact (index j: contact j + 1).
   std::vector<long> impacts_per_contact, grazes_per_contact, zeno_per_contact, sticking_per_contact;
-  double sticking_time = 0.0;
+  double sticking_time = 0.0;  // time with at least one contact held
   double first_zeno_time = -1.0;  // accumulation time of the first Zeno sequence
   double initial_energy = 0.0;
   double final_energy = 0.0;
