@@ -170,38 +170,39 @@ int Contact::PlotDof() const {
   return static_cast<int>(i);
 }
 
-Contact DofContact(int n, int dof, bool upper, double gap, double restitution) {
+namespace {
+Contact MadeContact(Contact::Form form, Eigen::VectorXd normal, double gap, double restitution) {
   Contact c;
-  c.form = Contact::Form::kDof;
-  c.dof = dof;
-  c.upper = upper;
-  c.normal = Eigen::VectorXd::Zero(n);
-  if (dof >= 0 && dof < n) c.normal[dof] = upper ? 1.0 : -1.0;
+  c.form = form;
+  c.normal = std::move(normal);
   c.gap = gap;
   c.restitution = restitution;
+  return c;
+}
+}  // namespace
+
+Contact DofContact(int n, int dof, bool upper, double gap, double restitution) {
+  Eigen::VectorXd normal = Eigen::VectorXd::Zero(n);
+  if (dof >= 0 && dof < n) normal[dof] = upper ? 1.0 : -1.0;
+  Contact c = MadeContact(Contact::Form::kDof, std::move(normal), gap, restitution);
+  c.dof = dof;
+  c.upper = upper;
   return c;
 }
 
 Contact BetweenContact(int n, int dof, int other, double gap, double restitution) {
-  Contact c;
-  c.form = Contact::Form::kBetween;
+  Eigen::VectorXd normal = Eigen::VectorXd::Zero(n);
+  if (dof >= 0 && dof < n) normal[dof] += 1.0;
+  if (other >= 0 && other < n) normal[other] -= 1.0;
+  Contact c = MadeContact(Contact::Form::kBetween, std::move(normal), gap, restitution);
   c.dof = dof;
   c.other = other;
-  c.normal = Eigen::VectorXd::Zero(n);
-  if (dof >= 0 && dof < n) c.normal[dof] += 1.0;
-  if (other >= 0 && other < n) c.normal[other] -= 1.0;
-  c.gap = gap;
-  c.restitution = restitution;
   return c;
 }
 
 Contact NormalContact(Eigen::VectorXd normal, double gap, double restitution) {
-  Contact c;
-  c.form = Contact::Form::kNormal;
+  Contact c = MadeContact(Contact::Form::kNormal, std::move(normal), gap, restitution);
   c.dof = -1;
-  c.normal = std::move(normal);
-  c.gap = gap;
-  c.restitution = restitution;
   return c;
 }
 
