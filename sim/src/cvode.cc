@@ -352,19 +352,20 @@ class CvodeStepper {
   Eigen::VectorXd Physical() const { return z_; }
   // Newton's law at j, and at every other contact in its band and not moving
   // away at that instant (struck at once: contact.h's law).
-  std::vector<int> Impact(int j, double e) {
-    std::vector<int> set{j}, struck{j};
+  const std::vector<int>& Impact(int j, double e) {
+    set_.assign(1, j);
+    struck_.assign(1, j);
     for (int k = 0; k < k_; ++k) {
-      if (k != j && Position(k) >= Gap(k) - xtol_[k] && Velocity(k) >= -vtol_floor_[k]) set.push_back(k);
+      if (k != j && Position(k) >= Gap(k) - xtol_[k] && Velocity(k) >= -vtol_floor_[k]) set_.push_back(k);
     }
-    if (set.size() == 1) {
+    if (set_.size() == 1) {
       cm_.ApplyImpact(j, e, z_.tail(n_));
-    } else if (!cm_.ApplyImpacts(set, z_.tail(n_), false, &struck)) {
+    } else if (!cm_.ApplyImpacts(set_, z_.tail(n_), false, &struck_)) {
       throw SolverError("the LCP of the contacts struck at once at t = " + std::to_string(t_) + " has no solution");
     }
-    if (struck.empty()) struck = {j};  // round-off left no impulse: the contact found is the event
+    if (struck_.empty()) struck_.assign(1, j);  // round-off left no impulse: the contact found is the event
     if (project_ && std::abs(cm_.EnergyOf(z_.head(n_), z_.tail(n_)) - e0_) > band_) ProjectOnEnergy(cm_, e0_, z_);
-    return struck;
+    return struck_;
   }
   // Hold j: alone (plastic: n_j . v -> 0), or with the contacts already held
   // (a plastic impulse over all of them: contact.h's law with e = 0).
@@ -431,6 +432,7 @@ class CvodeStepper {
   Cvode solver_;
   Eigen::Map<Eigen::VectorXd> z_;
   std::vector<int> held_;  // the held contacts, ascending
+  std::vector<int> set_, struck_;  // at an impact: the contacts in their bands, those given an impulse
   double t_ = 0.0, crossing_ = 0.0;
   long base_steps_ = 0;
 };

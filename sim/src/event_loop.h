@@ -141,7 +141,7 @@ SimulationSummary RunEventLoop(Stepper& s, const ContactModel& cm, const Simulat
       if (observer.on_impact) ev = ContactEvent{s.Time(), s.Physical(), {}, j};
       // Every contact the impulse acts on is an impact (several struck at
       // once: one event each, with the same states).
-      const std::vector<int> struck = s.Impact(j, e);
+      const std::vector<int>& struck = s.Impact(j, e);
       for (int c : struck) count_impact(c);
       if (observer.on_impact) {
         ev.after = s.Physical();

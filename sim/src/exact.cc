@@ -296,7 +296,7 @@ class ExactStepper {
   Eigen::VectorXd Physical() const { return !held_.empty() ? f_.PhysicalHeld(yr_) : f_.Physical(y_); }
   // Newton's law at contact j, and at every other contact in its band and
   // not moving away at that instant (struck at once: contact.h's law).
-  std::vector<int> Impact(int j, double e) {
+  const std::vector<int>& Impact(int j, double e) {
     set_.assign(1, j);
     for (int k = 0; k < k_; ++k) {
       if (k == j) continue;
@@ -308,13 +308,12 @@ class ExactStepper {
       return set_;
     }
     Eigen::VectorXd z = f_.Physical(y_);
-    std::vector<int> struck;
-    if (!cm_.ApplyImpacts(set_, z.tail(cm_.model.dofs()), false, &struck)) {
+    if (!cm_.ApplyImpacts(set_, z.tail(cm_.model.dofs()), false, &struck_)) {
       throw SolverError("the LCP of the contacts struck at once at t = " + std::to_string(t_) + " has no solution");
     }
     y_ = f_.FromPhysical(z);
-    if (struck.empty()) struck = {j};  // round-off left no impulse: the contact found is the event
-    return struck;
+    if (struck_.empty()) struck_ = {j};  // round-off left no impulse: the contact found is the event
+    return struck_;
   }
   // Hold j: alone (n_j . v -> 0), or with the contacts already held (a
   // plastic impulse over all of them: contact.h's law with e = 0).
@@ -394,7 +393,7 @@ class ExactStepper {
   double t_ = 0.0;
   std::vector<double> tol_, vtol_;  // each contact's band, from its last signal
   double ac_ = 0.0;                 // the free normal acceleration at the contact found
-  std::vector<int> set_;            // the contacts struck at once (storage reused)
+  std::vector<int> set_, struck_;   // the contacts in their bands at an impact, those given an impulse (storage reused)
   long steps_ = 0, sweep_steps_ = 0;
 };
 

@@ -165,7 +165,7 @@ class MoreauJeanStepper {
     z << x_, v_;
     return z;
   }
-  std::vector<int> Impact(int, double) { return {}; }
+  const std::vector<int>& Impact(int, double) const { return none_; }
   void Hold(int) {}
   void Release(int) {}
   void Restart() {}
@@ -187,6 +187,7 @@ class MoreauJeanStepper {
   std::vector<Eigen::VectorXd> w_n_;  // W^-1 n_j
   std::vector<bool> in_contact_;
   std::vector<int> active_;  // the contacts active in the step (storage reused)
+  const std::vector<int> none_;  // Impact's answer: never called (the LCP captures impacts)
   Eigen::VectorXd p_;        // their impulses, p_[i] for active_[i]
   Eigen::VectorXd x_, v_;
   Eigen::VectorXd x_prev_, v_prev_, v_free_;  // the step's start and free velocity
