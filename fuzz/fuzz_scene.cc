@@ -63,7 +63,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       // library refuses beyond 1e5). Beyond 1e3 the input stops here: a bound
       // on the work per input. (Counted in undamped periods, an overdamped
       // mode, decaying at up to 2 zeta w_k, or a heavy slow mode let more in.)
-      const bool forced = m.forcing.HasHarmonic() && (m.HasDamping() || m.restitution < 1.0);
+      const bool forced = m.forcing.HasHarmonic() && m.NumContacts() == 1 && (m.HasDamping() || !m.AllRestitution(1.0));
       if (forced) {
         const nsmodal::ForcedProblem p(m, 1, 1, m.forcing.frequency, m.forcing.amplitude.cwiseAbs().maxCoeff());
         if (p.period() * p.fastest_rate() > 2.0 * M_PI * 1e3) return 0;
@@ -78,13 +78,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (modal.rigid > 0) {
       // Rigid-body modes: the analysis refuses them; the exact integrator
       // flies the drift. The contact dof pushed at the obstacle, for three
-      // of the slowest elastic periods, bounded in steps as above.
+      // of the slowest elastic periods, bounded in steps as above (along
+      // contact 1's normal, towards its wall).
       const int n = scene.model.dofs();
       nsmodal::SimulateOptions sim;
       sim.t_end = 3.0 * modal.Periods().tail(n - modal.rigid).maxCoeff();
       sim.sample_dt = 0.0;
       sim.max_steps = 20000;
-      const Eigen::VectorXd v0 = Eigen::VectorXd::Unit(n, scene.model.contact);
+      const Eigen::VectorXd v0 = scene.model.FirstContact().normal.normalized();
       const nsmodal::SimulationSummary s = nsmodal::Simulate(scene.model, Eigen::VectorXd::Zero(n), v0, sim);
       if (s.status == nsmodal::SimulationStatus::kFinished && !s.final_state.allFinite()) __builtin_trap();
       if (s.status == nsmodal::SimulationStatus::kSolverError && s.message.empty()) __builtin_trap();
