@@ -79,13 +79,9 @@ bool ContactModel::ApplyImpacts(const std::vector<int>& set, Eigen::Ref<Eigen::V
     }
     return true;
   }
-  Eigen::MatrixXd g(k, k);
   Eigen::VectorXd q(k);
-  for (int a = 0; a < k; ++a) {
-    for (int b = 0; b < k; ++b) g(a, b) = delassus(set[a], set[b]);
-    q[a] = -(1.0 + e_of(set[a])) * model.contacts[set[a]].Along(v);
-  }
-  const LcpSolution p = SolveLcp(g, q);
+  for (int a = 0; a < k; ++a) q[a] = -(1.0 + e_of(set[a])) * model.contacts[set[a]].Along(v);
+  const LcpSolution p = SolveLcp(DelassusBlock(set), q);
   if (!p.solved) return false;
   for (int a = 0; a < k; ++a) {
     if (!(p.z[a] > 0.0)) continue;
@@ -93,6 +89,15 @@ bool ContactModel::ApplyImpacts(const std::vector<int>& set, Eigen::Ref<Eigen::V
     if (struck != nullptr) struck->push_back(set[a]);
   }
   return true;
+}
+
+Eigen::MatrixXd ContactModel::DelassusBlock(const std::vector<int>& set) const {
+  const int k = static_cast<int>(set.size());
+  Eigen::MatrixXd g(k, k);
+  for (int a = 0; a < k; ++a) {
+    for (int b = 0; b < k; ++b) g(a, b) = delassus(set[a], set[b]);
+  }
+  return g;
 }
 
 double ContactModel::MaxDelassus() const {
@@ -217,11 +222,7 @@ Eigen::MatrixXd HeldForceRows(const ContactModel& cm, const std::vector<int>& se
   Eigen::MatrixXd rows(k, n);
   for (int a = 0; a < k; ++a) rows.row(a) = cm.terms[set[a]].minv_n.transpose();  // n_j' M^-1 (M^-1 symmetric)
   if (k == 1) return rows;
-  Eigen::MatrixXd g(k, k);
-  for (int a = 0; a < k; ++a) {
-    for (int b = 0; b < k; ++b) g(a, b) = cm.delassus(set[a], set[b]);
-  }
-  return g.ldlt().solve(rows);
+  return cm.DelassusBlock(set).ldlt().solve(rows);
 }
 
 StickingFlow::StickingFlow(const ContactModel& cm, std::vector<int> held)

@@ -33,6 +33,10 @@ struct UserData {
   const ContactModel* cm;
   std::vector<int> held;    // the held contacts
   Eigen::MatrixXd g_inv;    // several held: (H M^-1 H')^-1 over them
+  void SetHeld(const std::vector<int>& set) {
+    held = set;
+    if (held.size() > 1) g_inv = cm->DelassusBlock(held).inverse();
+  }
   // The held contacts' forces from the free acceleration a: lambda = W H a
   // (one contact: a_j / w_j; several: G^-1 H a).
   Eigen::VectorXd Forces(const Eigen::Ref<const Eigen::VectorXd>& a) const {
@@ -41,6 +45,12 @@ struct UserData {
     for (int i = 0; i < k; ++i) u[i] = cm->contact(held[i]).Along(a);
     if (k == 1) return Eigen::VectorXd::Constant(1, u[0] / cm->terms[held[0]].w);
     return g_inv * u;
+  }
+  // a <- a minus the held contacts' impulses per unit time: the constrained acceleration.
+  void Project(Eigen::Ref<Eigen::VectorXd> a) const {
+    if (held.empty()) return;
+    const Eigen::VectorXd lambda = Forces(a);
+    for (std::size_t i = 0; i < held.size(); ++i) a -= lambda[i] * cm->terms[held[i]].minv_n;
   }
 };
 
@@ -55,10 +65,7 @@ int Rhs(realtype t, N_Vector zv, N_Vector dzv, void* data) {
   if (cm.model.HasDamping()) dz.tail(n).noalias() -= cm.minv_d * z.tail(n);
   if (cm.model.forcing.HasConstant()) dz.tail(n) += cm.minv_f0;
   if (cm.model.forcing.HasHarmonic()) dz.tail(n) += std::cos(cm.model.forcing.frequency * t) * cm.minv_f;
-  if (!ud->held.empty()) {
-    const Eigen::VectorXd lambda = ud->Forces(dz.tail(n));
-    for (std::size_t i = 0; i < ud->held.size(); ++i) dz.tail(n) -= lambda[i] * cm.terms[ud->held[i]].minv_n;
-  }
+  ud->Project(dz.tail(n));
   return 0;
 }
 
@@ -174,14 +181,7 @@ class Cvode {
 
   Eigen::Map<Eigen::VectorXd> State() { return {N_VGetArrayPointer(y_), 2 * n_}; }
   void Restart(double t, const std::vector<int>& held) {
-    ud_.held = held;
-    if (held.size() > 1) {
-      Eigen::MatrixXd g(held.size(), held.size());
-      for (std::size_t a = 0; a < held.size(); ++a) {
-        for (std::size_t b = 0; b < held.size(); ++b) g(a, b) = ud_.cm->delassus(held[a], held[b]);
-      }
-      ud_.g_inv = g.inverse();
-    }
+    ud_.SetHeld(held);
     Check(CVodeReInit(mem_, t, y_), "CVodeReInit");
   }
   // One internal step towards tout, never past it (a stop time: roots and
@@ -244,7 +244,7 @@ class CvodeStepper {
         n_(cm.model.dofs()),
         k_(cm.NumContacts()),
         t_end_(opt.t_end),
-        zeno_flight_(opt.zeno_flight * 2.0 * M_PI / cm.basis.omega.maxCoeff()),
+        zeno_flight_(ZenoFlightTime(cm, opt)),
         // e = 1 without damping or forcing: the energy of the start is an
         // invariant; each restart is put back on it (simulate.h, cvode_energy_projection).
         e0_(cm.EnergyOf(x0, v0)),
@@ -409,17 +409,9 @@ class CvodeStepper {
   double HeldAcceleration(int j) const {
     UserData ud;
     ud.cm = &cm_;
-    ud.held = held_;
-    if (held_.size() > 1) {
-      Eigen::MatrixXd g(held_.size(), held_.size());
-      for (std::size_t a = 0; a < held_.size(); ++a) {
-        for (std::size_t b = 0; b < held_.size(); ++b) g(a, b) = cm_.delassus(held_[a], held_[b]);
-      }
-      ud.g_inv = g.inverse();
-    }
+    ud.SetHeld(held_);
     Eigen::VectorXd a = cm_.FreeAcceleration(t_, z_.head(n_), z_.tail(n_));
-    const Eigen::VectorXd lambda = ud.Forces(a);
-    for (std::size_t i = 0; i < held_.size(); ++i) a -= lambda[i] * cm_.terms[held_[i]].minv_n;
+    ud.Project(a);
     return cm_.contact(j).Along(a);
   }
 

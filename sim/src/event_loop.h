@@ -20,7 +20,7 @@
 //   ContactKinematics Contact(int j) const;  at the contact just found
 //   ContactKinematics Resting(int j);        contact j now (on its wall), free or held
 //   Eigen::VectorXd Physical() const;        the state (x, v) now
-//   std::vector<int> Impact(int j, double e);  Newton's law on contact j (and on
+//   const std::vector<int>& Impact(int j, double e);  Newton's law on contact j (and on
 //                                    every other contact struck at the same
 //                                    instant); returns the contacts given an impulse
 //   void Hold(int j);                n_j . v -> 0 and the held motion from here
@@ -30,9 +30,8 @@
 // and is built from (cm, x0, v0, options). Each integrator's file defines its
 // Stepper and instantiates RunIntegrator with it (integrators.h declares them).
 #include <Eigen/Dense>
-#include <cmath>
-#include <cstdlib>
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -53,8 +52,8 @@ class SolverError : public std::runtime_error {
 struct Advance {
   enum class Event {
     kNone,      // reached an output time, a step's end or the end
-    kWitness,   // contact `contact`'s witness fired: its release if it is the
-                // held one, else a contact (the held one, if any, is released first)
+    kWitness,   // contact `contact`'s witness fired: its release if it is held,
+                // else a contact (decided on the held motion if others are held)
     kCaptured,  // an event-capturing step resolved impacts itself (`event_states`, at `captured`)
     kFailed,    // the integrator cannot go on (`message`)
   };
@@ -92,7 +91,7 @@ SimulationSummary RunEventLoop(Stepper& s, const ContactModel& cm, const Simulat
   int alternating = 0;
   double released_at = -1.0;
   int released = -1;
-  const double zeno_span = opt.zeno_flight * 2.0 * M_PI / cm.basis.omega.maxCoeff();
+  const double zeno_span = ZenoFlightTime(cm, opt);
   Sampler sampler(opt, observer);
   sampler.Emit(0.0, [&](double) { return s.Physical(); });
 
@@ -125,6 +124,10 @@ SimulationSummary RunEventLoop(Stepper& s, const ContactModel& cm, const Simulat
     ++sum.impacts;
     ++sum.impacts_per_contact[j];
   };
+  auto count_graze = [&](int j) {
+    ++sum.grazes;
+    ++sum.grazes_per_contact[j];
+  };
   // contact.h's decision at contact j, with the integrator's resolution.
   // others_held: contacts were held just before (released for this impact;
   // they stay held through it if it leaves them at rest): the time to a Zeno
@@ -134,8 +137,7 @@ SimulationSummary RunEventLoop(Stepper& s, const ContactModel& cm, const Simulat
     const ContactKinematics kin = s.Contact(j);
     const ContactDecision dec = DecideContact(kin.velocity, kin.acceleration, e, kin.resolution);
     if (dec.outcome == ContactOutcome::kGraze) {
-      ++sum.grazes;
-      ++sum.grazes_per_contact[j];
+      count_graze(j);
     } else if (dec.outcome != ContactOutcome::kHold) {
       ContactEvent ev;
       if (observer.on_impact) ev = ContactEvent{s.Time(), s.Physical(), {}, j};
@@ -210,8 +212,7 @@ SimulationSummary RunEventLoop(Stepper& s, const ContactModel& cm, const Simulat
             const ContactDecision dec =
                 DecideContact(kin.velocity, kin.acceleration, cm.contact(j).restitution, kin.resolution);
             if (dec.outcome == ContactOutcome::kGraze) {
-              ++sum.grazes;
-              ++sum.grazes_per_contact[j];
+              count_graze(j);
               s.Restart();
             } else if (dec.outcome == ContactOutcome::kHold) {
               hold(j);

@@ -45,7 +45,6 @@ struct ConservativeFlight {
   FirstRiseResult Search(const SinusoidSum& g, double horizon, double tol) {
     return sweep ? FirstRise(g, horizon, tol, *sweep) : FirstRise(g, horizon, tol);
   }
-  double FastestRate() const { return b.omega.maxCoeff(); }
   State FromPhysical(const Eigen::VectorXd& z) const { return ToModal(b, z.head(b.n), z.tail(b.n)); }
   Eigen::VectorXd Physical(const State& y) const { return PhysicalOf(b, y); }
   // n_j . x - d_j on the flight from y.
@@ -105,7 +104,6 @@ struct ForcedFlight {
     }
   }
   FirstRiseResult Search(const DampedSignal& g, double horizon, double tol) const { return FirstRise(g, horizon, tol); }
-  double FastestRate() const { return cm.basis.omega.maxCoeff(); }
   State FromPhysical(const Eigen::VectorXd& z) const { return z; }
   Eigen::VectorXd Physical(const State& z) const { return z; }
   const DampedSignal& Gap(int j, double t, const State& z) {
@@ -159,7 +157,7 @@ class ExactStepper {
         k_(cm.NumContacts()),
         t_end_(opt.t_end),
         root_tol_(opt.root_tol),
-        zeno_flight_(opt.zeno_flight * 2.0 * M_PI / f_.FastestRate()),
+        zeno_flight_(ZenoFlightTime(cm, opt)),
         tol_(k_, 0.0),
         vtol_(k_, 0.0) {
     Eigen::VectorXd z0(2 * cm.model.dofs());

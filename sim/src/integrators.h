@@ -1,11 +1,18 @@
 #pragma once
 // The three integrators behind Simulate() (simulate.h). Internal.
 #include <Eigen/Dense>
+#include <cmath>
 
 #include "nsmodal/contact.h"
 #include "nsmodal/simulate.h"
 
 namespace nsmodal::internal {
+
+// The Zeno truncation time: opt.zeno_flight of the shortest linear period
+// (simulate.h), one value for the loop and the integrators.
+inline double ZenoFlightTime(const ContactModel& cm, const SimulateOptions& opt) {
+  return opt.zeno_flight * 2.0 * M_PI / cm.basis.omega.maxCoeff();
+}
 
 // Emits trajectory samples at k * sample_dt in (from, to], one call each.
 class Sampler {

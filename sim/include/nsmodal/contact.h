@@ -71,6 +71,8 @@ struct ContactModel {
   // the static and of the harmonic (steady-state) responses to the forces;
   // the integrators' velocity thresholds are relative to sqrt(2 scale w_j).
   double EnergyScale(const Eigen::VectorXd& x0, const Eigen::VectorXd& v0) const;
+  // G_S = H M^-1 H' over the contacts of `set`, in its order.
+  Eigen::MatrixXd DelassusBlock(const std::vector<int>& set) const;
   // The largest w_j: the velocity scale's factor over all contacts.
   double MaxDelassus() const;
 };
