@@ -133,6 +133,7 @@ CommandLine::CommandLine() {
   c_resp->add_option("scene", response.scene, "Scene file (TOML) with damping or e < 1 and a [forcing] table")->required();
   c_resp->add_option("--out", response.out, "Output directory")->required();
   c_resp->add_option("--impacts", response.impacts, "Impacts per response period m (0: the linear response)")->default_val(1);
+  c_resp->add_option("--sequence", response.sequence, "The contact of each impact, e.g. 1,2 (sets --impacts; default: every impact on contact 1)");
   c_resp->add_option("--periods", response.periods, "Forcing periods per response period n")->default_val(1);
   c_resp->add_option("--frequency", response.frequency, "Grid FROM:TO:STEP of w, or w (default: the scene's)");
   c_resp->add_option("--amplitude", response.amplitude, "Grid FROM:TO:STEP of max|f_i|, or levels a,b,c (default: the scene's)");

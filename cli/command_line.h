@@ -66,6 +66,7 @@ struct ResponseArgs {
   std::string scene, out;
   int impacts = 1, periods = 1;
   std::optional<std::string> frequency, amplitude;
+  std::optional<std::string> sequence;  // the contact of each impact ("1,2")
   int validate = 0;  // periods simulated per orbit (0: no validation)
   std::vector<std::string> integrators{"exact"};
   int threads = 0;

@@ -258,7 +258,7 @@ int RunResponse(const ResponseArgs& a) {
   const ResponseRequest request = MakeResponseRequest(
       model, frequency_grid ? ResponseParameter::kFrequency : ResponseParameter::kAmplitude, grid,
       held ? ParseValues(*held, frequency_grid ? "--amplitude" : "--frequency") : std::vector<double>{}, a.impacts,
-      a.periods, FieldNames("--"));
+      a.periods, FieldNames("--"), a.sequence);
   // --validate's options checked now, before any work or file.
   const FieldNames vnames = FieldNames().Set("periods", "--validate").Set("integrators", "--integrators");
   const ValidateOptions vopt = ResponseValidateOptions(a.validate, a.integrators, a.threads, vnames);
@@ -275,7 +275,9 @@ int RunResponse(const ResponseArgs& a) {
   report::WriteCsvFile(dir, "response_points.csv", report::ResponsePointColumns(), r.points);
   std::cout << "wrote " << r.rows.size() << " points on " << r.branches << " branches to " << a.out
             << "/response.csv, " << r.points.size() << " special points to " << a.out << "/response_points.csv\n";
-  if (frequency_grid) {
+  const std::optional<std::string> no_backbone = NoBackbone(model, request.options);
+  if (frequency_grid && no_backbone) std::cout << "no backbone: " << *no_backbone << "\n";
+  if (frequency_grid && !no_backbone) {
     const BackboneMatch match = MatchBackbone(model, request.options, r.points, ProgressBar("backbone"));
     std::vector<OrbitRecord> records;
     for (const auto& list : match.backbone.at) records.insert(records.end(), list.begin(), list.end());

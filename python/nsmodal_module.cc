@@ -493,7 +493,7 @@ Model MakeModel(std::optional<std::vector<double>> masses, std::optional<std::ve
 // The response grid and the fixed parameter: one of frequency and amplitude
 // is a grid, the other one value or, when None, the model's own.
 ResponseOptions ResponseOptionsOf(const Model& model, int impacts, int periods, const py::object& frequency,
-                                  const py::object& amplitude) {
+                                  const py::object& amplitude, const py::object& sequence) {
   if (IsBool(frequency) || IsBool(amplitude)) {
     const bool f = IsBool(frequency);
     throw py::type_error(std::string(f ? "frequency" : "amplitude") + ": must be a number or a grid, got " +
@@ -512,7 +512,7 @@ ResponseOptions ResponseOptionsOf(const Model& model, int impacts, int periods, 
   std::vector<double> level;
   if (!held.is_none()) level.push_back(held.cast<double>());
   return MakeResponseRequest(model, f ? ResponseParameter::kFrequency : ResponseParameter::kAmplitude, grid, level,
-                             impacts, periods)
+                             impacts, periods, FieldNames(), SequenceText(sequence))
       .options;
 }
 
@@ -1203,9 +1203,10 @@ dicts: simulate(model, **load_settings(path)["simulate"]).)doc"));
       "response",
       [](const Model& model, Integer<"impacts"> impacts, Integer<"periods"> periods, const py::object& frequency,
          const py::object& amplitude, bool backbone, Integer<"validate"> validate,
-         const std::vector<std::string>& integrators, Integer<"threads"> threads) {
+         const std::vector<std::string>& integrators, Integer<"threads"> threads, const py::object& sequence) {
         CheckThreads(threads, "threads");
-        const ResponseOptions opt = ResponseOptionsOf(model, impacts, periods, frequency, amplitude);
+        const ResponseOptions opt = ResponseOptionsOf(model, impacts, periods, frequency, amplitude, sequence);
+        const std::optional<std::string> no_backbone = NoBackbone(model, opt);
         const FieldNames names = FieldNames().Set("periods", "validate");
         const ValidateOptions vopt = ResponseValidateOptions(validate, integrators, threads, names);
         ResponseLevels r;
@@ -1213,7 +1214,13 @@ dicts: simulate(model, **load_settings(path)["simulate"]).)doc"));
         std::optional<ResponseValidation> v;
         Interruptible([&] {
           r = ComputeResponseLevels(model, opt, {opt.fixed});
-          if (backbone && opt.parameter == ResponseParameter::kFrequency) match = MatchBackbone(model, opt, r.points);
+          if (backbone && opt.parameter == ResponseParameter::kFrequency) {
+            if (no_backbone) {
+              r.notes.push_back("no backbone: " + *no_backbone);
+            } else {
+              match = MatchBackbone(model, opt, r.points);
+            }
+          }
           if (validate > 0) v = ValidateResponse(model, r.rows, vopt, {}, names);
         });
         py::dict d;
@@ -1238,9 +1245,12 @@ dicts: simulate(model, **load_settings(path)["simulate"]).)doc"));
       py::arg("model"), py::arg("impacts") = 1, py::arg("periods") = 1, py::arg("frequency") = py::none(),
       py::arg("amplitude") = py::none(), py::arg("backbone") = true, py::arg("validate") = 0,
       py::arg("integrators") = std::vector<std::string>{"exact"}, py::arg("threads") = 0,
-      Signed("response(model, impacts=1, periods=1, frequency=None, amplitude=None, backbone=True, validate=0, integrators=['exact'], threads=0)", R"doc(Forced, damped response curves: the (m, n) = (impacts, periods) families of
+      py::arg("sequence") = py::none(),
+      Signed("response(model, impacts=1, periods=1, frequency=None, amplitude=None, backbone=True, validate=0, integrators=['exact'], threads=0, sequence=None)", R"doc(Forced, damped response curves: the (m, n) = (impacts, periods) families of
 periodic orbits followed through the forcing frequency or amplitude by
 pseudo-arclength continuation (folds passed), with their stability.
+sequence=[1, 2] (contact numbers, up to 8): the contact struck by each impact
+(impacts is then its length); None: every impact on contact 1.
 
 One of frequency and amplitude is a grid (from, to, step) or 'FROM:TO:STEP',
 the other one value (None: the model's forcing; amplitude is max |f_i|, the
@@ -1256,7 +1266,8 @@ frequency at a peak's energy, to compare with w / periods, when a backbone
 is computed), "branch_ends",
 "notes", and for a frequency sweep with backbone=True "backbone": arrays
 keyed as backbone.csv (the conservative twin's 1-ipp mode, w = 2 pi / T, over
-the grid's frequencies divided by periods).
+the grid's frequencies divided by periods; none, with a note, for a sequence
+over several contacts or a model with a rigid-body mode).
 validate > 0: every point simulated that many periods with each of
 `integrators`; "validation": arrays keyed as response_validation.csv (the
 verdicts of validate: consistent, reason, deviation_end, measured_growth...).)doc"));

@@ -53,21 +53,43 @@ struct Quadrature {
   }
 };
 
+// The one-contact sequence (0, ..., 0) of m impacts, m checked.
+std::vector<int> OnFirstContact(int impacts) {
+  if (impacts < 1 || impacts > kMaxResponseImpacts) {
+    throw InputError("impacts", "must be between 1 and " + std::to_string(kMaxResponseImpacts) +
+                                    " for an impacting response (0: the linear response), got " +
+                                    std::to_string(impacts));
+  }
+  return std::vector<int>(impacts, 0);
+}
+
 }  // namespace
 
 ForcedProblem::ForcedProblem(const Model& model, int impacts, int periods, double frequency, double amplitude)
+    : ForcedProblem(model, OnFirstContact(impacts), periods, frequency, amplitude) {}
+
+ForcedProblem::ForcedProblem(const Model& model, const std::vector<int>& sequence, int periods, double frequency,
+                             double amplitude)
     : model_(ScaledModel(model, frequency, amplitude)),
-      m_(impacts),
+      sequence_(sequence),
+      m_(static_cast<int>(sequence.size())),
       n_(periods),
       w_(frequency),
       amplitude_(amplitude),
       period_(periods * 2.0 * M_PI / frequency),
       fastest_(0.0),
       flow_(model_) {
-  if (impacts < 1 || impacts > kMaxResponseImpacts) {
-    throw InputError("impacts", "must be between 1 and " + std::to_string(kMaxResponseImpacts) +
-                                    " for an impacting response (0: the linear response), got " +
-                                    std::to_string(impacts));
+  if (m_ < 1 || m_ > kMaxResponseImpacts) {
+    throw InputError("sequence", "must list between 1 and " + std::to_string(kMaxResponseImpacts) +
+                                     " impacts, got " + std::to_string(m_));
+  }
+  const int contacts = static_cast<int>(model_.contacts.size());
+  for (int c : sequence_) {
+    if (c < 0 || c >= contacts) {
+      throw InputError("sequence", "names contact " + std::to_string(c + 1) + ", but the model has " +
+                                       std::to_string(contacts) + (contacts == 1 ? " contact" : " contacts") +
+                                       " (numbered from 1)");
+    }
   }
   if (periods < 1 || periods > kMaxResponsePeriods) {
     throw InputError("periods", "must be between 1 and " + std::to_string(kMaxResponsePeriods) + ", got " +
@@ -86,19 +108,26 @@ ForcedProblem::ForcedProblem(const Model& model, int impacts, int periods, doubl
                                               " times the flow's fastest time scale 2 pi / max|lambda| = " +
                                               FormatValue(2.0 * M_PI / fastest_));
   }
-  RequireOneContact(model_, "the forced response analysis");
-  if (model_.FirstContact().restitution == 1.0 && !model_.HasDamping()) {
-    throw InputError("system", "has no damping and e = 1: its forced periodic responses are not isolated (the "
-                               "return map keeps the multiplier 1 of the free orbits, paper section 2); "
-                               "give damping or e < 1");
+  bool elastic = true;  // every contact struck has e = 1
+  gap_scale_ = std::numeric_limits<double>::infinity();
+  for (int c : sequence_) {
+    elastic = elastic && model_.contacts[c].restitution == 1.0;
+    gap_scale_ = std::min(gap_scale_, model_.contacts[c].gap);
+  }
+  if (elastic && !model_.HasDamping()) {
+    throw InputError("system", "has no damping and e = 1 on every contact struck: its forced periodic responses are "
+                               "not isolated (the return map keeps the multiplier 1 of the free orbits, paper "
+                               "section 2); give damping or e < 1");
   }
   const int n = model_.dofs();
-  const Contact& contact = model_.FirstContact();
   const Eigen::LDLT<Eigen::MatrixXd> m_ldlt(model_.mass);
-  const Eigen::VectorXd minv_n = m_ldlt.solve(contact.normal);
-  impact_ = Eigen::MatrixXd::Identity(2 * n, 2 * n);
-  impact_.bottomRightCorner(n, n) -= ((1.0 + contact.restitution) / contact.Along(minv_n)) * minv_n *
-                                     contact.normal.transpose();
+  for (const Contact& contact : model_.contacts) {
+    const Eigen::VectorXd minv_n = m_ldlt.solve(contact.normal);
+    Eigen::MatrixXd r = Eigen::MatrixXd::Identity(2 * n, 2 * n);
+    r.bottomRightCorner(n, n) -= ((1.0 + contact.restitution) / contact.Along(minv_n)) * minv_n *
+                                 contact.normal.transpose();
+    impact_.push_back(std::move(r));
+  }
   minv_k_ = m_ldlt.solve(model_.stiffness);
   minv_d_ = m_ldlt.solve(model_.DampingMatrix());
   minv_f0_ = m_ldlt.solve(model_.ConstantForce());
@@ -136,8 +165,10 @@ bool ForcedProblem::Run(const Eigen::VectorXd& u, Pass& pass) const {
   for (int i = 0; i < m_; ++i) {
     e[i] = flow_.Transition(tau[i]);
     const double t0 = pass.times[i];
-    a = impact_ * (e[i] * a);
-    b = impact_ * (e[i] * (b - flow_.Particular(t0)) + flow_.Particular(t0 + tau[i]));
+    // Flight i ends at impact i + 1 (mod m).
+    const Eigen::MatrixXd& r = impact_[sequence_[(i + 1) % m_]];
+    a = r * (e[i] * a);
+    b = r * (e[i] * (b - flow_.Particular(t0)) + flow_.Particular(t0 + tau[i]));
   }
   const Eigen::PartialPivLU<Eigen::MatrixXd> lu(Eigen::MatrixXd::Identity(dim, dim) - a);
   if (!(lu.rcond() > 1e-14)) return false;
@@ -150,7 +181,7 @@ bool ForcedProblem::Run(const Eigen::VectorXd& u, Pass& pass) const {
     const Eigen::VectorXd zb = flow_.Particular(t0 + tau[i]) + e[i] * (z - flow_.Particular(t0));
     const int next = (i + 1) % m_;
     pass.before[next] = zb;
-    z = impact_ * zb;
+    z = impact_[sequence_[next]] * zb;
     if (next != 0) pass.after[next] = z;
   }
   return true;
@@ -160,9 +191,11 @@ bool ForcedProblem::Residual(const Eigen::VectorXd& u, Eigen::VectorXd& r) const
   Pass pass;
   if (!Run(u, pass)) return false;
   r.resize(m_);
-  const Contact& contact = model_.FirstContact();
   const int n = model_.dofs();
-  for (int i = 0; i < m_; ++i) r[i] = contact.Along(pass.before[i].head(n)) - contact.gap;
+  for (int i = 0; i < m_; ++i) {
+    const Contact& contact = model_.contacts[sequence_[i]];
+    r[i] = contact.Along(pass.before[i].head(n)) - contact.gap;
+  }
   return r.allFinite();
 }
 
@@ -170,7 +203,7 @@ std::optional<Eigen::VectorXd> ForcedProblem::Solve(Eigen::VectorXd u, int max_i
   Eigen::VectorXd r(m_), rp(m_), rm(m_);
   if (!Residual(u, r)) return std::nullopt;
   for (int it = 0; it < max_iterations; ++it) {
-    if (r.cwiseAbs().maxCoeff() <= tol * model_.FirstContact().gap) return u;
+    if (r.cwiseAbs().maxCoeff() <= tol * gap_scale_) return u;
     // Central differences: the Jacobian to ~h^2, enough for Newton's
     // quadratic convergence to the residual's round-off.
     Eigen::MatrixXd j(m_, m_);
@@ -197,9 +230,9 @@ std::optional<Eigen::VectorXd> ForcedProblem::Solve(Eigen::VectorXd u, int max_i
         moved = true;
       }
     }
-    if (!moved) return r.cwiseAbs().maxCoeff() <= 1e3 * tol * model_.FirstContact().gap ? std::optional(u) : std::nullopt;
+    if (!moved) return r.cwiseAbs().maxCoeff() <= 1e3 * tol * gap_scale_ ? std::optional(u) : std::nullopt;
   }
-  return r.cwiseAbs().maxCoeff() <= tol * model_.FirstContact().gap ? std::optional(u) : std::nullopt;
+  return r.cwiseAbs().maxCoeff() <= tol * gap_scale_ ? std::optional(u) : std::nullopt;
 }
 
 Eigen::VectorXd ForcedProblem::Canonical(const Eigen::VectorXd& u) const {
@@ -213,6 +246,10 @@ Eigen::VectorXd ForcedProblem::Canonical(const Eigen::VectorXd& u) const {
   int best = 0;
   double best_phase = std::numeric_limits<double>::infinity();
   for (int k = 0; k < m_; ++k) {
+    // Only a start that leaves the sequence as it is.
+    bool same = true;
+    for (int i = 0; i < m_ && same; ++i) same = sequence_[(k + i) % m_] == sequence_[i];
+    if (!same) continue;
     double p = std::fmod(t[k], cycle);
     if (p < 0.0) p += cycle;
     // Equal phases (1e-12 of a cycle) keep the earlier impact: n > 1 orbits
@@ -307,11 +344,11 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
   const bool ok = Run(u, pass);
   NSMODAL_CHECK(ok);
   const int n = model_.dofs();
-  const Contact& contact = model_.FirstContact();
-  const double d = contact.gap;
+  const int contacts = static_cast<int>(model_.contacts.size());
   ForcedOrbit o;
   o.impacts = m_;
   o.periods = n_;
+  o.sequence = sequence_;
   o.frequency = w_;
   o.amplitude = amplitude_;
   o.period = period_;
@@ -320,17 +357,24 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
   o.before = pass.before;
   o.after = pass.after;
   o.min_impact_velocity = std::numeric_limits<double>::infinity();
+  // Contact 1's largest n_1 . x: at its own impacts d_1, elsewhere where the
+  // flights take it.
+  double max_x1 = -std::numeric_limits<double>::infinity();
   for (int i = 0; i < m_; ++i) {
-    o.residual = std::max(o.residual, std::abs(contact.Along(pass.before[i].head(n)) - d));
+    const Contact& contact = model_.contacts[sequence_[i]];
+    o.residual = std::max(o.residual, std::abs(contact.Along(pass.before[i].head(n)) - contact.gap));
     o.min_impact_velocity = std::min(o.min_impact_velocity, contact.Along(pass.before[i].tail(n)));
     o.impact_loss += MechanicalEnergy(model_, pass.before[i]) - MechanicalEnergy(model_, pass.after[i]);
+    const Contact& first = model_.contacts[0];
+    max_x1 = std::max(max_x1, sequence_[i] == 0 ? first.gap : first.Along(pass.before[i].head(n)));
   }
   // Flights: energy integrals by Gauss-Legendre panels no longer than an
   // eighth of the fastest time scale (the integrands are smooth there: the
-  // quadrature is exact to round-off); interior maxima of x_c; NC3.
+  // quadrature is exact to round-off); interior maxima of each contact's
+  // n_j . x; NC3 on every contact.
   static const Quadrature q;
-  Eigen::RowVectorXd gap_row = Eigen::RowVectorXd::Zero(2 * n);
-  gap_row.head(n) = contact.normal.transpose();
+  std::vector<Eigen::RowVectorXd> gap_row(contacts, Eigen::RowVectorXd::Zero(2 * n));
+  for (int j = 0; j < contacts; ++j) gap_row[j].head(n) = model_.contacts[j].normal.transpose();
   o.max_interior_gap = -std::numeric_limits<double>::infinity();
   o.verdict = "admissible";
   o.admissible = true;
@@ -354,36 +398,46 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
         o.dissipated += wt * v.dot(model_.DampingMatrix() * v);
       }
     }
-    flow_.Observe(t0, z0, gap_row, -d, 0.0, g);
-    // Interior maxima: g' from + to - between samples 1/16 of the fastest
-    // time scale apart, polished by Brent on g'.
-    const int samples = 16 + static_cast<int>(std::ceil(tau * fastest_ * 16.0 / (2.0 * M_PI)));
-    double prev_s = 0.0, prev_v = g.Velocity(0.0);
-    for (int k = 1; k <= samples; ++k) {
-      const double s = tau * k / samples;
-      const double v = g.Velocity(s);
-      if (prev_v > 0.0 && v <= 0.0 && k < samples) {
-        const double smax = PolishRoot([&](double x) { return g.Velocity(x); }, prev_s, s);
-        o.max_interior_gap = std::max(o.max_interior_gap, g.Position(smax));
+    const int next = (i + 1) % m_;
+    for (int j = 0; j < contacts; ++j) {
+      const Contact& contact = model_.contacts[j];
+      const double d = contact.gap;
+      flow_.Observe(t0, z0, gap_row[j], -d, 0.0, g);
+      // Interior maxima: g' from + to - between samples 1/16 of the fastest
+      // time scale apart, polished by Brent on g'.
+      const int samples = 16 + static_cast<int>(std::ceil(tau * fastest_ * 16.0 / (2.0 * M_PI)));
+      double prev_s = 0.0, prev_v = g.Velocity(0.0);
+      for (int k = 1; k <= samples; ++k) {
+        const double s = tau * k / samples;
+        const double v = g.Velocity(s);
+        if (prev_v > 0.0 && v <= 0.0 && k < samples) {
+          const double smax = PolishRoot([&](double x) { return g.Velocity(x); }, prev_s, s);
+          const double excess = g.Position(smax);
+          o.max_interior_gap = std::max(o.max_interior_gap, excess);
+          if (j == 0) max_x1 = std::max(max_x1, d + excess);
+        }
+        prev_s = s;
+        prev_v = v;
       }
-      prev_s = s;
-      prev_v = v;
-    }
-    // NC3, exactly: the guaranteed search finds the first contact of the
-    // flight; it must be the impact that ends it.
-    if (o.admissible) {
-      const double tol = 1e-13 * std::max(d, g.bound[0]);
-      const FirstRiseResult r = FirstRise(g, tau, tol);
-      const double vc = contact.Along(pass.before[(i + 1) % m_].tail(n));
-      const double window = 1e-9 * period_ + 4.0 * tol / std::max(std::abs(vc), 1e-300);
-      if (r.found && r.s < tau - window) {
-        o.admissible = false;
-        o.verdict = "NC3: x_c reaches d inside flight " + std::to_string(i + 1) + " at t = " + FormatValue(t0 + r.s);
+      // NC3, exactly: the guaranteed search finds the first time the flight
+      // meets contact j; only the contact struck at its end may be met, and
+      // only there.
+      if (o.admissible) {
+        const double tol = 1e-13 * std::max(d, g.bound[0]);
+        const FirstRiseResult r = FirstRise(g, tau, tol);
+        const double vc = contact.Along(pass.before[next].tail(n));
+        const double window = 1e-9 * period_ + 4.0 * tol / std::max(std::abs(vc), 1e-300);
+        if (r.found && r.s < tau - window) {
+          o.admissible = false;
+          o.verdict = (contacts == 1 ? std::string("NC3: x_c reaches d") : "NC3: contact " + std::to_string(j + 1) + " (" +
+                                                                                contact.Describe() + ") is reached") +
+                      " inside flight " + std::to_string(i + 1) + " at t = " + FormatValue(t0 + r.s);
+        }
       }
     }
   }
   o.energy = energy_integral / period_;
-  o.max_xc = std::max(d, d + o.max_interior_gap);
+  o.max_xc = max_x1;
   if (o.admissible && !(o.min_impact_velocity > 0.0)) {
     o.admissible = false;
     o.verdict = "an impact arrives moving away from the obstacle (v_c = " + FormatValue(o.min_impact_velocity) + ")";
@@ -394,12 +448,14 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
   for (int i = 0; i < m_; ++i) {
     const double tau = (i + 1 < m_ ? pass.times[i + 1] : pass.times[0] + period_) - pass.times[i];
     const int next = (i + 1) % m_;
+    const int j = sequence_[next];
+    const Eigen::MatrixXd& r = impact_[j];
     const double t_imp = pass.times[next] + (next == 0 ? period_ : 0.0);
     const Eigen::VectorXd& zm = pass.before[next];
-    const Eigen::VectorXd zp = impact_ * zm;
-    Eigen::MatrixXd s = impact_;
-    const double vc = contact.Along(zm.tail(n));
-    if (vc != 0.0) s += (Field(t_imp, zp) - impact_ * Field(t_imp, zm)) * gap_row / vc;
+    const Eigen::VectorXd zp = r * zm;
+    Eigen::MatrixXd s = r;
+    const double vc = model_.contacts[j].Along(zm.tail(n));
+    if (vc != 0.0) s += (Field(t_imp, zp) - r * Field(t_imp, zm)) * gap_row[j] / vc;
     phi = s * (flow_.Transition(tau) * phi);
   }
   const Eigen::EigenSolver<Eigen::MatrixXd> eig(phi, false);
@@ -424,8 +480,7 @@ Eigen::VectorXd ForcedProblem::StateAt(const ForcedOrbit& orbit, double t) const
 ForcedOrbit LinearResponse(const Model& model, double frequency, double amplitude) {
   const Model m = ScaledModel(model, frequency, amplitude);
   const ForcedFlow flow(m);
-  RequireOneContact(m, "the linear response");
-  const Contact& contact = m.FirstContact();
+  const Contact& contact = m.contacts[0];
   const double w = frequency, d = contact.gap;
   ForcedOrbit o;
   o.impacts = 0;
@@ -442,6 +497,12 @@ ForcedOrbit LinearResponse(const Model& model, double frequency, double amplitud
   o.before = o.after;
   o.max_xc = contact.Along(flow.static_response()) + std::abs(xc);
   o.max_interior_gap = o.max_xc - d;
+  // Every other contact's n_j . x_s + |n_j . X| against its gap.
+  for (std::size_t j = 1; j < m.contacts.size(); ++j) {
+    const Contact& other = m.contacts[j];
+    const std::complex<double> xj = other.normal.cast<std::complex<double>>().dot(flow.harmonic_response());
+    o.max_interior_gap = std::max(o.max_interior_gap, other.Along(flow.static_response()) + std::abs(xj) - other.gap);
+  }
   o.min_impact_velocity = std::numeric_limits<double>::quiet_NaN();
   // Means over a period of x'Kx/2 and v'Mv/2 for x = x_s + Re[X e^{i w t}].
   const Eigen::VectorXd xr = flow.harmonic_response().real(), xi = flow.harmonic_response().imag();
@@ -450,8 +511,11 @@ ForcedOrbit LinearResponse(const Model& model, double frequency, double amplitud
              0.25 * w * w * (xr.dot(m.mass * xr) + xi.dot(m.mass * xi));
   o.dissipated = 0.5 * o.period * w * w * (xr.dot(m.DampingMatrix() * xr) + xi.dot(m.DampingMatrix() * xi));
   o.work = o.dissipated;  // the steady state's balance, exactly
-  o.admissible = o.max_xc <= d;
-  o.verdict = o.admissible ? "admissible" : "x_c exceeds d (max x_c = " + FormatValue(o.max_xc) + ")";
+  // (x - d <= 0 exactly when x <= d: the one-contact test as it was.)
+  o.admissible = o.max_interior_gap <= 0.0;
+  o.verdict = o.admissible        ? "admissible"
+              : o.max_xc > d      ? "x_c exceeds d (max x_c = " + FormatValue(o.max_xc) + ")"
+                                  : "another contact's wall is passed (by " + FormatValue(o.max_interior_gap) + ")";
   // Multipliers e^{lambda P} of the flight's modes (both of each pair).
   const Eigen::VectorXcd lambda = flow.Eigenvalues();
   std::vector<std::complex<double>> mult;

@@ -156,10 +156,11 @@ std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int imp
   return records;
 }
 
-std::vector<int> ParseSequence(const std::string& text, int contacts, const std::string& field) {
+std::vector<int> ParseSequence(const std::string& text, int contacts, const std::string& field, int max_entries) {
   const std::vector<double> values = ParseValues(text, field);
-  if (values.empty() || values.size() > 2) {
-    throw InputError(field, "must list the contact of each impact (1 or 2 entries, e.g. 1,2), got '" + text + "'");
+  if (values.empty() || static_cast<int>(values.size()) > max_entries) {
+    throw InputError(field, "must list the contact of each impact (1 to " + std::to_string(max_entries) +
+                                " entries, e.g. 1,2), got '" + text + "'");
   }
   std::vector<int> out;
   for (double v : values) {

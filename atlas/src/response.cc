@@ -7,6 +7,7 @@
 #include <optional>
 #include <utility>
 
+#include "nsmodal/check.h"
 #include "nsmodal/error.h"
 #include "nsmodal/one_impact.h"
 #include "nsmodal/roots.h"
@@ -42,6 +43,10 @@ void ResponseOptions::Validate(const FieldNames& names) const {
     throw InputError(names(frequency ? "amplitude" : "frequency"), "must be positive and finite, got " + FormatValue(fixed));
   }
   if (max_steps < 1 || max_branches < 1) throw InputError(names("max_steps"), "bounds must be positive");
+  if (!sequence.empty() && static_cast<int>(sequence.size()) != impacts) {
+    throw InputError(names("sequence"), "lists " + std::to_string(sequence.size()) + " impacts, but impacts is " +
+                                            std::to_string(impacts));
+  }
 }
 
 namespace {
@@ -65,7 +70,10 @@ class Tracer {
   double Frequency(double lambda) const { return opt_.parameter == ResponseParameter::kFrequency ? lambda : opt_.fixed; }
   double Amplitude(double lambda) const { return opt_.parameter == ResponseParameter::kFrequency ? opt_.fixed : lambda; }
   std::unique_ptr<ForcedProblem> Problem(double lambda) const {
-    return std::make_unique<ForcedProblem>(model_, m_, opt_.periods, Frequency(lambda), Amplitude(lambda));
+    return opt_.sequence.empty()
+               ? std::make_unique<ForcedProblem>(model_, m_, opt_.periods, Frequency(lambda), Amplitude(lambda))
+               : std::make_unique<ForcedProblem>(model_, opt_.sequence, opt_.periods, Frequency(lambda),
+                                                 Amplitude(lambda));
   }
   Vec U(const Vec& xi) const {
     Vec u = xi.head(m_);
@@ -81,13 +89,13 @@ class Tracer {
     xi[m_] = lambda / lambda_scale_;
     return xi;
   }
-  // H(xi) = (x_c(t_i-) - d) / d.
+  // H(xi) = (n_j . x(t_i-) - d_j) / gap_scale (d for one contact).
   bool H(const Vec& xi, Vec& r) const {
     const double lambda = Lambda(xi);
     if (!(lambda > 0.0)) return false;
     const std::unique_ptr<ForcedProblem> p = Problem(lambda);
     if (!p->Residual(U(xi), r)) return false;
-    r /= model_.FirstContact().gap;
+    r /= p->gap_scale();
     return true;
   }
   // dH/dxi, m x (m + 1), by central differences (h = 1e-7: truncation
@@ -457,11 +465,12 @@ Model ConservativeTwin(const Model& model) {
   Model twin = model;
   twin.damping.resize(0, 0);
   twin.forcing = Forcing{};
-  twin.FirstContact().restitution = AnalysisBasis::kRestitution;
+  for (Contact& c : twin.contacts) c.restitution = AnalysisBasis::kRestitution;
   return twin;
 }
 
-Sweep BackboneSweep(const Model& model, double w_from, double w_to, long points, const SweepOptions& options) {
+Sweep BackboneSweep(const Model& model, double w_from, double w_to, long points, const SweepOptions& options,
+                    int contact) {
   if (!(w_from > 0.0) || !(w_to > w_from) || !std::isfinite(w_to) || points < 2) {
     throw InputError("frequency", "the backbone needs 0 < from < to and at least 2 points, got " +
                                       FormatValue(w_from) + " to " + FormatValue(w_to));
@@ -469,17 +478,20 @@ Sweep BackboneSweep(const Model& model, double w_from, double w_to, long points,
   const AnalysisBasis b(ConservativeTwin(model));
   PeriodGrid grid{2.0 * M_PI / w_to, 2.0 * M_PI / w_from, 0.0};
   grid.step = (grid.to - grid.from) / static_cast<double>(points - 1);
-  return ComputeSweep(b, grid, 1, options);
+  SweepOptions on_contact = options;
+  on_contact.sequence = {contact};
+  return ComputeSweep(b, grid, 1, on_contact);
 }
 
-std::optional<double> BackboneFrequency(const Model& model, const Sweep& backbone, double energy, double near) {
+std::optional<double> BackboneFrequency(const Model& model, const Sweep& backbone, double energy, double near,
+                                        int contact) {
   const AnalysisBasis b(ConservativeTwin(model));
   std::optional<double> best;
   for (std::size_t k = 0; k + 1 < backbone.periods.size(); ++k) {
     const Orbit& p = backbone.at[k].front().orbit;
     const Orbit& q = backbone.at[k + 1].front().orbit;
     if (!p.admissible || !q.admissible || (p.energy < energy) == (q.energy < energy)) continue;
-    const double t = PolishRoot([&](double period) { return OneImpactOrbit(b, period).energy - energy; },
+    const double t = PolishRoot([&](double period) { return OneImpactOrbit(b, period, {}, contact).energy - energy; },
                                 backbone.periods[k], backbone.periods[k + 1]);
     const double w = 2.0 * M_PI / t;
     if (!best || std::abs(w - near) < std::abs(*best - near)) best = w;
@@ -505,7 +517,8 @@ ResponseCurve ComputeResponse(const Model& model, const ResponseOptions& options
 }
 
 ResponseRequest MakeResponseRequest(const Model& model, ResponseParameter swept, const PeriodGrid& grid,
-                                    std::vector<double> levels, int impacts, int periods, const FieldNames& names) {
+                                    std::vector<double> levels, int impacts, int periods, const FieldNames& names,
+                                    const std::optional<std::string>& sequence) {
   if (levels.empty()) {
     const Eigen::VectorXd& f = model.forcing.amplitude;
     levels.push_back(swept == ResponseParameter::kFrequency ? (f.size() > 0 ? f.cwiseAbs().maxCoeff() : 0.0)
@@ -513,6 +526,16 @@ ResponseRequest MakeResponseRequest(const Model& model, ResponseParameter swept,
   }
   ResponseRequest r;
   r.options.impacts = impacts;
+  if (sequence) {
+    r.options.sequence = ParseSequence(*sequence, static_cast<int>(model.contacts.size()), names("sequence"),
+                                       kMaxResponseImpacts);
+    const int m = static_cast<int>(r.options.sequence.size());
+    if (impacts != 1 && impacts != m) {
+      throw InputError(names("impacts"), std::to_string(impacts) + " disagrees with the sequence " + *sequence +
+                                             " (" + std::to_string(m) + " impacts): give one of them");
+    }
+    r.options.impacts = m;
+  }
   r.options.periods = periods;
   r.options.parameter = swept;
   r.options.grid = grid;
@@ -547,18 +570,34 @@ ResponseLevels ComputeResponseLevels(const Model& model, const ResponseOptions& 
   return out;
 }
 
+std::optional<std::string> NoBackbone(const Model& model, const ResponseOptions& options) {
+  const std::vector<int>& seq = options.sequence;
+  for (int c : seq) {
+    if (c != seq.front()) {
+      return "the response's impacts strike several contacts: its free counterpart is that sequence's family "
+             "(nsmodal orbits --sequence), not a one-impact mode";
+    }
+  }
+  if (RigidBodyModes(model.stiffness) > 0) {
+    return "the model has a rigid-body mode: its conservative twin has no one-impact mode to follow";
+  }
+  return std::nullopt;
+}
+
 BackboneMatch MatchBackbone(const Model& model, const ResponseOptions& options, const std::vector<SpecialPoint>& points,
                             const std::function<void(long, long)>& progress) {
+  NSMODAL_CHECK(!NoBackbone(model, options));
   SweepOptions sweep;
   sweep.stability = StabilityPolicy::kAdmissible;
   sweep.progress = progress;
   const double n = options.periods;
-  BackboneMatch out{BackboneSweep(model, options.grid.from / n, options.grid.to / n, 2000, sweep), {}};
+  const int contact = options.sequence.empty() ? 0 : options.sequence.front();
+  BackboneMatch out{BackboneSweep(model, options.grid.from / n, options.grid.to / n, 2000, sweep, contact), {}};
   for (const SpecialPoint& p : points) {
     // The response's own frequency 2 pi / P, P = n 2 pi / w.
-    out.mode_frequency.push_back(p.kind == SpecialKind::kPeak
-                                     ? BackboneFrequency(model, out.backbone, p.orbit.energy, p.orbit.frequency / n)
-                                     : std::nullopt);
+    out.mode_frequency.push_back(p.kind == SpecialKind::kPeak ? BackboneFrequency(model, out.backbone, p.orbit.energy,
+                                                                                  p.orbit.frequency / n, contact)
+                                                              : std::nullopt);
   }
   return out;
 }

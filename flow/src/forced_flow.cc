@@ -18,6 +18,7 @@ void DampedSignal::UpdateBounds() {
       rk *= rate;
     }
   }
+  bound[1] += std::abs(slope);
 }
 
 double DampedSignal::Position(double s) const {
@@ -39,8 +40,9 @@ double DampedSignal::Acceleration(double s) const {
 }
 
 void DampedSignal::Derivatives(double s, double out[4]) const {
-  out[0] = offset;
-  out[1] = out[2] = out[3] = 0.0;
+  out[0] = offset + slope * s;
+  out[1] = slope;
+  out[2] = out[3] = 0.0;
   for (int j = 0; j < beta.size(); ++j) {
     std::complex<double> term = beta[j] * std::exp(mu[j] * s);
     for (int k = 0; k < 4; ++k) {
@@ -85,8 +87,21 @@ ForcedFlow::ForcedFlow(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& dampi
   x_static_ = Eigen::VectorXd::Zero(n);
   x_harmonic_ = Eigen::VectorXcd::Zero(n);
   if (n == 0) return;
-  const Eigen::LDLT<Eigen::MatrixXd> k_ldlt(stiffness);
-  if (constant_force.size() > 0) x_static_ = k_ldlt.solve(constant_force);
+  // The modes of (K, M), M-orthonormal, the rigid-body ones first, when K has
+  // any; then the flight's first-order modes are those of the elastic part.
+  const int rigid = RigidBodyModes(stiffness);
+  Eigen::MatrixXd elastic;  // Phi_e (n x (n - r)), with rigid modes only
+  Eigen::VectorXd omega2;   // its K eigenvalues
+  if (rigid > 0) {
+    RigidBodySplit split = SplitRigidBody(mass, c, stiffness, constant_force);
+    rigid_ = std::move(split.rigid);
+    rigid_coord_ = rigid_.transpose() * mass;
+    elastic = std::move(split.elastic);
+    omega2 = std::move(split.omega2);
+    if (constant_force.size() > 0) x_static_ = elastic * (elastic.transpose() * constant_force).cwiseQuotient(omega2);
+  } else if (constant_force.size() > 0) {
+    x_static_ = Eigen::LDLT<Eigen::MatrixXd>(stiffness).solve(constant_force);
+  }
   if (force_amplitude.size() > 0 && force_amplitude.cwiseAbs().maxCoeff() > 0.0) {
     const std::optional<Eigen::VectorXcd> x = HarmonicResponse(mass, c, stiffness, force_amplitude, w_);
     if (!x) {
@@ -97,16 +112,24 @@ ForcedFlow::ForcedFlow(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& dampi
     }
     x_harmonic_ = *x;
   }
-  // The first-order matrix and its modes.
-  const Eigen::LDLT<Eigen::MatrixXd> m_ldlt(mass);
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n, 2 * n);
-  a.topRightCorner(n, n).setIdentity();
-  a.bottomLeftCorner(n, n) = -m_ldlt.solve(stiffness);
-  a.bottomRightCorner(n, n) = -m_ldlt.solve(c);
+  // The first-order matrix and its modes: of the whole system, or (rigid
+  // modes) of the elastic coordinates q_e = Phi_e' M x, whose matrix is
+  // [[0, I], [-Omega^2, -Phi_e' C Phi_e]], mapped back by Phi_e.
+  const int ne = n - rigid;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * ne, 2 * ne);
+  a.topRightCorner(ne, ne).setIdentity();
+  if (rigid > 0) {
+    a.bottomLeftCorner(ne, ne) = (-omega2).asDiagonal();
+    a.bottomRightCorner(ne, ne) = -elastic.transpose() * c * elastic;
+  } else {
+    const Eigen::LDLT<Eigen::MatrixXd> m_ldlt(mass);
+    a.bottomLeftCorner(n, n) = -m_ldlt.solve(stiffness);
+    a.bottomRightCorner(n, n) = -m_ldlt.solve(c);
+  }
   const Eigen::EigenSolver<Eigen::MatrixXd> eig(a);
   NSMODAL_CHECK(eig.info() == Eigen::Success);
   Eigen::MatrixXcd v = eig.eigenvectors();
-  for (int j = 0; j < 2 * n; ++j) v.col(j).normalize();
+  for (int j = 0; j < 2 * ne; ++j) v.col(j).normalize();
   const Eigen::PartialPivLU<Eigen::MatrixXcd> v_lu(v);
   if (!(v_lu.rcond() * kMaxModeCondition > 1.0)) {
     throw InputError("system", "has a nearly critically damped mode (the first-order modes are nearly "
@@ -114,9 +137,19 @@ ForcedFlow::ForcedFlow(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& dampi
                                    FormatValue(1.0 / v_lu.rcond()) + " > " + FormatValue(kMaxModeCondition) +
                                    "): the closed-form flight needs damping ratios away from 1");
   }
-  const Eigen::MatrixXcd v_inv = v_lu.inverse();
+  Eigen::MatrixXcd v_inv = v_lu.inverse();
+  if (rigid > 0) {
+    // z = (Phi_e x_e, Phi_e v_e) on the complement, (x_e, v_e) = (Phi_e' M) z.
+    const Eigen::MatrixXcd to_elastic = (elastic.transpose() * mass).cast<std::complex<double>>();
+    const Eigen::MatrixXcd phi_e = elastic.cast<std::complex<double>>();
+    Eigen::MatrixXcd v_full(2 * n, 2 * ne), v_inv_full(2 * ne, 2 * n);
+    v_full << phi_e * v.topRows(ne), phi_e * v.bottomRows(ne);
+    v_inv_full << v_inv.leftCols(ne) * to_elastic, v_inv.rightCols(ne) * to_elastic;
+    v = v_full;
+    v_inv = v_inv_full;
+  }
   std::vector<int> kept;
-  for (int j = 0; j < 2 * n; ++j) {
+  for (int j = 0; j < 2 * ne; ++j) {
     if (eig.eigenvalues()[j].imag() >= 0.0) kept.push_back(j);
   }
   const int m = static_cast<int>(kept.size());
@@ -151,10 +184,17 @@ Eigen::VectorXd ForcedFlow::Particular(double t) const {
 
 void ForcedFlow::Advance(double t, double s, Eigen::Ref<Eigen::VectorXd> z) const {
   if (n_ == 0) return;
-  const Eigen::VectorXcd q = v_inv_ * (z - Particular(t));
+  const Eigen::VectorXd free = z - Particular(t);
+  const Eigen::VectorXcd q = v_inv_ * free;
   Eigen::VectorXd out = Particular(t + s);
   for (int k = 0; k < lambda_.size(); ++k) {
     out += weight_[k] * (v_.col(k) * (q[k] * std::exp(lambda_[k] * s))).real();
+  }
+  if (rigid_modes() > 0) {
+    // The drift: q + s q' and q'.
+    const Eigen::VectorXd q0 = rigid_coord_ * free.head(n_), q1 = rigid_coord_ * free.tail(n_);
+    out.head(n_) += rigid_ * (q0 + s * q1);
+    out.tail(n_) += rigid_ * q1;
   }
   z = out;
 }
@@ -167,13 +207,20 @@ void ForcedFlow::Observe(double t, const Eigen::Ref<const Eigen::VectorXd>& z,
   out.beta.resize(m + (harmonic ? 1 : 0));
   out.mu.resize(out.beta.size());
   out.offset = c0;
+  out.slope = 0.0;
   if (n_ > 0) {
     out.offset += l.head(n_).dot(x_static_);
-    const Eigen::VectorXcd q = v_inv_ * (z - Particular(t));
+    const Eigen::VectorXd free = z - Particular(t);
+    const Eigen::VectorXcd q = v_inv_ * free;
     const Eigen::RowVectorXcd lv = l.cast<std::complex<double>>() * v_;
     for (int k = 0; k < m; ++k) {
       out.beta[k] = weight_[k] * lv[k] * q[k];
       out.mu[k] = lambda_[k];
+    }
+    if (rigid_modes() > 0) {
+      const Eigen::VectorXd x0 = rigid_ * (rigid_coord_ * free.head(n_)), x1 = rigid_ * (rigid_coord_ * free.tail(n_));
+      out.offset += l.head(n_).dot(x0) + l.tail(n_).dot(x1);
+      out.slope = l.head(n_).dot(x1);
     }
   }
   if (harmonic) {
@@ -195,6 +242,12 @@ Eigen::MatrixXd ForcedFlow::Transition(double s) const {
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(2 * n_, 2 * n_);
   for (int k = 0; k < lambda_.size(); ++k) {
     out += weight_[k] * (v_.col(k) * std::exp(lambda_[k] * s) * v_inv_.row(k)).real();
+  }
+  if (rigid_modes() > 0) {
+    const Eigen::MatrixXd p = rigid_ * rigid_coord_;  // the M-orthogonal projector on ker K
+    out.topLeftCorner(n_, n_) += p;
+    out.topRightCorner(n_, n_) += s * p;
+    out.bottomRightCorner(n_, n_) += p;
   }
   return out;
 }

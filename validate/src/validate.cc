@@ -50,6 +50,13 @@ double TimeTolerance(Integrator integrator, const ValidateOptions& o) {
 // cvode, 1e3 (atol + rtol d), its position accuracy with room; moreau-jean,
 // an event-capturing scheme, 2 h v_scale (one step of travel at the contact
 // speed scale).
+// The deepest penetration of x over every wall: max_j n_j . x - d_j.
+double DeepestPenetration(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& x) {
+  double p = -std::numeric_limits<double>::infinity();
+  for (const Contact& c : model.contacts) p = std::max(p, c.Along(x) - c.gap);
+  return p;
+}
+
 double PenetrationTolerance(Integrator integrator, const ValidateOptions& o, double gap, double v_scale) {
   switch (integrator) {
     case Integrator::kExact: return 1e-9 * gap;
@@ -280,14 +287,8 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
   // the sequence's impact k + 1, the last one the impact at T (the first).
   std::vector<int> sequence = orbit.sequence;
   if (sequence.empty()) sequence.assign(orbit.impacts, 0);
-  // The deepest penetration over every wall.
-  auto penetration = [&](const Eigen::VectorXd& z) {
-    double p = -std::numeric_limits<double>::infinity();
-    for (const Contact& c : model.contacts) p = std::max(p, c.Along(z.head(n)) - c.gap);
-    return p;
-  };
   obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
-    v.max_penetration = std::max(v.max_penetration, penetration(z));
+    v.max_penetration = std::max(v.max_penetration, DeepestPenetration(model, z.head(n)));
     if (t == 0.0) return;
     const double dev = (z - z_mid).norm() / z_mid.norm();
     v.deviation.push_back(dev);
@@ -295,7 +296,7 @@ OrbitValidation ValidateOrbit(const Model& model, const Orbit& orbit, Integrator
   };
   obs.on_impact = [&](const ContactEvent& ev) {
     ++v.impacts;
-    v.max_penetration = std::max(v.max_penetration, penetration(ev.before));
+    v.max_penetration = std::max(v.max_penetration, DeepestPenetration(model, ev.before.head(n)));
     if (ev.t < period - t_mid + 0.5 * first_flight) {  // the first period of the run
       const std::size_t k = static_cast<std::size_t>(v.first_period_impacts++);
       if (k < predicted.size()) {
@@ -430,19 +431,22 @@ std::vector<OrbitValidation> ValidateOrbits(const Model& model, const std::vecto
 
 ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit& orbit, Integrator integrator,
                                           const ValidateOptions& options) {
-  const ForcedProblem problem(model, orbit.impacts, orbit.periods, orbit.frequency, orbit.amplitude);
+  const ForcedProblem problem = orbit.sequence.empty()
+                                    ? ForcedProblem(model, orbit.impacts, orbit.periods, orbit.frequency, orbit.amplitude)
+                                    : ForcedProblem(model, orbit.sequence, orbit.periods, orbit.frequency, orbit.amplitude);
   const Model& m = problem.model();
   const int n = m.dofs();
   const double period = orbit.period;
   ForcedOrbitValidation v;
   v.orbit = orbit;
   v.integrator = integrator;
-  // The predicted impact times in [0, P).
-  std::vector<double> predicted;
+  // The predicted impact times in [0, P), in time order, with their contacts.
+  std::vector<std::pair<double, int>> predicted;
   double nearest = period;
-  for (double t : orbit.times) {
+  for (std::size_t i = 0; i < orbit.times.size(); ++i) {
+    const double t = orbit.times[i];
     const double p = t - period * std::floor(t / period);
-    predicted.push_back(p);
+    predicted.emplace_back(p, orbit.sequence.empty() ? 0 : orbit.sequence[i]);
     nearest = std::min({nearest, p, period - p});
   }
   std::sort(predicted.begin(), predicted.end());
@@ -451,11 +455,12 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
     return v;
   }
   const Eigen::VectorXd z0 = problem.StateAt(orbit, 0.0);
-  const Contact& contact = m.FirstContact();  // the forced analysis's one contact (RequireOneContact)
-  if (contact.Along(z0.head(n)) > contact.gap * (1.0 + 1e-12)) {
-    // Only a non-admissible orbit can be beyond the wall: no motion follows it.
+  if (DeepestPenetration(m, z0.head(n)) > 1e-12 * problem.gap_scale()) {
+    // Only a non-admissible orbit can be beyond a wall: no motion follows it.
     v.consistent = !orbit.admissible;
-    v.reason = "x_c(0) = " + FormatEstimate(contact.Along(z0.head(n))) + " lies beyond the obstacle: " +
+    v.reason = (m.contacts.size() == 1
+                    ? "x_c(0) = " + FormatEstimate(m.contacts[0].Along(z0.head(n))) + " lies beyond the obstacle: "
+                    : "x(0) lies beyond a wall (by " + FormatEstimate(DeepestPenetration(m, z0.head(n))) + "): ") +
                (orbit.admissible ? "yet the orbit was found admissible" : "it breaks, as predicted (not admissible)");
     return v;
   }
@@ -469,9 +474,10 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
                              : 0.1;
   bool broken = false;
   double time_error = 0.0;  // over the first period's impacts that have a predicted time
+  bool wrong_contact = false;  // a first-period impact on another contact than predicted
   SimulationObserver obs;
   obs.on_sample = [&](double t, const Eigen::VectorXd& z) {
-    v.max_penetration = std::max(v.max_penetration, contact.Along(z.head(n)) - contact.gap);
+    v.max_penetration = std::max(v.max_penetration, DeepestPenetration(m, z.head(n)));
     if (t == 0.0) return;
     const double dev = (z - z0).norm() / z0.norm();
     v.deviation.push_back(dev);
@@ -479,27 +485,34 @@ ForcedOrbitValidation ValidateForcedOrbit(const Model& model, const ForcedOrbit&
   };
   obs.on_impact = [&](const ContactEvent& ev) {
     ++v.impacts;
-    v.max_penetration = std::max(v.max_penetration, contact.Along(ev.before.head(n)) - contact.gap);
+    v.max_penetration = std::max(v.max_penetration, DeepestPenetration(m, ev.before.head(n)));
     if (ev.t < period) {
       const std::size_t k = static_cast<std::size_t>(v.first_period_impacts++);
-      if (k < predicted.size()) time_error = std::max(time_error, std::abs(ev.t - predicted[k]));
+      if (k < predicted.size()) {
+        time_error = std::max(time_error, std::abs(ev.t - predicted[k].first));
+        wrong_contact = wrong_contact || ev.contact != predicted[k].second;
+      }
     }
   };
   obs.stop_requested = [&] { return broken; };
   const SimulationSummary sum = Simulate(m, z0.head(n), z0.tail(n), opt, obs);
   // (A linear response, impacts = 0, has no impact times to compare.)
-  if (v.first_period_impacts == orbit.impacts && orbit.impacts > 0) v.impact_time_error = time_error;
+  if (v.first_period_impacts == orbit.impacts && orbit.impacts > 0 && !wrong_contact) v.impact_time_error = time_error;
   v.wall_time_s = sum.wall_time_s;
   const double floor = v.deviation.empty() ? 0.0 : std::max(1e-13, v.deviation.front());
   const std::optional<double> growth = FitGrowth(v.deviation, floor);
   if (growth) v.measured_growth = *growth;
   // The velocity scale of the penetration tolerance: the largest impact velocity.
   double v_scale = 0.0;
-  for (const Eigen::VectorXd& zb : orbit.before) v_scale = std::max(v_scale, std::abs(contact.Along(zb.tail(n))));
+  for (std::size_t i = 0; i < orbit.before.size(); ++i) {
+    const Contact& c = m.contacts[orbit.sequence.empty() ? 0 : orbit.sequence[i]];
+    v_scale = std::max(v_scale, std::abs(c.Along(orbit.before[i].tail(n))));
+  }
   const RunFacts facts{orbit.admissible, orbit.stable, orbit.impacts, predicted_rate, v.first_period_impacts,
                        v.impact_time_error, v.max_penetration, v.deviation, broken, growth, floor, sum};
-  Judge(facts, integrator, options, PenetrationTolerance(integrator, options, contact.gap, v_scale), &v.consistent,
-        &v.reason);
+  Judge(facts, integrator, options, PenetrationTolerance(integrator, options, problem.gap_scale(), v_scale),
+        &v.consistent, &v.reason);
+  if (wrong_contact) v.reason += " (a first-period impact struck another wall than predicted)";
   return v;
 }
 

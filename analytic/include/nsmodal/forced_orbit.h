@@ -15,15 +15,19 @@
 //   x_c(t_i-) = d,  i = 1..m
 // close the system: Newton on u with the state eliminated exactly.
 //
+// With several contacts (issue 24) the orbit has an impact sequence
+// (j_1, ..., j_m): impact i strikes contact j_i, with R = R_{j_i} and the
+// condition n_{j_i} . x(t_i-) = d_{j_i}; one contact, x_c = n . x, is the
+// sequence (1, ..., 1).
 // Admissibility (as for free orbits, paper section 2): every flight stays
-// on its side, x_c(t) <= d strictly inside (checked by the guaranteed search
-// of first_rise.h on the flight's DampedSignal, not by sampling), and every
-// impact arrives towards the obstacle (v_c(t_i-) > 0).
+// on every contact's side, n_j . x(t) <= d_j strictly inside (checked by the
+// guaranteed search of first_rise.h on the flight's DampedSignal, not by
+// sampling), and every impact arrives towards its wall (v_c(t_i-) > 0).
 // Stability: the monodromy just after the first impact,
 //   Phi = S_1 E(tau_m) S_m ... S_2 E(tau_1),
 // with the saltation matrix of an impact under a time-dependent field,
 //   S = R + (f(t, z+) - R f(t, z-)) e_c' / v_c(t-)
-// (f the vector field at the impact time, e_c' z = x_c); multipliers = eig(Phi).
+// (f the vector field at the impact time, e_c' z = n_{j_i} . x); multipliers = eig(Phi).
 #include <Eigen/Dense>
 #include <optional>
 #include <string>
@@ -41,18 +45,22 @@ inline constexpr int kMaxResponsePeriods = 16;
 
 struct ForcedOrbit {
   int impacts = 0, periods = 1;
+  // The contact of each impact (0-based), m entries: all 0 with one contact.
+  std::vector<int> sequence;
   double frequency = 0.0;  // w
   double amplitude = 0.0;  // a = max_i |f_i| of the harmonic force
   double period = 0.0;     // P = n 2 pi / w
   Eigen::VectorXd u;       // (phi, tau_1, ..., tau_{m-1})
   std::vector<double> times;                   // t_1 in [0, 2 pi / w), t_1 < ... < t_m < t_1 + P
   std::vector<Eigen::VectorXd> before, after;  // physical (x, v) at each impact
-  double residual = 0.0;   // max_i |x_c(t_i-) - d|
+  double residual = 0.0;   // max_i |n_{j_i} . x(t_i-) - d_{j_i}|
   // Over one period:
   double energy = 0.0;     // mean mechanical energy (1/P) int E dt, E = v'Mv/2 + x'Kx/2
-  double max_xc = 0.0;     // max x_c (d for an impacting orbit)
-  double min_impact_velocity = 0.0;  // min_i v_c(t_i-): > 0 when every impact arrives
-  double max_interior_gap = 0.0;     // max of x_c - d at interior maxima of the flights (-inf: none)
+  double max_xc = 0.0;     // max x_c = n_1 . x, contact 1's (d_1 when contact 1 is struck)
+  double min_impact_velocity = 0.0;  // min_i v_c(t_i-) towards the wall struck: > 0 when every impact arrives
+  // max of n_j . x - d_j at interior maxima of the flights over every
+  // contact j (-inf: none): > 0 where a flight passes a wall (NC3), 0 at a grazing.
+  double max_interior_gap = 0.0;
   double work = 0.0;         // int v'(f0 + f cos(w t)) dt
   double dissipated = 0.0;   // int v'C v dt
   double impact_loss = 0.0;  // sum_i E(t_i-) - E(t_i+)
@@ -68,11 +76,18 @@ class ForcedProblem {
  public:
   // Throws InputError: "forcing.amplitude" (no harmonic force to scale),
   // "forcing.frequency" (w <= 0 or an undamped resonance), "impacts"/"periods"
-  // (an impossible (m, n)), "system" (undamped with e = 1: the responses are
+  // (an impossible (m, n)), "sequence" (a contact that does not exist),
+  // "system" (undamped with e = 1 on every contact struck: the responses are
   // not isolated).
+  // `sequence`: the contact of each impact (0-based, 1 to kMaxResponseImpacts
+  // entries); the first form is the sequence (0, ..., 0) of m impacts.
   ForcedProblem(const Model& model, int impacts, int periods, double frequency, double amplitude);
+  ForcedProblem(const Model& model, const std::vector<int>& sequence, int periods, double frequency, double amplitude);
 
   int impacts() const { return m_; }
+  const std::vector<int>& sequence() const { return sequence_; }
+  // The length the residuals are measured in: the least gap struck.
+  double gap_scale() const { return gap_scale_; }
   // The model at this frequency and amplitude (the one the orbits solve).
   const Model& model() const { return model_; }
   double period() const { return period_; }
@@ -81,11 +96,11 @@ class ForcedProblem {
   // period() * fastest_rate(); the constructor refuses it beyond
   // 2 pi AnalysisBasis::kMaxPeriodRatio.
   double fastest_rate() const { return fastest_; }
-  // x_c(t_i-) - d for i = 1..m; false outside the domain (a flight <= 0, or
-  // I - A singular).
+  // n_{j_i} . x(t_i-) - d_{j_i} for i = 1..m; false outside the domain (a
+  // flight <= 0, or I - A singular).
   bool Residual(const Eigen::VectorXd& u, Eigen::VectorXd& r) const;
   // Newton from u0 (finite-difference Jacobian), at most max_iterations;
-  // converged when max |r| <= tol * d. nullopt when it leaves the domain or
+  // converged when max |r| <= tol * gap_scale(). nullopt when it leaves the domain or
   // does not converge.
   std::optional<Eigen::VectorXd> Solve(Eigen::VectorXd u0, int max_iterations = 30, double tol = 1e-13) const;
   // The orbit at a solution u with its admissibility, energies and multipliers.
@@ -97,7 +112,8 @@ class ForcedProblem {
   // once (the same orbit from another first impact is recognised).
   std::vector<Eigen::VectorXd> FindAll() const;
   // The canonical u of an orbit: the first impact the one earliest in the
-  // forcing cycle, phi in [0, 2 pi).
+  // forcing cycle among those the sequence may start from (the rotations of
+  // the sequence that leave it unchanged), phi in [0, 2 pi).
   Eigen::VectorXd Canonical(const Eigen::VectorXd& u) const;
 
  private:
@@ -109,16 +125,18 @@ class ForcedProblem {
   Eigen::VectorXd Field(double t, const Eigen::VectorXd& z) const;
 
   Model model_;
+  std::vector<int> sequence_;
   int m_, n_;
-  double w_, amplitude_, period_, fastest_;
+  double w_, amplitude_, period_, fastest_, gap_scale_ = 0.0;
   ForcedFlow flow_;
-  Eigen::MatrixXd impact_;  // R
+  std::vector<Eigen::MatrixXd> impact_;  // R_j, per contact
   Eigen::MatrixXd minv_k_, minv_d_;
   Eigen::VectorXd minv_f0_, minv_f_;
 };
 
 // The non-impacting steady state (m = 0): x_s + Re[X e^{i w t}] with
-// max x_c = x_s,c + |X_c|; admissible while max x_c <= d.
+// max n_j . x = n_j . x_s + |n_j . X|; admissible while that is <= d_j for every
+// contact j (max_xc: contact 1's; max_interior_gap: the largest excess).
 ForcedOrbit LinearResponse(const Model& model, double frequency, double amplitude);
 
 }  // namespace nsmodal

@@ -114,9 +114,9 @@ std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int imp
                                   const SweepOptions& options = {}, const std::string& field = "period");
 
 // A sequence "1,2" as the contacts' 0-based indices, checked against the
-// basis's contacts: 1 or 2 entries, each a contact's number; throws
-// InputError naming `field` and the value otherwise.
-std::vector<int> ParseSequence(const std::string& text, int contacts, const std::string& field);
+// basis's contacts: 1 to max_entries entries (the free orbits: 1 or 2), each
+// a contact's number; throws InputError naming `field` and the value otherwise.
+std::vector<int> ParseSequence(const std::string& text, int contacts, const std::string& field, int max_entries = 2);
 
 // A face's impacts and sequence (CLI --impacts/--sequence, Python's
 // impacts=/sequence=): the sequence if given (impacts then 1, its default, or

@@ -43,6 +43,9 @@ enum class ResponseParameter { kFrequency, kAmplitude };
 
 struct ResponseOptions {
   int impacts = 1;  // m (0: the linear response)
+  // The contact of each impact (0-based, issue 24), `impacts` entries; empty:
+  // every impact on contact 1.
+  std::vector<int> sequence;
   int periods = 1;  // n
   ResponseParameter parameter = ResponseParameter::kFrequency;
   PeriodGrid grid;  // values of the parameter (w, or a)
@@ -85,15 +88,17 @@ ResponseCurve ComputeResponse(const Model& model, const ResponseOptions& options
 // whose nonsmooth modes the responses are compared with.
 Model ConservativeTwin(const Model& model);
 
-// The twin's 1-ipp nonsmooth mode over frequencies w = 2 pi / T in
+// The twin's 1-ipp nonsmooth mode (on contact `contact`) over frequencies w = 2 pi / T in
 // [w_from, w_to] (T on a grid of `points` periods), with stability.
-Sweep BackboneSweep(const Model& model, double w_from, double w_to, long points, const SweepOptions& options = {});
+Sweep BackboneSweep(const Model& model, double w_from, double w_to, long points, const SweepOptions& options = {},
+                    int contact = 0);
 
 // The frequency 2 pi / T of the twin's admissible 1-ipp orbit with mean
 // energy `energy`, nearest to `near`: Brent on E(T) - energy between the two
 // neighbouring sweep orbits that bracket it. nullopt when no admissible
 // stretch of the sweep reaches that energy.
-std::optional<double> BackboneFrequency(const Model& model, const Sweep& backbone, double energy, double near);
+std::optional<double> BackboneFrequency(const Model& model, const Sweep& backbone, double energy, double near,
+                                        int contact = 0);
 
 // A response request as the faces take it: the parameter `swept` over
 // `grid`, the other one held at each of `levels` (none given: the model's
@@ -104,9 +109,13 @@ struct ResponseRequest {
   ResponseOptions options;
   std::vector<double> levels;
 };
+// `sequence`: the contacts of the impacts as text ("1,2", the CLI's
+// --sequence), checked against the model's contacts; it sets m (impacts must
+// then be 1, its default, or the sequence's length).
 ResponseRequest MakeResponseRequest(const Model& model, ResponseParameter swept, const PeriodGrid& grid,
                                     std::vector<double> levels, int impacts, int periods,
-                                    const FieldNames& names = FieldNames());
+                                    const FieldNames& names = FieldNames(),
+                                    const std::optional<std::string>& sequence = std::nullopt);
 
 // A point of a response with the number of its branch (1-based): a row of
 // response.csv (report/tables.h), of Python's response()["rows"].
@@ -146,6 +155,10 @@ struct BackboneMatch {
   // points and where no admissible stretch of the mode reaches the energy.
   std::vector<std::optional<double>> mode_frequency;
 };
+// Why a response has no backbone (nullopt: it has one): its impacts strike
+// several contacts, or the model has a rigid-body mode (an impact damper).
+std::optional<std::string> NoBackbone(const Model& model, const ResponseOptions& options);
+// (Requires !NoBackbone(model, options).)
 BackboneMatch MatchBackbone(const Model& model, const ResponseOptions& options, const std::vector<SpecialPoint>& points,
                             const std::function<void(long done, long count)>& progress = {});
 

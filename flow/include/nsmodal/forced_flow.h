@@ -14,6 +14,15 @@
 // sinusoid at w, whose derivatives have closed-form bounds for s >= 0, so the
 // guaranteed impact search of first_rise.h carries over.
 //
+// Rigid-body modes (K semi-definite: a free mass, an impact damper's ball,
+// issue 24): with Phi_0 the M-orthonormal basis of ker K, the rigid
+// coordinates q = Phi_0' M x fly as a free drift, q(t + s) = q + s q', when
+// the damping leaves them alone (C Phi_0 = 0: the rigid motion is undamped,
+// A has a 2 x 2 Jordan block at 0 per rigid mode) and no constant force
+// pushes them (Phi_0' f0 = 0); the M-orthogonal complement is invariant
+// (K and C vanish on Phi_0) and flies through the eigenvectors as above. The
+// harmonic force's rigid part is in X (K - w^2 M + i w C is regular for w > 0).
+//
 // Limits (InputError): a nearly defective A (a mode at critical damping,
 // zeta = 1, has one eigenvector for a double eigenvalue: the eigenvector
 // matrix's condition number above kMaxModeCondition), and undamped resonant
@@ -27,12 +36,14 @@
 
 namespace nsmodal {
 
-// f(s) = offset + Re sum_j beta_j exp(mu_j s), Re mu_j <= 0, for s >= 0.
+// f(s) = offset + slope s + Re sum_j beta_j exp(mu_j s), Re mu_j <= 0, for
+// s >= 0 (slope: a rigid-body drift; 0 without one).
 struct DampedSignal {
-  double offset = 0.0;
+  double offset = 0.0, slope = 0.0;
   Eigen::VectorXcd beta, mu;
-  // bound[k] >= sup_{s >= 0} |f^(k)(s)| = sum_j |beta_j| |mu_j|^k for k >= 1
-  // (|exp(mu s)| <= 1); bound[0] = sum_j |beta_j|.
+  // bound[k] >= sup_{s >= 0} |f^(k)(s)| = sum_j |beta_j| |mu_j|^k for k >= 2
+  // (|exp(mu s)| <= 1), that plus |slope| for k = 1; bound[0] = sum_j
+  // |beta_j|, the oscillating part's (a scale for tolerances).
   double bound[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
 
   void UpdateBounds();
@@ -58,22 +69,27 @@ class ForcedFlow {
   // Above this the eigenvector matrix of A leaves fewer than 8 digits.
   static constexpr double kMaxModeCondition = 1e8;
 
-  // M, K symmetric positive definite n x n, C symmetric positive semi-definite
-  // n x n or empty, f0 and f of length n or empty; n may be 0 (every dof held).
+  // M symmetric positive definite n x n, K symmetric positive semi-definite
+  // (rigid-body modes as above), C symmetric positive semi-definite n x n or
+  // empty, f0 and f of length n or empty; n may be 0 (every dof held).
   // frequency: w of the harmonic terms (0: none), kept even when f = 0 here,
   // for the c1 cos(w t) of Observe (a force acting only on a held dof).
-  // Throws InputError naming "system" (a nearly defective mode) or
-  // "forcing.frequency" (undamped resonance).
+  // Throws InputError naming "system" (a nearly defective mode),
+  // "forcing.frequency" (undamped resonance), "system.damping_matrix" (damping
+  // of a rigid-body motion) or "forcing.constant" (a constant force on one).
   ForcedFlow(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping, const Eigen::MatrixXd& stiffness,
              const Eigen::VectorXd& constant_force, const Eigen::VectorXd& force_amplitude, double frequency);
   explicit ForcedFlow(const Model& model);
 
   int dofs() const { return n_; }
   double frequency() const { return w_; }
-  const Eigen::VectorXd& static_response() const { return x_static_; }  // x_s
+  // x_s (K x_s = f0; its rigid part 0 with rigid-body modes).
+  const Eigen::VectorXd& static_response() const { return x_static_; }
   const Eigen::VectorXcd& harmonic_response() const { return x_harmonic_; }  // X
-  // The eigenvalues of A, one of each conjugate pair (Im >= 0).
+  // The eigenvalues of A, one of each conjugate pair (Im >= 0), without the
+  // rigid-body modes' (0, twice each: a drift).
   Eigen::VectorXcd Eigenvalues() const;
+  int rigid_modes() const { return static_cast<int>(rigid_.cols()); }
 
   // z_p(t), the particular solution.
   Eigen::VectorXd Particular(double t) const;
@@ -96,6 +112,8 @@ class ForcedFlow {
   Eigen::VectorXcd lambda_;
   Eigen::MatrixXcd v_, v_inv_;
   Eigen::VectorXd weight_;
+  // The rigid-body modes: Phi_0 (n x r) and Phi_0' M (r x n).
+  Eigen::MatrixXd rigid_, rigid_coord_;
 };
 
 }  // namespace nsmodal
