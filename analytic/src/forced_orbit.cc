@@ -128,6 +128,23 @@ ForcedProblem::ForcedProblem(const Model& model, const std::vector<int>& sequenc
                                  contact.normal.transpose();
     impact_.push_back(std::move(r));
   }
+  rigid_ = flow_.rigid_modes();
+  if (rigid_ > 0) {
+    const Eigen::MatrixXd& phi0 = flow_.rigid_basis();
+    kick_ = Eigen::MatrixXd::Zero(2 * n, rigid_);
+    kick_.bottomRows(n) = phi0;
+    gauge_ = Eigen::MatrixXd::Zero(rigid_, 2 * n);
+    gauge_.leftCols(n) = phi0.transpose() * model_.mass;
+    gap_shift_.resize(m_, rigid_);
+    for (int i = 0; i < m_; ++i) gap_shift_.row(i) = model_.contacts[sequence_[i]].normal.transpose() * phi0;
+    const Eigen::FullPivLU<Eigen::MatrixXd> g(gap_shift_);
+    if (g.rank() < rigid_) {
+      throw InputError("sequence", "strikes no contact that moves " +
+                                       std::string(rigid_ == 1 ? "the rigid-body mode" : "every rigid-body mode") +
+                                       " (the free part's position is left undetermined): a free mass's response "
+                                       "must strike a wall that stops it");
+    }
+  }
   minv_k_ = m_ldlt.solve(model_.stiffness);
   minv_d_ = m_ldlt.solve(model_.DampingMatrix());
   minv_f0_ = m_ldlt.solve(model_.ConstantForce());
@@ -143,7 +160,7 @@ Eigen::VectorXd ForcedProblem::Field(double t, const Eigen::VectorXd& z) const {
 }
 
 bool ForcedProblem::Run(const Eigen::VectorXd& u, Pass& pass) const {
-  NSMODAL_CHECK(u.size() == m_);
+  NSMODAL_CHECK(u.size() == unknowns());
   if (!u.allFinite()) return false;
   std::vector<double> tau(m_);
   double used = 0.0;
@@ -170,9 +187,25 @@ bool ForcedProblem::Run(const Eigen::VectorXd& u, Pass& pass) const {
     a = r * (e[i] * a);
     b = r * (e[i] * (b - flow_.Particular(t0)) + flow_.Particular(t0 + tau[i]));
   }
-  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(Eigen::MatrixXd::Identity(dim, dim) - a);
-  if (!(lu.rcond() > 1e-14)) return false;
-  Eigen::VectorXd z = lu.solve(b);
+  Eigen::VectorXd z;
+  if (rigid_ == 0) {
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(Eigen::MatrixXd::Identity(dim, dim) - a);
+    if (!(lu.rcond() > 1e-14)) return false;
+    z = lu.solve(b);
+  } else {
+    Eigen::MatrixXd bordered = Eigen::MatrixXd::Zero(dim + rigid_, dim + rigid_);
+    bordered.topLeftCorner(dim, dim) = Eigen::MatrixXd::Identity(dim, dim) - a;
+    bordered.topRightCorner(dim, rigid_) = kick_;
+    bordered.bottomLeftCorner(rigid_, dim) = gauge_;
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(dim + rigid_);
+    rhs.head(dim) = b;
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(bordered);
+    if (!(lu.rcond() > 1e-14)) return false;
+    const Eigen::VectorXd sol = lu.solve(rhs);
+    z = sol.head(dim);
+    z.head(model_.dofs()) += flow_.rigid_basis() * u.tail(rigid_);
+    pass.drift = sol.tail(rigid_) * period_;
+  }
   pass.before.assign(m_, Eigen::VectorXd());
   pass.after.assign(m_, Eigen::VectorXd());
   pass.after[0] = z;
@@ -190,25 +223,28 @@ bool ForcedProblem::Run(const Eigen::VectorXd& u, Pass& pass) const {
 bool ForcedProblem::Residual(const Eigen::VectorXd& u, Eigen::VectorXd& r) const {
   Pass pass;
   if (!Run(u, pass)) return false;
-  r.resize(m_);
+  r.resize(unknowns());
   const int n = model_.dofs();
   for (int i = 0; i < m_; ++i) {
     const Contact& contact = model_.contacts[sequence_[i]];
     r[i] = contact.Along(pass.before[i].head(n)) - contact.gap;
   }
+  if (rigid_ > 0) r.tail(rigid_) = pass.drift;
   return r.allFinite();
 }
 
 std::optional<Eigen::VectorXd> ForcedProblem::Solve(Eigen::VectorXd u, int max_iterations, double tol) const {
-  Eigen::VectorXd r(m_), rp(m_), rm(m_);
+  const int k_count = unknowns();
+  Eigen::VectorXd r(k_count), rp(k_count), rm(k_count);
   if (!Residual(u, r)) return std::nullopt;
   for (int it = 0; it < max_iterations; ++it) {
     if (r.cwiseAbs().maxCoeff() <= tol * gap_scale_) return u;
     // Central differences: the Jacobian to ~h^2, enough for Newton's
     // quadratic convergence to the residual's round-off.
-    Eigen::MatrixXd j(m_, m_);
-    for (int k = 0; k < m_; ++k) {
-      const double h = 1e-6 * (k == 0 ? 1.0 : period_);
+    Eigen::MatrixXd j(k_count, k_count);
+    for (int k = 0; k < k_count; ++k) {
+      // (The residual is affine in a shift c: any step is exact.)
+      const double h = 1e-6 * (k == 0 ? 1.0 : k < m_ ? period_ : gap_scale_);
       Eigen::VectorXd up = u, um = u;
       up[k] += h;
       um[k] -= h;
@@ -259,9 +295,10 @@ Eigen::VectorXd ForcedProblem::Canonical(const Eigen::VectorXd& u) const {
       best = k;
     }
   }
-  Eigen::VectorXd out(m_);
+  Eigen::VectorXd out(unknowns());
   out[0] = w_ * best_phase;
   for (int i = 1; i < m_; ++i) out[i] = tau[(best + i - 1) % m_];
+  out.tail(rigid_) = u.tail(rigid_);
   return out;
 }
 
@@ -277,7 +314,7 @@ std::vector<Eigen::VectorXd> ForcedProblem::FindAll() const {
     }
     found.push_back(c);
   };
-  if (m_ == 1) {
+  if (m_ == 1 && rigid_ == 0) {
     // r(phi) on 256 phases; Brent on each sign change, then Newton.
     constexpr int kScan = 256;
     Eigen::VectorXd r(1), u(1);
@@ -302,22 +339,29 @@ std::vector<Eigen::VectorXd> ForcedProblem::FindAll() const {
     }
     return found;
   }
-  // m >= 2: the residual on a grid of phases and flight durations (K per
-  // axis, fewer as m grows), Newton from each local minimum of |r| (over the
-  // grid neighbours, the phase periodic).
-  const int k_axis = m_ == 2 ? 32 : (m_ == 3 ? 12 : 6);
+  // m >= 2 (or rigid-body modes): the residual on a grid of phases and
+  // flight durations (K per axis, fewer as m grows), Newton from each local
+  // minimum of |r| (over the grid neighbours, the phase periodic). The rigid
+  // shifts c at a grid point: those that fit the gaps best (least squares;
+  // the gaps are affine in c, the drifts do not depend on it).
+  const int k_axis = m_ == 1 ? 64 : m_ == 2 ? 32 : (m_ == 3 ? 12 : 6);
   long cells = 1;
   for (int i = 0; i < m_; ++i) cells *= k_axis;
+  const int k_count = unknowns();
+  std::optional<Eigen::ColPivHouseholderQR<Eigen::MatrixXd>> fit;
+  if (rigid_ > 0) fit.emplace(gap_shift_);
   auto point = [&](long index) {
-    Eigen::VectorXd u(m_);
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(k_count);
     for (int i = 0; i < m_; ++i, index /= k_axis) {
       const long k = index % k_axis;
       u[i] = i == 0 ? 2.0 * M_PI * (k + 0.5) / k_axis : period_ * (k + 0.5) / (k_axis * (m_ - 1) + 1);
     }
+    Eigen::VectorXd r;
+    if (fit && Residual(u, r)) u.tail(rigid_) = -fit->solve(r.head(m_));
     return u;
   };
   std::vector<double> norm(cells, std::numeric_limits<double>::infinity());
-  Eigen::VectorXd r(m_);
+  Eigen::VectorXd r(k_count);
   for (long c = 0; c < cells; ++c) {
     if (Residual(point(c), r)) norm[c] = r.norm();
   }
@@ -523,6 +567,8 @@ ForcedOrbit LinearResponse(const Model& model, double frequency, double amplitud
     mult.push_back(std::exp(lambda[k] * o.period));
     if (lambda[k].imag() > 0.0) mult.push_back(std::conj(mult.back()));
   }
+  // A rigid-body mode drifts: the multiplier 1, twice (a Jordan block).
+  for (int k = 0; k < 2 * flow.rigid_modes(); ++k) mult.push_back(1.0);
   o.multipliers = Eigen::Map<Eigen::VectorXcd>(mult.data(), static_cast<Eigen::Index>(mult.size()));
   o.max_multiplier = o.multipliers.cwiseAbs().maxCoeff();
   o.stable = o.max_multiplier < 1.0;

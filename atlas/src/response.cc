@@ -54,17 +54,25 @@ namespace {
 using Vec = Eigen::VectorXd;
 
 // Continuation of the (m, n) family in scaled coordinates
-// xi = (phi / 2 pi, tau_1 / P0, ..., tau_{m-1} / P0, lambda / L).
+// xi = (phi / 2 pi, tau_1 / P0, ..., tau_{m-1} / P0, c_1 / d, ..., c_r / d,
+// lambda / L), with the shifts c of the r rigid-body modes (forced_orbit.h)
+// scaled by the least gap struck d.
 class Tracer {
  public:
-  Tracer(const Model& model, const ResponseOptions& opt) : model_(model), opt_(opt), m_(opt.impacts) {
+  Tracer(const Model& model, const ResponseOptions& opt)
+      : model_(model), opt_(opt), m_(opt.impacts), k_(opt.impacts + RigidBodyModes(model.stiffness)) {
     const double mid = 0.5 * (opt.grid.from + opt.grid.to);
     const double w_mid = opt.parameter == ResponseParameter::kFrequency ? mid : opt.fixed;
     period_scale_ = opt.periods * 2.0 * M_PI / w_mid;
     lambda_scale_ = std::max(opt.grid.to - opt.grid.from, opt.grid.step);
+    gap_scale_ = model.contacts[0].gap;
+    if (!opt.sequence.empty()) {
+      gap_scale_ = std::numeric_limits<double>::infinity();
+      for (int c : opt.sequence) gap_scale_ = std::min(gap_scale_, model.contacts[c].gap);
+    }
   }
-  int dim() const { return m_ + 1; }
-  double Lambda(const Vec& xi) const { return xi[m_] * lambda_scale_; }
+  int dim() const { return k_ + 1; }
+  double Lambda(const Vec& xi) const { return xi[k_] * lambda_scale_; }
   double LambdaScale() const { return lambda_scale_; }
   // Frequency and amplitude at lambda.
   double Frequency(double lambda) const { return opt_.parameter == ResponseParameter::kFrequency ? lambda : opt_.fixed; }
@@ -76,17 +84,19 @@ class Tracer {
                                                  Amplitude(lambda));
   }
   Vec U(const Vec& xi) const {
-    Vec u = xi.head(m_);
+    Vec u = xi.head(k_);
     u[0] *= 2.0 * M_PI;
     for (int i = 1; i < m_; ++i) u[i] *= period_scale_;
+    for (int i = m_; i < k_; ++i) u[i] *= gap_scale_;
     return u;
   }
   Vec Xi(const Vec& u, double lambda) const {
-    Vec xi(m_ + 1);
-    xi.head(m_) = u;
+    Vec xi(k_ + 1);
+    xi.head(k_) = u;
     xi[0] /= 2.0 * M_PI;
     for (int i = 1; i < m_; ++i) xi[i] /= period_scale_;
-    xi[m_] = lambda / lambda_scale_;
+    for (int i = m_; i < k_; ++i) xi[i] /= gap_scale_;
+    xi[k_] = lambda / lambda_scale_;
     return xi;
   }
   // H(xi) = (n_j . x(t_i-) - d_j) / gap_scale (d for one contact).
@@ -98,12 +108,12 @@ class Tracer {
     r /= p->gap_scale();
     return true;
   }
-  // dH/dxi, m x (m + 1), by central differences (h = 1e-7: truncation
-  // ~1e-14, round-off ~1e-9 relative; Newton needs no more).
+  // dH/dxi, k x (k + 1) (k = m + r), by central differences (h = 1e-7:
+  // truncation ~1e-14, round-off ~1e-9 relative; Newton needs no more).
   bool Jacobian(const Vec& xi, Eigen::MatrixXd& j) const {
-    j.resize(m_, m_ + 1);
+    j.resize(k_, k_ + 1);
     Vec rp, rm;
-    for (int k = 0; k <= m_; ++k) {
+    for (int k = 0; k <= k_; ++k) {
       const double h = 1e-7;
       Vec a = xi, b = xi;
       a[k] += h;
@@ -127,9 +137,9 @@ class Tracer {
     Eigen::MatrixXd j;
     for (int it = 0; it < 12; ++it) {
       if (!H(xi, r) || !Jacobian(xi, j)) return std::nullopt;
-      Eigen::MatrixXd a(m_ + 1, m_ + 1);
+      Eigen::MatrixXd a(k_ + 1, k_ + 1);
       a << j, n.transpose();
-      Vec f(m_ + 1);
+      Vec f(k_ + 1);
       f << r, n.dot(xi - xi0);
       const Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
       if (!lu.isInvertible()) return std::nullopt;
@@ -154,8 +164,8 @@ class Tracer {
  private:
   const Model& model_;
   const ResponseOptions& opt_;
-  int m_;
-  double period_scale_ = 1.0, lambda_scale_ = 1.0;
+  int m_, k_;  // impacts; unknowns (impacts plus rigid-body modes)
+  double period_scale_ = 1.0, lambda_scale_ = 1.0, gap_scale_ = 1.0;
 };
 
 // A point of a branch with its test functions.

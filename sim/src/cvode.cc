@@ -33,9 +33,25 @@ struct UserData {
   const ContactModel* cm;
   std::vector<int> held;    // the held contacts
   Eigen::MatrixXd g_inv;    // several held: (H M^-1 H')^-1 over them
+  // The free contacts whose normal lies in the held normals' span (the other
+  // wall of a held pair): their normal velocity is 0 while held, identically,
+  // so their velocity root is inactive (CVODE refuses a root function that
+  // stays at zero).
+  std::vector<char> locked;
   void SetHeld(const std::vector<int>& set) {
     held = set;
     if (held.size() > 1) g_inv = cm->DelassusBlock(held).inverse();
+    locked.assign(cm->NumContacts(), 0);
+    if (held.empty()) return;
+    const int n = cm->model.dofs();
+    Eigen::MatrixXd normals(n, static_cast<Eigen::Index>(held.size()));
+    for (std::size_t i = 0; i < held.size(); ++i) normals.col(static_cast<Eigen::Index>(i)) = cm->contact(held[i]).normal;
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(normals);
+    for (int k = 0; k < cm->NumContacts(); ++k) {
+      const Eigen::VectorXd& nk = cm->contact(k).normal;
+      const Eigen::VectorXd off = nk - normals * qr.solve(nk);
+      locked[k] = off.norm() <= 1e-12 * nk.norm() ? 1 : 0;
+    }
   }
   // The held contacts' forces from the free acceleration a: lambda = W H a
   // (one contact: a_j / w_j; several: G^-1 H a).
@@ -101,7 +117,7 @@ int Roots(realtype t, N_Vector zv, realtype* g, void* data) {
   Eigen::Map<const Eigen::VectorXd> z(N_VGetArrayPointer(zv), 2 * n);
   for (int j = 0; j < cm.NumContacts(); ++j) {
     g[2 * j] = cm.Gap(j, z.head(n));
-    g[2 * j + 1] = cm.NormalVelocity(j, z.tail(n));
+    g[2 * j + 1] = ud->held.empty() || !ud->locked[j] ? cm.NormalVelocity(j, z.tail(n)) : 1.0;
   }
   // A held contact's root is its force (one: its free normal acceleration, a
   // positive multiple of it); its velocity root is inactive.

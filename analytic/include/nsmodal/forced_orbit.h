@@ -15,6 +15,18 @@
 //   x_c(t_i-) = d,  i = 1..m
 // close the system: Newton on u with the state eliminated exactly.
 //
+// Rigid-body modes (an impact damper's free mass, issue 24): a shift of the
+// free part's position, z -> z + (Phi_0 c, 0), is a fixed direction of every
+// flight and impact, so I - A is singular and solvable only when the free
+// part's momentum closes over the period. The state is then the solution of
+// the bordered system
+//   [I - A, (0, Phi_0); (Phi_0' M, 0), 0] (z; sigma) = (b; 0)
+// (sigma: the jump of the free part's velocity the period would need), plus
+// (Phi_0 c, 0); the unknowns gain the r shifts c and the residuals the r
+// drifts sigma P (lengths: how far the free part would drift in a period),
+// so Newton stays square. Each rigid-body mode must be moved by a contact
+// struck (n_{j_i} . Phi_0 not all 0), or its shift is free.
+//
 // With several contacts (issue 24) the orbit has an impact sequence
 // (j_1, ..., j_m): impact i strikes contact j_i, with R = R_{j_i} and the
 // condition n_{j_i} . x(t_i-) = d_{j_i}; one contact, x_c = n . x, is the
@@ -50,7 +62,7 @@ struct ForcedOrbit {
   double frequency = 0.0;  // w
   double amplitude = 0.0;  // a = max_i |f_i| of the harmonic force
   double period = 0.0;     // P = n 2 pi / w
-  Eigen::VectorXd u;       // (phi, tau_1, ..., tau_{m-1})
+  Eigen::VectorXd u;       // (phi, tau_1, ..., tau_{m-1}, then the r rigid shifts c)
   std::vector<double> times;                   // t_1 in [0, 2 pi / w), t_1 < ... < t_m < t_1 + P
   std::vector<Eigen::VectorXd> before, after;  // physical (x, v) at each impact
   double residual = 0.0;   // max_i |n_{j_i} . x(t_i-) - d_{j_i}|
@@ -85,6 +97,8 @@ class ForcedProblem {
   ForcedProblem(const Model& model, const std::vector<int>& sequence, int periods, double frequency, double amplitude);
 
   int impacts() const { return m_; }
+  // The size of u and of the residual: m plus the rigid-body modes.
+  int unknowns() const { return m_ + rigid_; }
   const std::vector<int>& sequence() const { return sequence_; }
   // The length the residuals are measured in: the least gap struck.
   double gap_scale() const { return gap_scale_; }
@@ -96,8 +110,9 @@ class ForcedProblem {
   // period() * fastest_rate(); the constructor refuses it beyond
   // 2 pi AnalysisBasis::kMaxPeriodRatio.
   double fastest_rate() const { return fastest_; }
-  // n_{j_i} . x(t_i-) - d_{j_i} for i = 1..m; false outside the domain (a
-  // flight <= 0, or I - A singular).
+  // n_{j_i} . x(t_i-) - d_{j_i} for i = 1..m, then the drifts sigma P;
+  // false outside the domain (a flight <= 0, or I - A, or the bordered
+  // system, singular).
   bool Residual(const Eigen::VectorXd& u, Eigen::VectorXd& r) const;
   // Newton from u0 (finite-difference Jacobian), at most max_iterations;
   // converged when max |r| <= tol * gap_scale(). nullopt when it leaves the domain or
@@ -120,18 +135,22 @@ class ForcedProblem {
   struct Pass {
     std::vector<double> times;
     std::vector<Eigen::VectorXd> before, after;
+    Eigen::VectorXd drift;  // sigma P, one per rigid-body mode
   };
   bool Run(const Eigen::VectorXd& u, Pass& pass) const;
   Eigen::VectorXd Field(double t, const Eigen::VectorXd& z) const;
 
   Model model_;
   std::vector<int> sequence_;
-  int m_, n_;
+  int m_, n_, rigid_ = 0;
   double w_, amplitude_, period_, fastest_, gap_scale_ = 0.0;
   ForcedFlow flow_;
   std::vector<Eigen::MatrixXd> impact_;  // R_j, per contact
   Eigen::MatrixXd minv_k_, minv_d_;
   Eigen::VectorXd minv_f0_, minv_f_;
+  // With rigid-body modes: (0, Phi_0) and (Phi_0' M, 0), the borders, and
+  // G = n_{j_i} . Phi_0 (m x r), the gaps' shift per unit c.
+  Eigen::MatrixXd kick_, gauge_, gap_shift_;
 };
 
 // The non-impacting steady state (m = 0): x_s + Re[X e^{i w t}] with

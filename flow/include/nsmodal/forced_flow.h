@@ -90,6 +90,8 @@ class ForcedFlow {
   // rigid-body modes' (0, twice each: a drift).
   Eigen::VectorXcd Eigenvalues() const;
   int rigid_modes() const { return static_cast<int>(rigid_.cols()); }
+  // Phi_0, M-orthonormal (n x rigid_modes()).
+  const Eigen::MatrixXd& rigid_basis() const { return rigid_; }
 
   // z_p(t), the particular solution.
   Eigen::VectorXd Particular(double t) const;

@@ -1,0 +1,236 @@
+// The impact damper (issue 24): a primary mass M on a spring k, forced by
+// F cos(W t), with a free mass m rattling in a cavity of clearance d (two
+// relative contacts, x2 - x1 <= d/2 and x1 - x2 <= d/2, restitution e). Its
+// classical steady state (Masri and Caughey 1966): two impacts per forcing
+// period, one on each wall, half a period apart, the motion antisymmetric
+// (z(t + pi/W) = -z(t)). Derived here from that symmetry alone, as the test's
+// independent oracle, and compared with ForcedProblem's general solution
+// (the affine fixed point with the rigid-body mode bordered, forced_orbit.h),
+// its stability with finite differences of the exact simulator, and the
+// orbits with the three integrators over long horizons.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "nsmodal/error.h"
+#include "nsmodal/forced_orbit.h"
+#include "nsmodal/model.h"
+#include "nsmodal/simulate.h"
+#include "nsmodal/validate.h"
+
+namespace nsmodal {
+namespace {
+
+struct Damper {
+  double big_m = 1.0, k = 1.0, m = 0.1, d = 1.0, e = 0.6, f = 0.3;
+};
+
+Model DamperModel(const Damper& p, double zeta = 0.0) {
+  Model model;
+  model.mass = Eigen::Vector2d(p.big_m, p.m).asDiagonal();
+  model.stiffness = Eigen::Matrix2d::Zero();
+  model.stiffness(0, 0) = p.k;
+  if (zeta > 0.0) {
+    model.damping = Eigen::Matrix2d::Zero();
+    model.damping(0, 0) = 2.0 * zeta * std::sqrt(p.k * p.big_m);
+  }
+  model.contacts = {BetweenContact(2, 1, 0, 0.5 * p.d, p.e), BetweenContact(2, 0, 1, 0.5 * p.d, p.e)};
+  model.forcing.amplitude = Eigen::Vector2d(p.f, 0.0);
+  model.forcing.frequency = 1.0;
+  Validate(model);
+  return model;
+}
+
+// The antisymmetric motion with impacts at t = 0 (the free mass y on the
+// wall y - x = d/2) and t = h = pi/W (on y - x = -d/2), forcing
+// F cos(W t + alpha). With the primary x = A cos(w t) + B sin(w t) + X cos(W t
+// + alpha) on (0, h) (w^2 = k/M, X = F / (k - M W^2)), x(0) = x0, x(h) = -x0,
+// x'(0+) = u+, x'(h-) = -u- (the antisymmetry), the free mass's flight
+// y(h) - y(0) = w+ h = -(2 x0 + d), momentum M (u- - u+) = 2 m w+ (w- = -w+)
+// and Newton's law w+ - u+ = -e (w- - u-): seven linear equations in
+// (A, B, x0, u+, u-, w+, P = X cos alpha, Q = X sin alpha), and P^2 + Q^2 = X^2.
+struct Symmetric {
+  double alpha, x0, u_plus, w_plus, u_minus;
+};
+
+std::vector<Symmetric> MasriCaughey(const Damper& p, double big_w) {
+  const double w = std::sqrt(p.k / p.big_m), h = M_PI / big_w;
+  const double amp = p.f / (p.k - p.big_m * big_w * big_w);
+  const double c = std::cos(w * h), s = std::sin(w * h);
+  Eigen::Matrix<double, 7, 8> l = Eigen::Matrix<double, 7, 8>::Zero();
+  Eigen::Matrix<double, 7, 1> r = Eigen::Matrix<double, 7, 1>::Zero();
+  // Unknowns: 0 A, 1 B, 2 x0, 3 u+, 4 u-, 5 w+, 6 P, 7 Q.
+  l.row(0) << 1, 0, -1, 0, 0, 0, 1, 0;                     // x(0) = x0
+  l.row(1) << 0, w, 0, -1, 0, 0, 0, -big_w;                // x'(0+) = u+
+  l.row(2) << c, s, 1, 0, 0, 0, -1, 0;                     // x(h) = -x0
+  l.row(3) << -w * s, w * c, 0, 0, 1, 0, 0, big_w;         // x'(h-) = -u-
+  l.row(4) << 0, 0, 2, 0, 0, h, 0, 0;                      // w+ h = -(2 x0 + d)
+  r[4] = -p.d;
+  l.row(5) << 0, 0, 0, -p.big_m, p.big_m, -2.0 * p.m, 0, 0;  // momentum
+  l.row(6) << 0, 0, 0, -1, -p.e, 1.0 - p.e, 0, 0;          // restitution
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(l);
+  EXPECT_EQ(lu.rank(), 7);
+  const Eigen::VectorXd base = lu.solve(Eigen::VectorXd(r));
+  EXPECT_LT((l * base - r).norm(), 1e-12);
+  const Eigen::VectorXd null = lu.kernel().col(0);
+  // (P0 + t NP)^2 + (Q0 + t NQ)^2 = X^2.
+  const double qa = null[6] * null[6] + null[7] * null[7];
+  const double qb = 2.0 * (base[6] * null[6] + base[7] * null[7]);
+  const double qc = base[6] * base[6] + base[7] * base[7] - amp * amp;
+  const double disc = qb * qb - 4.0 * qa * qc;
+  std::vector<Symmetric> out;
+  if (disc < 0.0) return out;
+  for (double sign : {-1.0, 1.0}) {
+    const double t = (-qb + sign * std::sqrt(disc)) / (2.0 * qa);
+    const Eigen::VectorXd x = base + t * null;
+    double alpha = std::atan2(x[7] / amp, x[6] / amp);
+    if (alpha < 0.0) alpha += 2.0 * M_PI;
+    out.push_back({alpha, x[2], x[3], x[5], x[4]});
+  }
+  return out;
+}
+
+// The (1, 2) orbits ForcedProblem finds with equal flights (t2 - t1 = P/2).
+std::vector<ForcedOrbit> SymmetricOrbits(const ForcedProblem& problem) {
+  std::vector<ForcedOrbit> out;
+  for (const Eigen::VectorXd& u : problem.FindAll()) {
+    if (std::abs(u[1] - 0.5 * problem.period()) <= 1e-9 * problem.period()) out.push_back(problem.Orbit(u));
+  }
+  return out;
+}
+
+// Each closed-form solution is one of ForcedProblem's, and each symmetric
+// solution of ForcedProblem one of the closed form's: the phase, the state
+// after the first impact and the free mass's velocity. Tolerance: both are
+// solved to round-off (Newton to 1e-13 of d, the closed form by LU); 1e-9
+// leaves the Jacobians' conditioning (~1e3) three orders of room.
+TEST(ImpactDamper, TheSymmetricResponseIsMasriAndCaugheysClosedForm) {
+  const Damper p;
+  const Model model = DamperModel(p);
+  int compared = 0;
+  for (double big_w : {0.6, 0.8, 1.2, 1.5, 2.0}) {
+    const std::vector<Symmetric> closed = MasriCaughey(p, big_w);
+    const ForcedProblem problem(model, std::vector<int>{0, 1}, 1, big_w, p.f);
+    const std::vector<ForcedOrbit> found = SymmetricOrbits(problem);
+    ASSERT_EQ(found.size(), closed.size()) << "W = " << big_w;
+    for (const Symmetric& s : closed) {
+      const ForcedOrbit* match = nullptr;
+      for (const ForcedOrbit& o : found) {
+        if (std::abs(std::remainder(o.u[0] - s.alpha, 2.0 * M_PI)) < 1e-6) match = &o;
+      }
+      ASSERT_NE(match, nullptr) << "W = " << big_w << ": no orbit at alpha = " << s.alpha;
+      const Eigen::VectorXd& z = match->after[0];
+      EXPECT_NEAR(std::remainder(match->u[0] - s.alpha, 2.0 * M_PI), 0.0, 1e-9);
+      EXPECT_NEAR(z[0], s.x0, 1e-9);
+      EXPECT_NEAR(z[1], s.x0 + 0.5 * p.d, 1e-9);  // on the wall y - x = d/2
+      EXPECT_NEAR(z[2], s.u_plus, 1e-9);
+      EXPECT_NEAR(z[3], s.w_plus, 1e-9);
+      EXPECT_NEAR(match->before[0][2], s.u_minus, 1e-9);
+      // The second impact: the antisymmetric image.
+      EXPECT_NEAR(match->after[1][0], -s.x0, 1e-9);
+      EXPECT_NEAR(match->after[1][3], -s.w_plus, 1e-9);
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 6);
+}
+
+// The multipliers of the admissible symmetric orbits (with each wall's saltation matrix
+// and the free mass's drift) against central differences of the exact
+// simulator over one period from t = 0: the monodromy there is similar to
+// the one after the first impact, so the eigenvalues agree. Step 1e-6 of the
+// state: truncation ~1e-12, round-off ~1e-16/1e-6 = 1e-10 of |J|; 1e-6 of
+// max(1, |lambda|) covers the eigenvalues' conditioning.
+TEST(ImpactDamper, ItsStabilityMatchesFiniteDifferencesOfTheSimulator) {
+  const Damper p;
+  const Model model = DamperModel(p);
+  int stable = 0, unstable = 0;
+  for (double big_w : {0.8, 1.2, 1.5}) {
+    const ForcedProblem problem(model, std::vector<int>{0, 1}, 1, big_w, p.f);
+    for (const ForcedOrbit& o : SymmetricOrbits(problem)) {
+      if (!o.admissible) continue;  // (beyond a wall: no motion to differentiate)
+      const Eigen::VectorXd z0 = problem.StateAt(o, 0.0);
+      SimulateOptions opt;
+      opt.integrator = Integrator::kExact;
+      opt.t_end = o.period;
+      opt.sample_dt = o.period;
+      auto end = [&](const Eigen::VectorXd& z) {
+        return Simulate(problem.model(), z.head(2), z.tail(2), opt).final_state;
+      };
+      Eigen::Matrix4d j;
+      for (int k = 0; k < 4; ++k) {
+        const double step = 1e-6 * std::max(1.0, std::abs(z0[k]));
+        Eigen::VectorXd a = z0, b = z0;
+        a[k] += step;
+        b[k] -= step;
+        j.col(k) = (end(a) - end(b)) / (2.0 * step);
+      }
+      Eigen::VectorXcd fd = Eigen::EigenSolver<Eigen::Matrix4d>(j, false).eigenvalues();
+      Eigen::VectorXcd mu = o.multipliers;
+      auto by_modulus = [](Eigen::VectorXcd v) {
+        std::vector<std::complex<double>> s(v.data(), v.data() + v.size());
+        std::sort(s.begin(), s.end(), [](auto x, auto y) {
+          return std::abs(x) != std::abs(y) ? std::abs(x) < std::abs(y) : x.imag() < y.imag();
+        });
+        return s;
+      };
+      const auto a = by_modulus(fd), b = by_modulus(mu);
+      ASSERT_EQ(a.size(), b.size());
+      const double scale = std::max(1.0, std::abs(b.back()));
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        EXPECT_LT(std::abs(a[i] - b[i]), 1e-6 * scale) << "W = " << big_w << ": " << a[i] << " vs " << b[i];
+      }
+      (o.stable ? stable : unstable) += 1;
+    }
+  }
+  // Both kinds occur on these frequencies, so the comparison covers both.
+  EXPECT_GT(stable, 0);
+  EXPECT_GT(unstable, 0);
+}
+
+// The admissible symmetric orbits simulated 200 periods by each integrator
+// agree with their prediction (validate's verdicts: a stable orbit stays,
+// an unstable one departs at its multipliers' rate).
+TEST(ImpactDamper, TheThreeIntegratorsFollowTheOrbitsOverLongHorizons) {
+  const Damper p;
+  const Model model = DamperModel(p);
+  ValidateOptions options;
+  options.periods = 200;
+  int admissible = 0;
+  for (double big_w : {0.8, 1.2, 1.5}) {
+    const ForcedProblem problem(model, std::vector<int>{0, 1}, 1, big_w, p.f);
+    for (const ForcedOrbit& o : SymmetricOrbits(problem)) {
+      if (!o.admissible) continue;
+      ++admissible;
+      for (Integrator integrator : {Integrator::kExact, Integrator::kCvode, Integrator::kMoreauJean}) {
+        const ForcedOrbitValidation v = ValidateForcedOrbit(model, o, integrator, options);
+        EXPECT_TRUE(v.consistent) << "W = " << big_w << ", " << ToString(integrator) << ": " << v.reason;
+      }
+    }
+  }
+  EXPECT_GE(admissible, 2);
+}
+
+// A free mass that no contact struck moves leaves its position undetermined:
+// refused naming the sequence.
+TEST(ImpactDamper, ASequenceThatDoesNotStopTheFreeMassIsRefused) {
+  const Damper p;
+  Model model = DamperModel(p);
+  model.contacts.push_back(DofContact(2, 0, true, 2.0, 0.6));  // the primary's stop
+  Validate(model);
+  try {
+    ForcedProblem problem(model, std::vector<int>{2}, 1, 1.2, p.f);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("sequence: "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("rigid-body mode"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(ForcedProblem(model, std::vector<int>{0, 1}, 1, 1.2, p.f));
+}
+
+}  // namespace
+}  // namespace nsmodal
