@@ -23,6 +23,26 @@ expect_error "\\-\\-sequence: names contact 3" "$bin" orbits "$clear2" --sequenc
 expect_error "\\-\\-sequence: must list" "$bin" orbit "$clear2" --sequence 1,2,1 --period 3
 expect_error "\\-\\-impacts: 2 disagrees" "$bin" orbit "$clear2" --impacts 2 --sequence 2 --period 3
 expect_error "contact 2 (x2 >= -1.2)" "$bin" simulate "$clear2" --x0 0 -1.3 --v0 0 0 --out "$tmp/o"
+# response --sequence: contacts checked, up to 8 impacts, agreeing with --impacts; the
+# impact damper's (1, 2) response written without a backbone (it has a free mass).
+damper=$src/configs/impact-damper.toml
+expect_error "\\-\\-sequence: names contact 3" "$bin" response "$damper" --sequence 1,3 --frequency 1:1.2:0.1 --out "$tmp/o"
+expect_error "\\-\\-sequence: must list the contact of each impact (1 to 8" "$bin" response "$damper" --sequence 1,2,1,2,1,2,1,2,1 --frequency 1:1.2:0.1 --out "$tmp/o"
+expect_error "\\-\\-impacts: 3 disagrees" "$bin" response "$damper" --impacts 3 --sequence 1,2 --frequency 1:1.2:0.1 --out "$tmp/o"
+expect_error "sequence: strikes no contact that moves the rigid-body mode" "$bin" response "$(scene damperstop '[system]\nmasses=[1,0.1]\nsprings=[1,0]\ndamping_ratios=[0,0.02]\n[[contact]]\nbetween=[2,1]\ngap=0.5\nrestitution=0.6\n[[contact]]\ndof=1\ngap=2\nrestitution=0.6\n[forcing]\namplitude=[0.3,0]\nfrequency=1.2\n')" --sequence 2 --frequency 1:1.2:0.1 --out "$tmp/o"
+expect_error "system.damping_matrix: damps a rigid-body motion" "$bin" simulate "$(scene dampedfree '[system]\nmass_matrix=[[1,0],[0,0.1]]\nstiffness_matrix=[[1,0],[0,0]]\ndamping_matrix=[[0.1,0],[0,0.1]]\n[[contact]]\nbetween=[2,1]\ngap=0.5\nrestitution=0.6\n')" --x0 0 0 --v0 0 1 --out "$tmp/o"
+if "$bin" response "$damper" --sequence 1,2 --frequency 1.3:1.5:0.1 --out "$tmp/damper" >"$tmp/damper.log" 2>&1; then
+  grep -q "no backbone: the response's impacts strike several contacts" "$tmp/damper.log" && ok || bad "response --sequence: no backbone note"
+  [ ! -e "$tmp/damper/backbone.csv" ] && ok || bad "response --sequence wrote a backbone"
+  python3 -c "
+import csv
+rows = list(csv.DictReader(open('$tmp/damper/response.csv')))
+assert any(r['admissible'] == '1' and r['stable'] == '1' for r in rows)
+assert all(r['impacts'] == '2' for r in rows)
+" && ok || bad "response --sequence rows"
+else
+  bad "response --sequence on the impact damper failed: $(tail -3 "$tmp/damper.log")"
+fi
 # Decoupled contacts (no common mode): the (1, 2) sequence is a continuum, refused naming the sequence.
 expect_error "sequence: contacts 1 and 2 move no common mode" "$bin" orbit "$(scene decoupled '[system]\nmass_matrix=[[1,0],[0,1]]\nstiffness_matrix=[[1,0],[0,2]]\n[[contact]]\ndof=1\ngap=1\nrestitution=1\n[[contact]]\ndof=2\ngap=1\nrestitution=1\n')" --sequence 1,2 --period 4
 # The paper's figures need contact 1 as an upper stop on a dof.
@@ -40,7 +60,7 @@ fi
 expect_error "cannot open" "$bin" orbit "$tmp/missing.toml" --period 3
 # A built-in scene by name (compiled in from configs/), from a directory that has no such file.
 if env -C "$tmp" "$bin" orbit paper --period 7.5 | grep -q "admissible"; then ok; else bad "orbit paper: no built-in scene"; fi
-expect_error "no built-in scene of that name (bar, clearance, forced, paper-simulate, paper)" env -C "$tmp" "$bin" orbit papr --period 3
+expect_error "no built-in scene of that name (bar, clearance, forced, impact-damper, paper-simulate, paper)" env -C "$tmp" "$bin" orbit papr --period 3
 expect_error "\-\-period" "$bin" orbits "$paper" --period 1:2 --out "$tmp/o"
 expect_error "\-\-period" "$bin" orbits "$paper" --period 5:1:0.1 --out "$tmp/o"
 expect_error "\-\-period" "$bin" orbits "$paper" --period 1:2:0 --out "$tmp/o"

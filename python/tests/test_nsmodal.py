@@ -645,3 +645,15 @@ def test_orbits_of_an_impact_sequence():
         nsmodal.orbits(clearance(), sequence=[1, 3], period=(2.0, 3.0, 0.5))
     with pytest.raises(ValueError, match="impacts: 2 disagrees"):
         nsmodal.orbits(clearance(), impacts=2, sequence=[1], period=(2.0, 3.0, 0.5))
+
+
+def test_the_impact_dampers_response_by_sequence():
+    m = nsmodal.load_scene(os.path.join(os.path.dirname(FORCED), "impact-damper.toml"))
+    r = nsmodal.response(m, sequence=[1, 2], frequency=(1.3, 1.5, 0.05), validate=20)
+    rows = r["rows"]
+    assert np.all(rows["impacts"] == 2) and np.all(rows["residual"] < 1e-12)
+    assert np.any(rows["admissible"] & rows["stable"])
+    assert "backbone" not in r and any(n.startswith("no backbone") for n in r["notes"])
+    assert all(r["validation"]["consistent"])
+    with pytest.raises(ValueError, match="sequence: names contact 3"):
+        nsmodal.response(m, sequence=[1, 3], frequency=(1.3, 1.5, 0.1))

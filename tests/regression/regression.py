@@ -231,6 +231,13 @@ def cases(src):
         ["response.csv", "response_points.csv", "backbone.csv", "response_validation.csv"], "response")
     add("response-forced-amplitude", ["response", forced, "--amplitude", "0.1:0.5:0.05", "--frequency", "0.5"],
         ["response.csv", "response_points.csv"], "response")
+    # The impact damper's (1, 2) response (issue 24: a free mass, two
+    # relative contacts), every point validated by the exact integrator.
+    damper = os.path.join(src, "configs/impact-damper.toml")
+    add("response-damper-12",
+        ["response", damper, "--sequence", "1,2", "--frequency", "0.6:1.6:0.05", "--validate", "20",
+         "--integrators", "exact"],
+        ["response.csv", "response_points.csv", "response_validation.csv"], "response")
     return out
 
 
