@@ -60,10 +60,10 @@ class CMakeBuild(build_ext):
         subprocess.run(build, check=True)
 
         suffix = sysconfig.get_config_var("EXT_SUFFIX")
-        built = glob.glob(os.path.join(build_dir, "python", "nsmodal" + suffix))
+        built = glob.glob(os.path.join(build_dir, "python", "nsmodal", "_nsmodal" + suffix))
         if len(built) != 1:
-            found = glob.glob(os.path.join(build_dir, "python", "nsmodal*"))
-            raise RuntimeError(f"nsmodal: expected python/nsmodal{suffix} in {build_dir}, found {found}")
+            found = glob.glob(os.path.join(build_dir, "python", "nsmodal", "*"))
+            raise RuntimeError(f"nsmodal: expected python/nsmodal/_nsmodal{suffix} in {build_dir}, found {found}")
         destination = self.get_ext_fullpath(ext.name)
         os.makedirs(os.path.dirname(destination), exist_ok=True)
         shutil.copyfile(built[0], destination)
@@ -71,12 +71,15 @@ class CMakeBuild(build_ext):
 
 setup(
     version=cmake_project_version(),
-    # The package is the one extension module; no Python packages (and no
-    # discovery among the C++ folders). Said here rather than in pyproject.toml's
-    # [tool.setuptools], which setuptools 66 still calls beta and warns about.
-    packages=[],
+    # The package nsmodal (python/nsmodal: __init__.py, the stubs and py.typed)
+    # with its extension nsmodal._nsmodal; no discovery among the C++ folders.
+    # Said here rather than in pyproject.toml's [tool.setuptools], which
+    # setuptools 66 still calls beta and warns about.
+    packages=["nsmodal"],
+    package_dir={"nsmodal": "python/nsmodal"},
+    package_data={"nsmodal": ["__init__.pyi", "py.typed"]},
     py_modules=[],
-    ext_modules=[CMakeExtension("nsmodal")],
+    ext_modules=[CMakeExtension("nsmodal._nsmodal")],
     cmdclass={"build_ext": CMakeBuild},
     # Beside CMake's own build/ tree, not inside the CMake cache's directory.
     options={"build": {"build_base": os.path.join("build", "pip")}},

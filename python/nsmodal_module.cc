@@ -615,7 +615,7 @@ std::function<void(long, long)> ProgressOf(const py::object& progress) {
   };
 }
 
-PYBIND11_MODULE(nsmodal, mod) {
+PYBIND11_MODULE(_nsmodal, mod) {
   // Every docstring states its own text signature (Signed).
   py::options options;
   options.disable_function_signatures();

@@ -17,8 +17,12 @@ fi
 cmake -S tests/consumer -B "$work" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$work" -j"$(nproc)" >/dev/null
 "$work/consumer"
-site=$(find "$prefix" -name 'nsmodal.cpython-*.so' -printf '%h\n' | head -1)
-[ -n "$site" ] || { echo "the Python module was not installed" >&2; exit 1; }
+package=$(find "$prefix" -name '_nsmodal.cpython-*.so' -printf '%h\n' | head -1)
+[ -n "$package" ] || { echo "the Python module was not installed" >&2; exit 1; }
+for f in __init__.py __init__.pyi py.typed; do
+  [ -f "$package/$f" ] || { echo "the Python package lacks $f" >&2; exit 1; }
+done
+site=$(dirname "$package")
 (cd "$work" && PYTHONPATH="$site" /usr/bin/python3 -c "
 import nsmodal
 m = nsmodal.load_scene('$src/configs/paper.toml')

@@ -20,6 +20,9 @@ timeout --kill-after=10 "${PIP_INSTALL_TIMEOUT:-900}" \
 import nsmodal
 assert nsmodal.__file__.startswith('$work/v/'), nsmodal.__file__
 assert nsmodal.__version__ == '$expected', (nsmodal.__version__, '$expected')
+import os
+package = os.path.dirname(nsmodal.__file__)
+assert all(os.path.isfile(os.path.join(package, f)) for f in ('__init__.pyi', 'py.typed')), os.listdir(package)
 m = nsmodal.Model(masses=[1, 1], springs=[0.85, 2], gap=1.0, restitution=1.0)
 print('pip install: nsmodal', nsmodal.__version__, 'from', nsmodal.__file__, m.linear_periods)
 ")

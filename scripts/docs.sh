@@ -4,7 +4,7 @@
 # build/docs/html, with warnings as errors, bounded in time, and checks it.
 #
 # Usage: bash scripts/docs.sh [MODULE_DIR]
-#   MODULE_DIR: the directory holding the built Python module (nsmodal*.so), whose
+#   MODULE_DIR: the directory holding the built Python package (nsmodal/), whose
 #   docstrings give the Python reference and which executes the tutorials. Default:
 #   build/python. When it is given explicitly it must import; when the default does
 #   not exist or does not import, the site is built without the Python reference and
