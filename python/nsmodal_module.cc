@@ -110,6 +110,17 @@ int IntOf(py::handle h, const char* name) {
   return static_cast<int>(v);
 }
 
+// A sequence of numbers (a list, a tuple, a 1-D array) as doubles; a string
+// or a scalar is refused naming the argument.
+std::vector<double> DoublesOf(py::handle h, const char* name) {
+  if (py::isinstance<py::str>(h) || !py::isinstance<py::iterable>(h)) {
+    throw py::type_error(std::string(name) + ": must be a sequence of numbers, got " + Repr(h));
+  }
+  std::vector<double> out;
+  for (py::handle item : py::reinterpret_borrow<py::iterable>(h)) out.push_back(RealOf(item, name));
+  return out;
+}
+
 }  // namespace
 
 namespace pybind11::detail {
@@ -1073,7 +1084,10 @@ Returns the dict of summary.json ("status", "final_time", "final_state",
 "t", "x1_before".., "x1_after"..), and "truncation" when modes were dropped.
 on_impact: None or a callable on_impact(t, before, after) (the states
 (x, v) just before and after, arrays of 2N) at each impact; progress: None
-or a callable progress(t, t_end) as the run goes.
+or a callable progress(t, t_end) as the run goes. As in SciPy's solve_ivp,
+t_span=(0, t_end) may give t_end, and t_eval=[...] (ascending, in [0, t_end])
+the trajectory's sample times instead of the sample_dt grid; each sample is
+the exact state at that time (the closed-form flight for "exact").
 A run that stopped early has "status" != "finished" and says why in
 "message".)doc" + KeywordDoc(SimulateSettings(), "simulate");
   mod.def(
@@ -1098,8 +1112,28 @@ A run that stopped early has "status" != "finished" and says why in
                                  Repr(f));
           }
         }
+        // SciPy's names (solve_ivp): t_span = (0, t_end), t_eval = the sample times.
+        if (all.contains("t_span")) {
+          const py::object span = all.attr("pop")("t_span");
+          if (all.contains("t_end")) throw py::type_error("simulate(): give t_span or t_end, not both");
+          const std::vector<double> ends = DoublesOf(span, "t_span");
+          if (ends.size() != 2 || ends[0] != 0.0) {
+            throw InputError("t_span", "must be (0, t_end): the run starts at t = 0 (the forcing's phase counts from "
+                                       "it), got " + Repr(span));
+          }
+          all["t_end"] = ends[1];
+        }
+        std::vector<double> t_eval;
+        if (all.contains("t_eval")) {
+          const py::object times = all.attr("pop")("t_eval");
+          if (all.contains("sample_dt")) throw py::type_error("simulate(): give t_eval or sample_dt, not both");
+          t_eval = DoublesOf(times, "t_eval");
+        }
         const SettingPatch keywords = KeywordPatch(SimulateSettings(), "simulate", all);
         const Configured<SimulationRequest> request = SimulateSettings().Resolve({&keywords});
+        SimulateOptions options = request.options.options;
+        options.sample_times = std::move(t_eval);
+        options.Validate(FieldNames().Set("sample_times", "t_eval"));
         const SimulationPlan plan = PlanSimulation(model, request);
         const int n = model.dofs();
         std::vector<report::Sample> samples;
@@ -1119,7 +1153,7 @@ A run that stopped early has "status" != "finished" and says why in
             progress(t, t_end);
           };
         }
-        const SimulationSummary s = Interruptible([&] { return RunSimulation(model, plan, request.options.options, obs); });
+        const SimulationSummary s = Interruptible([&] { return RunSimulation(model, plan, options, obs); });
         py::dict d = ToPython(report::SimulationJson(s, request));
         if (plan.truncation) d["truncation"] = ToPython(report::TruncationJson(*plan.truncation, plan.initial_energy));
         d["trajectory"] = TableDict(report::TrajectoryColumns(n), Pointers(samples));
@@ -1127,8 +1161,8 @@ A run that stopped early has "status" != "finished" and says why in
         return d;
       },
       py::arg("model"),
-      Signed(TextSignature("simulate", "model, x0=None, v0=None", {"x0", "v0"}, "on_impact=None, progress=None",
-                           SimulateSettings(), "simulate"),
+      Signed(TextSignature("simulate", "model, x0=None, v0=None", {"x0", "v0"},
+                           "on_impact=None, progress=None, t_span=None, t_eval=None", SimulateSettings(), "simulate"),
              simulate_doc));
 
   static const std::string validate_doc =

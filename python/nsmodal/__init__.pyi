@@ -140,6 +140,8 @@ def simulate(
     *,
     on_impact: Optional[Callable[[float, npt.NDArray[np.float64], npt.NDArray[np.float64]], Any]] = None,
     progress: Optional[Callable[[float, float], Any]] = None,
+    t_span: Optional[tuple[float, float]] = None,
+    t_eval: Optional[ArrayLike] = None,
     integrator: str = "exact",
     t_end: float = 100.0,
     rtol: float = 1e-10,

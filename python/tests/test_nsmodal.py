@@ -657,3 +657,23 @@ def test_the_impact_dampers_response_by_sequence():
     assert all(r["validation"]["consistent"])
     with pytest.raises(ValueError, match="sequence: names contact 3"):
         nsmodal.response(m, sequence=[1, 3], frequency=(1.3, 1.5, 0.1))
+
+
+def test_simulate_takes_scipys_t_span_and_t_eval(paper):
+    x0, v0 = [0.5, 0.0], [0.5, 1.2]
+    grid = nsmodal.simulate(paper, x0, v0, t_end=20.0, sample_dt=5.0)["trajectory"]
+    s = nsmodal.simulate(paper, x0, v0, t_span=(0, 20.0), t_eval=np.array([0.0, 5.0, 10.0, 15.0, 20.0]))
+    assert s["final_time"] == 20.0
+    # The same samples as the sample_dt grid's, to the last bit (the same closed-form flight).
+    assert np.array_equal(s["trajectory"]["t"], grid["t"]) and np.array_equal(s["trajectory"]["x2"], grid["x2"])
+    odd = nsmodal.simulate(paper, x0, v0, t_span=(0, 20.0), t_eval=[3.3, 17.0])["trajectory"]
+    assert list(odd["t"]) == [3.3, 17.0]
+    # CVODE at the same times, within its tolerance's reach (rtol 1e-10 over 20 s).
+    c = nsmodal.simulate(paper, x0, v0, t_span=(0, 20.0), t_eval=[3.3, 17.0], integrator="cvode")["trajectory"]
+    assert np.max(np.abs(c["x1"] - odd["x1"])) < 1e-7
+    with pytest.raises(ValueError, match=r"t_span: must be \(0, t_end\)"):
+        nsmodal.simulate(paper, x0, v0, t_span=(1.0, 2.0))
+    with pytest.raises(ValueError, match="t_eval: must ascend strictly"):
+        nsmodal.simulate(paper, x0, v0, t_end=5.0, t_eval=[1.0, 0.5])
+    with pytest.raises(TypeError, match="give t_eval or sample_dt"):
+        nsmodal.simulate(paper, x0, v0, t_eval=[1.0], sample_dt=0.1)

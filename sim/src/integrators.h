@@ -2,6 +2,8 @@
 // The three integrators behind Simulate() (simulate.h). Internal.
 #include <Eigen/Dense>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "nsmodal/contact.h"
 #include "nsmodal/simulate.h"
@@ -18,15 +20,20 @@ inline double ZenoFlightTime(const ContactModel& cm, const SimulateOptions& opt)
 class Sampler {
  public:
   Sampler(const SimulateOptions& options, const SimulationObserver& observer)
-      : dt_(options.sample_dt), t_end_(options.t_end), observer_(observer) {}
-  bool active() const { return dt_ > 0.0 && static_cast<bool>(observer_.on_sample); }
-  double NextTime() const { return next_ * dt_; }
+      : dt_(options.sample_dt), t_end_(options.t_end), times_(options.sample_times), observer_(observer) {}
+  bool active() const { return (dt_ > 0.0 || !times_.empty()) && static_cast<bool>(observer_.on_sample); }
+  // The next sample time: on the sample_dt grid, or the next of sample_times
+  // (infinity past the last).
+  double NextTime() const {
+    if (times_.empty()) return next_ * dt_;
+    return next_ < static_cast<long>(times_.size()) ? times_[next_] : std::numeric_limits<double>::infinity();
+  }
   // state_at(t) gives the physical state at a sample time t in (from, to].
   template <typename F>
   void Emit(double to, F&& state_at) {
     if (!active()) return;
     while (true) {
-      const double t = next_ * dt_;
+      const double t = NextTime();
       if (t > to * (1.0 + 1e-15) || t > t_end_ * (1.0 + 1e-15)) return;
       observer_.on_sample(t, state_at(t));
       ++next_;
@@ -35,6 +42,7 @@ class Sampler {
 
  private:
   double dt_, t_end_;
+  const std::vector<double>& times_;
   const SimulationObserver& observer_;
   long next_ = 0;
 };

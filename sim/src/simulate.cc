@@ -41,6 +41,14 @@ void SimulateOptions::Validate(const FieldNames& name) const {
     if (s.check) s.check(s.get(*this), name(s.info.name));
   }
   // Then the settings taken together.
+  for (std::size_t i = 0; i < sample_times.size(); ++i) {
+    const double t = sample_times[i];
+    if (!(t >= 0.0 && t <= t_end) || (i > 0 && !(t > sample_times[i - 1]))) {
+      throw InputError(name("sample_times"), "must ascend strictly within [0, t_end = " + FormatValue(t_end) +
+                                                 "]; entry " + std::to_string(i + 1) + " is " + FormatValue(t));
+    }
+  }
+  if (sample_times.size() > 10000000) throw InputError(name("sample_times"), "has more than 1e7 times");
   if (sample_dt > 0.0 && t_end / sample_dt > 1e7) {
     throw InputError(name("sample_dt"), "gives more than 1e7 samples over t_end = " + FormatValue(t_end));
   }

@@ -53,6 +53,9 @@ struct SimulateOptions {
   Integrator integrator = Integrator::kExact;
   double t_end = 100.0;
   double sample_dt = 0.01;  // trajectory samples every sample_dt (0: none)
+  // Trajectory samples at these times instead (ascending, in [0, t_end];
+  // empty: the sample_dt grid). Not a scene setting: Python's t_eval.
+  std::vector<double> sample_times;
   // exact: contact is reached when x_c - d >= -root_tol * max(d, amplitude of x_c).
   double root_tol = 1e-14;
   // cvode: relative and absolute tolerances, "bdf" or "adams".
