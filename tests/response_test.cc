@@ -7,6 +7,7 @@
 #include "nsmodal/error.h"
 #include "nsmodal/response.h"
 #include "nsmodal/scene.h"
+#include "nsmodal/two_impact.h"
 
 namespace nsmodal {
 namespace {
@@ -245,6 +246,68 @@ TEST(Response, BadOptionsNameTheField) {
   bad.parameter = ResponseParameter::kAmplitude;
   bad.fixed = -1.0;
   expect(bad, "frequency");
+}
+
+}  // namespace
+}  // namespace nsmodal
+
+namespace nsmodal {
+namespace {
+
+// The forced scene's chain between two stops (x2 <= 0.5, x2 >= -0.5), 2 %
+// damping, e = 0.8: responses of the sequence (1, 2).
+Model ForcedClearance() {
+  Model m = Forced();
+  m.contacts = {DofContact(2, 1, true, 0.5, 0.8), DofContact(2, 1, false, 0.5, 0.8)};
+  Validate(m);
+  return m;
+}
+
+// The (1, 2) response's backbone is the conservative twin's symmetric (1, 2)
+// orbit (t2 = T/2) at each period; a peak's mode frequency is where that
+// family has the peak's energy. Each backbone orbit is TwoImpactOrbitAt's at
+// t2 = T/2 (the same closed form: to the last bit), and the energy at a
+// matched frequency equals the peak's to Brent's tolerance on T (1e-9 of the
+// energy with the slopes here).
+TEST(Response, ATwoContactSequenceHasTheSymmetricFamilyAsItsBackbone) {
+  const Model m = ForcedClearance();
+  ResponseOptions o;
+  o.impacts = 2;
+  o.sequence = {0, 1};
+  o.grid = {0.4, 1.6, 0.02};
+  o.fixed = 0.3;
+  EXPECT_FALSE(NoBackbone(m, o));
+  const ResponseCurve c = ComputeResponse(m, o);
+  ASSERT_FALSE(c.branches.empty());
+  for (const ResponseBranch& b : c.branches) {
+    for (const ForcedOrbit& p : b.points) EXPECT_EQ(p.sequence, (std::vector<int>{0, 1}));
+  }
+  const BackboneMatch match = MatchBackbone(m, o, c.points);
+  const AnalysisBasis twin(ConservativeTwin(m));
+  long orbits = 0;
+  for (std::size_t k = 0; k < match.backbone.periods.size(); ++k) {
+    ASSERT_LE(match.backbone.at[k].size(), 1u);
+    for (const OrbitRecord& r : match.backbone.at[k]) {
+      ++orbits;
+      const double t = match.backbone.periods[k];
+      EXPECT_EQ(r.orbit.times.at(0), 0.5 * t);
+      EXPECT_EQ(r.orbit.energy, TwoImpactOrbitAt(twin, 0.5 * t, t, {}, 0, 1).energy);
+    }
+  }
+  EXPECT_GT(orbits, 1900);  // the symmetric member exists at (nearly) every period
+  int matched = 0;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    if (!match.mode_frequency[i]) continue;
+    ++matched;
+    const double t = 2.0 * M_PI / *match.mode_frequency[i];
+    EXPECT_NEAR(TwoImpactOrbitAt(twin, 0.5 * t, t, {}, 0, 1).energy, c.points[i].orbit.energy,
+                1e-9 * c.points[i].orbit.energy);
+  }
+  EXPECT_GT(matched, 0);
+  // No backbone for other sequences, nor for a model with a free mass.
+  o.impacts = 3;
+  o.sequence = {0, 1, 1};
+  EXPECT_NE(NoBackbone(m, o)->find("neither on one contact nor two contacts"), std::string::npos);
 }
 
 }  // namespace

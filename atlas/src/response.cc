@@ -10,6 +10,7 @@
 #include "nsmodal/check.h"
 #include "nsmodal/error.h"
 #include "nsmodal/one_impact.h"
+#include "nsmodal/two_impact.h"
 #include "nsmodal/roots.h"
 #include "nsmodal/stop.h"
 
@@ -479,8 +480,20 @@ Model ConservativeTwin(const Model& model) {
   return twin;
 }
 
+namespace {
+
+// A backbone of two different contacts struck once each (else one contact's).
+bool TwoContactBackbone(const std::vector<int>& sequence) {
+  return sequence.size() == 2 && sequence[0] != sequence[1];
+}
+
+// The symmetric member of the (a, b) family at period T: t2 = T / 2.
+bool Symmetric(const Orbit& o) { return o.times.size() == 1 && std::abs(o.times[0] - 0.5 * o.period) <= 1e-9 * o.period; }
+
+}  // namespace
+
 Sweep BackboneSweep(const Model& model, double w_from, double w_to, long points, const SweepOptions& options,
-                    int contact) {
+                    const std::vector<int>& sequence) {
   if (!(w_from > 0.0) || !(w_to > w_from) || !std::isfinite(w_to) || points < 2) {
     throw InputError("frequency", "the backbone needs 0 < from < to and at least 2 points, got " +
                                       FormatValue(w_from) + " to " + FormatValue(w_to));
@@ -489,20 +502,36 @@ Sweep BackboneSweep(const Model& model, double w_from, double w_to, long points,
   PeriodGrid grid{2.0 * M_PI / w_to, 2.0 * M_PI / w_from, 0.0};
   grid.step = (grid.to - grid.from) / static_cast<double>(points - 1);
   SweepOptions on_contact = options;
-  on_contact.sequence = {contact};
-  return ComputeSweep(b, grid, 1, on_contact);
+  if (!TwoContactBackbone(sequence)) {
+    on_contact.sequence = {sequence.empty() ? 0 : sequence.front()};
+    return ComputeSweep(b, grid, 1, on_contact);
+  }
+  on_contact.sequence = sequence;
+  Sweep sweep = ComputeSweep(b, grid, 2, on_contact);
+  for (std::vector<OrbitRecord>& orbits : sweep.at) {
+    orbits.erase(std::remove_if(orbits.begin(), orbits.end(), [](const OrbitRecord& r) { return !Symmetric(r.orbit); }),
+                 orbits.end());
+  }
+  return sweep;
 }
 
 std::optional<double> BackboneFrequency(const Model& model, const Sweep& backbone, double energy, double near,
-                                        int contact) {
+                                        const std::vector<int>& sequence) {
   const AnalysisBasis b(ConservativeTwin(model));
+  const bool two = TwoContactBackbone(sequence);
+  const int first = sequence.empty() ? 0 : sequence.front();
+  auto energy_at = [&](double period) {
+    return two ? TwoImpactOrbitAt(b, 0.5 * period, period, {}, sequence[0], sequence[1]).energy
+               : OneImpactOrbit(b, period, {}, first).energy;
+  };
   std::optional<double> best;
   for (std::size_t k = 0; k + 1 < backbone.periods.size(); ++k) {
+    if (backbone.at[k].empty() || backbone.at[k + 1].empty()) continue;
     const Orbit& p = backbone.at[k].front().orbit;
     const Orbit& q = backbone.at[k + 1].front().orbit;
     if (!p.admissible || !q.admissible || (p.energy < energy) == (q.energy < energy)) continue;
-    const double t = PolishRoot([&](double period) { return OneImpactOrbit(b, period, {}, contact).energy - energy; },
-                                backbone.periods[k], backbone.periods[k + 1]);
+    const double t = PolishRoot([&](double period) { return energy_at(period) - energy; }, backbone.periods[k],
+                                backbone.periods[k + 1]);
     const double w = 2.0 * M_PI / t;
     if (!best || std::abs(w - near) < std::abs(*best - near)) best = w;
   }
@@ -582,11 +611,11 @@ ResponseLevels ComputeResponseLevels(const Model& model, const ResponseOptions& 
 
 std::optional<std::string> NoBackbone(const Model& model, const ResponseOptions& options) {
   const std::vector<int>& seq = options.sequence;
-  for (int c : seq) {
-    if (c != seq.front()) {
-      return "the response's impacts strike several contacts: its free counterpart is that sequence's family "
-             "(nsmodal orbits --sequence), not a one-impact mode";
-    }
+  bool one_contact = true;
+  for (int c : seq) one_contact = one_contact && c == seq.front();
+  if (!one_contact && !TwoContactBackbone(seq)) {
+    return "the response's sequence is neither on one contact nor two contacts once each: compare it with that "
+           "sequence's free orbits (nsmodal orbits --sequence, 1 or 2 impacts)";
   }
   if (RigidBodyModes(model.stiffness) > 0) {
     return "the model has a rigid-body mode: its conservative twin has no one-impact mode to follow";
@@ -601,12 +630,13 @@ BackboneMatch MatchBackbone(const Model& model, const ResponseOptions& options, 
   sweep.stability = StabilityPolicy::kAdmissible;
   sweep.progress = progress;
   const double n = options.periods;
-  const int contact = options.sequence.empty() ? 0 : options.sequence.front();
-  BackboneMatch out{BackboneSweep(model, options.grid.from / n, options.grid.to / n, 2000, sweep, contact), {}};
+  BackboneMatch out{BackboneSweep(model, options.grid.from / n, options.grid.to / n, 2000, sweep, options.sequence),
+                    {}};
   for (const SpecialPoint& p : points) {
     // The response's own frequency 2 pi / P, P = n 2 pi / w.
     out.mode_frequency.push_back(p.kind == SpecialKind::kPeak ? BackboneFrequency(model, out.backbone, p.orbit.energy,
-                                                                                  p.orbit.frequency / n, contact)
+                                                                                  p.orbit.frequency / n,
+                                                                                  options.sequence)
                                                               : std::nullopt);
   }
   return out;

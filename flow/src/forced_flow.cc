@@ -58,6 +58,41 @@ double DampedSignal::MaxRate() const {
   return r > 0.0 ? r : 1.0;
 }
 
+RigidBodySplit SplitRigidBody(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
+                              const Eigen::MatrixXd& stiffness, const Eigen::VectorXd& constant_force) {
+  const int n = static_cast<int>(mass.rows());
+  const int rigid = RigidBodyModes(stiffness);
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(stiffness, mass);
+  NSMODAL_CHECK(ges.info() == Eigen::Success);
+  RigidBodySplit out{ges.eigenvectors().leftCols(rigid), ges.eigenvectors().rightCols(n - rigid),
+                     ges.eigenvalues().tail(n - rigid)};
+  // Round-off leaves C Phi_0 and Phi_0' f0 at ~1e-16 of their scales (modal
+  // damping gives a rigid mode the rate 0); 1e-12 of the scale is a real
+  // dashpot or force.
+  const double phi_scale = std::max(1.0, out.rigid.cwiseAbs().maxCoeff());
+  if (damping.size() > 0 && rigid > 0) {
+    const double leak = (damping * out.rigid).cwiseAbs().maxCoeff();
+    if (leak > 1e-12 * damping.cwiseAbs().maxCoeff() * phi_scale) {
+      throw InputError("system.damping_matrix",
+                       "damps a rigid-body motion (|C Phi_0| = " + FormatValue(leak) + ", not 0): nsmodal flies a "
+                       "rigid-body mode as an undamped drift in its closed-form flight (the exact integrator, the "
+                       "forced analysis); damp the relative motion only (a dashpot between masses, not to ground), or "
+                       "simulate with cvode or moreau-jean");
+    }
+  }
+  if (constant_force.size() > 0 && rigid > 0) {
+    const double push = (out.rigid.transpose() * constant_force).cwiseAbs().maxCoeff();
+    if (push > 1e-12 * constant_force.cwiseAbs().maxCoeff() * phi_scale) {
+      throw InputError("forcing.constant",
+                       "pushes a rigid-body mode (|Phi_0' f0| = " + FormatValue(push) + "): the free part would "
+                       "accelerate without bound between impacts, which the closed-form flight (the exact integrator, "
+                       "the forced analysis) does not model; give a constant force the springs hold, or simulate "
+                       "with cvode or moreau-jean");
+    }
+  }
+  return out;
+}
+
 std::optional<Eigen::VectorXcd> HarmonicResponse(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
                                                  const Eigen::MatrixXd& stiffness, const Eigen::VectorXd& force,
                                                  double frequency) {

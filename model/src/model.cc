@@ -6,7 +6,6 @@
 #include <sstream>
 #include <Eigen/Eigenvalues>
 
-#include "nsmodal/check.h"
 #include "nsmodal/error.h"
 
 namespace nsmodal {
@@ -253,39 +252,6 @@ int RigidBodyModes(const Eigen::MatrixXd& stiffness) {
   return CountRigid(SymmetricEigenvalues(stiffness));
 }
 
-RigidBodySplit SplitRigidBody(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
-                              const Eigen::MatrixXd& stiffness, const Eigen::VectorXd& constant_force) {
-  const int n = static_cast<int>(mass.rows());
-  const int rigid = RigidBodyModes(stiffness);
-  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(stiffness, mass);
-  NSMODAL_CHECK(ges.info() == Eigen::Success);
-  RigidBodySplit out{ges.eigenvectors().leftCols(rigid), ges.eigenvectors().rightCols(n - rigid),
-                     ges.eigenvalues().tail(n - rigid)};
-  // Round-off leaves C Phi_0 and Phi_0' f0 at ~1e-16 of their scales (modal
-  // damping gives a rigid mode the rate 0); 1e-12 of the scale is a real
-  // dashpot or force.
-  const double phi_scale = std::max(1.0, out.rigid.cwiseAbs().maxCoeff());
-  if (damping.size() > 0 && rigid > 0) {
-    const double leak = (damping * out.rigid).cwiseAbs().maxCoeff();
-    if (leak > 1e-12 * damping.cwiseAbs().maxCoeff() * phi_scale) {
-      throw InputError("system.damping_matrix",
-                       "damps a rigid-body motion (|C Phi_0| = " + FormatValue(leak) + ", not 0): nsmodal flies a "
-                       "rigid-body mode as an undamped drift; damp the relative motion only (a dashpot between "
-                       "masses, not to ground)");
-    }
-  }
-  if (constant_force.size() > 0 && rigid > 0) {
-    const double push = (out.rigid.transpose() * constant_force).cwiseAbs().maxCoeff();
-    if (push > 1e-12 * constant_force.cwiseAbs().maxCoeff() * phi_scale) {
-      throw InputError("forcing.constant",
-                       "pushes a rigid-body mode (|Phi_0' f0| = " + FormatValue(push) + "): the free part would "
-                       "accelerate without bound between impacts, which the closed-form flight does not model; "
-                       "give a constant force the springs hold");
-    }
-  }
-  return out;
-}
-
 Model MakeChain(const std::vector<double>& masses, const std::vector<double>& springs,
                 int contact, double gap, double restitution) {
   if (masses.size() > static_cast<std::size_t>(kMaxDofs)) {
@@ -488,9 +454,6 @@ int Validate(const Model& model) {
                          " times the linear frequencies (" + FormatValue(w_low / kMaxFrequencyRatio) + " to " +
                          FormatValue(w_high * kMaxFrequencyRatio) + " rad/s), got " + FormatValue(w));
   }
-  // A free part (an impact damper's ball) under damping or forcing: the
-  // flight's conditions on it (forced_flow.h).
-  if (rigid > 0 && !model.Conservative()) SplitRigidBody(model.mass, model.damping, model.stiffness, model.forcing.constant);
   return rigid;
 }
 

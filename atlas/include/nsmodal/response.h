@@ -88,17 +88,21 @@ ResponseCurve ComputeResponse(const Model& model, const ResponseOptions& options
 // whose nonsmooth modes the responses are compared with.
 Model ConservativeTwin(const Model& model);
 
-// The twin's 1-ipp nonsmooth mode (on contact `contact`) over frequencies w = 2 pi / T in
-// [w_from, w_to] (T on a grid of `points` periods), with stability.
+// The twin's nonsmooth mode the responses of `sequence` meet, over
+// frequencies w = 2 pi / T in [w_from, w_to] (T on a grid of `points`
+// periods), with stability: for a sequence on one contact c (empty: contact
+// 1), its 1-ipp mode; for (a, b), two different contacts, the symmetric
+// member of the (a, b) family, t2 = T/2 (always a root of the two-contact
+// closed form, two_impact.h): one orbit per period in either case.
 Sweep BackboneSweep(const Model& model, double w_from, double w_to, long points, const SweepOptions& options = {},
-                    int contact = 0);
+                    const std::vector<int>& sequence = {});
 
 // The frequency 2 pi / T of the twin's admissible 1-ipp orbit with mean
 // energy `energy`, nearest to `near`: Brent on E(T) - energy between the two
 // neighbouring sweep orbits that bracket it. nullopt when no admissible
 // stretch of the sweep reaches that energy.
 std::optional<double> BackboneFrequency(const Model& model, const Sweep& backbone, double energy, double near,
-                                        int contact = 0);
+                                        const std::vector<int>& sequence = {});
 
 // A response request as the faces take it: the parameter `swept` over
 // `grid`, the other one held at each of `levels` (none given: the model's
@@ -155,8 +159,10 @@ struct BackboneMatch {
   // points and where no admissible stretch of the mode reaches the energy.
   std::vector<std::optional<double>> mode_frequency;
 };
-// Why a response has no backbone (nullopt: it has one): its impacts strike
-// several contacts, or the model has a rigid-body mode (an impact damper).
+// Why a response has no backbone (nullopt: it has one): its sequence is
+// neither on one contact nor two different contacts once each, or the model
+// has a rigid-body mode (an impact damper: its conservative twin has no
+// analysis basis).
 std::optional<std::string> NoBackbone(const Model& model, const ResponseOptions& options);
 // (Requires !NoBackbone(model, options).)
 BackboneMatch MatchBackbone(const Model& model, const ResponseOptions& options, const std::vector<SpecialPoint>& points,

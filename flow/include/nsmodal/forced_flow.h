@@ -64,6 +64,20 @@ std::optional<Eigen::VectorXcd> HarmonicResponse(const Eigen::MatrixXd& mass, co
                                                  const Eigen::MatrixXd& stiffness, const Eigen::VectorXd& force,
                                                  double frequency);
 
+// The modes of (K, M) split at the rigid-body ones, for a damped or forced
+// flight with a free part (forced_flow.h): the M-orthonormal Phi_0 (n x r)
+// and the elastic Phi_e (n x (n - r)) with their eigenvalues omega2 (of K).
+// Checked: the damping must leave the rigid motion alone (C Phi_0 = 0: a
+// dashpot between masses, not to ground) and no constant force may push it
+// (Phi_0' f0 = 0); throws InputError naming "system.damping_matrix" or
+// "forcing.constant" otherwise (CVODE and Moreau-Jean need neither). damping and constant_force may be empty.
+struct RigidBodySplit {
+  Eigen::MatrixXd rigid, elastic;
+  Eigen::VectorXd omega2;
+};
+RigidBodySplit SplitRigidBody(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
+                              const Eigen::MatrixXd& stiffness, const Eigen::VectorXd& constant_force);
+
 class ForcedFlow {
  public:
   // Above this the eigenvector matrix of A leaves fewer than 8 digits.

@@ -186,19 +186,6 @@ Eigen::VectorXd SymmetricEigenvalues(const Eigen::MatrixXd& a);
 // within kRigidBodyTolerance of zero). No checks: Validate's.
 int RigidBodyModes(const Eigen::MatrixXd& stiffness);
 
-// The modes of (K, M) split at the rigid-body ones, for a damped or forced
-// flight with a free part (forced_flow.h): the M-orthonormal Phi_0 (n x r)
-// and the elastic Phi_e (n x (n - r)) with their eigenvalues omega2 (of K).
-// Checked: the damping must leave the rigid motion alone (C Phi_0 = 0: a
-// dashpot between masses, not to ground) and no constant force may push it
-// (Phi_0' f0 = 0); throws InputError naming "system.damping_matrix" or
-// "forcing.constant" otherwise. damping and constant_force may be empty.
-struct RigidBodySplit {
-  Eigen::MatrixXd rigid, elastic;
-  Eigen::VectorXd omega2;
-};
-RigidBodySplit SplitRigidBody(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
-                              const Eigen::MatrixXd& stiffness, const Eigen::VectorXd& constant_force);
 
 // Checks every field and the scales above; throws InputError naming the field
 // ("system.mass_matrix", "system.contact_dof", "system.gap",
