@@ -45,6 +45,17 @@ def commit():
         return "unknown"
 
 
+def build_type(build):
+    try:
+        with open(os.path.join(build, "CMakeCache.txt"), encoding="utf-8") as f:
+            for line in f:
+                if line.startswith("CMAKE_BUILD_TYPE:"):
+                    return line.split("=", 1)[1].strip() or "none"
+    except OSError:
+        pass
+    return "unknown"
+
+
 def run(args):
     os.makedirs(RESULTS, exist_ok=True)
     for program, _ in PROGRAMS:
@@ -60,6 +71,7 @@ def run(args):
             sys.exit(f"bench_pages: {program} failed (exit {done.returncode}):\n{done.stderr[-2000:]}")
         data = json.loads(done.stdout)
         data["context"]["nsmodal_commit"] = commit()
+        data["context"]["nsmodal_build_type"] = build_type(args.build)
         data["context"]["nsmodal_command"] = " ".join(os.path.relpath(c, ROOT) if c == exe else c for c in cmd)
         tmp = out + ".tmp"
         with open(tmp, "w", encoding="utf-8") as f:
@@ -114,8 +126,9 @@ def render():
         c = data["context"]
         caches = ", ".join(f"L{x['level']} {x['type'][0].lower()} {x['size'] // 1024} KiB" for x in c.get("caches", []))
         lines += [f"Run on {c.get('date', '?')}: {c.get('num_cpus', '?')} CPUs at {c.get('mhz_per_cpu', '?')} MHz"
-                  f" ({caches}), {c.get('library_build_type', '?')} Google Benchmark, nsmodal commit"
-                  f" {c.get('nsmodal_commit', '?')}; `{c.get('nsmodal_command', program)}`.", "",
+                  f" ({caches}); nsmodal commit {c.get('nsmodal_commit', '?')}, built"
+                  f" {c.get('nsmodal_build_type', '(type not recorded)')}; the benchmark library's own build:"
+                  f" {c.get('library_build_type', '?')}; `{c.get('nsmodal_command', program)}`.", "",
                   "| case | wall time | CPU time | iterations | counters |", "| --- | --- | --- | --- | --- |"]
         for name, real, cpu, iterations, counters, unit in cases(data):
             shown = "; ".join(f"{k} = {number(v)}" for k, v in sorted(counters.items()))
