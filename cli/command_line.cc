@@ -113,6 +113,7 @@ CommandLine::CommandLine() {
   c_explore->add_option("--impacts", explore.impacts, "Impacts per period (3 to 6)")->default_val(3);
   c_explore->add_option("--period", explore.period, "Period grid FROM:TO:STEP")->required();
   c_explore->add_option("--grid", explore.grid, "Grid nodes per impact-time axis")->default_val(24);
+  c_explore->add_option("--sequence", explore.sequence, "The contact of each impact, e.g. 1,2,1 (sets --impacts)");
   c_explore->add_flag("--json", explore.json, "Print JSON");
   c_explore->add_option("--follow", explore.follow,
                         "FROM:TO:STEP: follow each admissible new orbit's family in T over [FROM, TO] (odd m)");

@@ -33,6 +33,7 @@ struct ExploreArgs {
   int grid = 24;
   bool json = false;
   std::optional<std::string> follow;  // FROM:TO:STEP: follow each admissible new family (odd m) over that range
+  std::optional<std::string> sequence;  // the contact of each impact ("1,2,1")
 };
 
 // `simulate` and `validate`: their settings' flags (made from the tables,

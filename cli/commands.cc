@@ -197,15 +197,27 @@ int RunExplore(const ExploreArgs& a) {
   if (a.grid < 4 || a.grid > 200) throw InputError("--grid", "must lie in [4, 200], got " + std::to_string(a.grid));
   const PeriodGrid range = PeriodGrid::Parse(a.period);
   const AnalysisBasis b(LoadScene(a.scene).model);
-  if (a.impacts < 3 || a.impacts > 6) {
-    throw InputError("--impacts", "explore takes 3 to 6 impacts per period, got " + std::to_string(a.impacts) +
-                                      " (use 'nsmodal orbits' for 1 or 2)");
+  std::vector<int> sequence;
+  int impacts = a.impacts;
+  if (a.sequence) {
+    sequence = ParseSequence(*a.sequence, static_cast<int>(b.contacts.size()), "--sequence", 6);
+    const int m = static_cast<int>(sequence.size());
+    if (a.impacts != 3 && a.impacts != m) {
+      throw InputError("--impacts", std::to_string(a.impacts) + " disagrees with the sequence " + *a.sequence + " (" +
+                                        std::to_string(m) + " impacts): give one of them");
+    }
+    impacts = m;
+  }
+  if (impacts < 3 || impacts > 6) {
+    throw InputError(a.sequence ? "--sequence" : "--impacts",
+                     "explore takes 3 to 6 impacts per period, got " + std::to_string(impacts) +
+                         " (use 'nsmodal orbits' for 1 or 2)");
   }
   std::optional<PeriodGrid> follow;
   if (a.follow) follow = PeriodGrid::Parse(*a.follow, "--follow");
-  if (follow) CheckFamilyRange(b, a.impacts, follow->from, follow->to, FieldNames("--"));
-  const ExploreReport r =
-      ExploreImpacts(b, range.Values(), {.impacts = a.impacts, .grid = a.grid, .progress = ProgressBar("explore")});
+  if (follow) CheckFamilyRange(b, impacts, follow->from, follow->to, FieldNames("--"));
+  const ExploreReport r = ExploreImpacts(
+      b, range.Values(), {.impacts = impacts, .sequence = sequence, .grid = a.grid, .progress = ProgressBar("explore")});
   if (a.json) {
     std::cout << report::ExploreJson(r).dump(2) << "\n";
     return 0;

@@ -43,6 +43,9 @@ assert all(r['impacts'] == '2' for r in rows)
 else
   bad "response --sequence on the impact damper failed: $(tail -3 "$tmp/damper.log")"
 fi
+expect_error "\\-\\-sequence: names contact 3" "$bin" explore "$clear2" --sequence 1,3,1 --period 4:5:1
+expect_error "\\-\\-sequence: explore takes 3 to 6 impacts" "$bin" explore "$clear2" --sequence 1,2 --period 4:5:1
+expect_error "\\-\\-impacts: 4 disagrees" "$bin" explore "$clear2" --impacts 4 --sequence 1,1,2 --period 4:5:1
 # Decoupled contacts (no common mode): the (1, 2) sequence is a continuum, refused naming the sequence.
 expect_error "sequence: contacts 1 and 2 move no common mode" "$bin" orbit "$(scene decoupled '[system]\nmass_matrix=[[1,0],[0,1]]\nstiffness_matrix=[[1,0],[0,2]]\n[[contact]]\ndof=1\ngap=1\nrestitution=1\n[[contact]]\ndof=2\ngap=1\nrestitution=1\n')" --sequence 1,2 --period 4
 # The paper's figures need contact 1 as an upper stop on a dof.

@@ -301,3 +301,56 @@ TEST(Validate, SimulationWorkIsBoundedBeforeItStarts) {
 
 }  // namespace
 }  // namespace nsmodal
+
+namespace nsmodal {
+namespace {
+
+// The paper's chain between two stops, x2 <= 1 and x2 >= -1.2 (configs/clearance.toml).
+Model Clearance() {
+  Model m = PaperModel();
+  m.contacts.push_back(DofContact(2, 1, false, 1.2, 1.0));
+  Validate(m);
+  return m;
+}
+
+// explore with a sequence (issue 24): on one contact it is the one-contact
+// search (the same findings, to round-off); across two walls its new
+// admissible orbits are potential (NC2 on each impact's own wall, periodic)
+// and the exact simulator follows them: each impact at its predicted time
+// on its predicted wall (validate's verdict), over 20 periods.
+TEST(Explore, ASequenceOverTwoWallsFindsOrbitsTheSimulatorConfirms) {
+  const Model m = Clearance();
+  const AnalysisBasis b(m);
+  ExploreOptions one;
+  one.impacts = 3;
+  ExploreOptions same = one;
+  same.sequence = {0, 0, 0};
+  const ExploreReport a = ExploreImpacts(b, {27.0, 28.0}, one), c = ExploreImpacts(b, {27.0, 28.0}, same);
+  ASSERT_EQ(a.findings.size(), c.findings.size());
+  for (std::size_t i = 0; i < a.findings.size(); ++i) {
+    EXPECT_EQ(a.findings[i].kind, c.findings[i].kind);
+    for (std::size_t k = 0; k < a.findings[i].orbit.times.size(); ++k) {
+      EXPECT_NEAR(a.findings[i].orbit.times[k], c.findings[i].orbit.times[k], 1e-12 * 28.0);
+    }
+  }
+  ExploreOptions two = one;
+  two.sequence = {0, 0, 1};
+  int checked = 0;
+  for (const ExploreFinding& f : ExploreImpacts(b, {3.5, 4.0, 4.5, 5.0}, two).findings) {
+    EXPECT_EQ(f.orbit.sequence, two.sequence);
+    EXPECT_LT(f.orbit.nc2_residual, 1e-9);
+    EXPECT_LT(f.orbit.periodicity_residual, 1e-9);
+    if (f.kind != "new" || !f.orbit.admissible) continue;
+    const OrbitValidation v = ValidateOrbit(m, f.orbit, Integrator::kExact, Options(20));
+    EXPECT_TRUE(v.consistent) << "T = " << f.orbit.period << ": " << v.reason;
+    ASSERT_TRUE(v.impact_time_error.has_value()) << v.reason;  // the predicted impacts on the predicted walls
+    EXPECT_LT(*v.impact_time_error, 1e-9);
+    ++checked;
+  }
+  EXPECT_GE(checked, 3);
+  two.sequence = {0, 2, 1};
+  EXPECT_THROW(ExploreImpacts(b, {4.0}, two), InputError);
+}
+
+}  // namespace
+}  // namespace nsmodal

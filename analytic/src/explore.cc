@@ -26,14 +26,22 @@ struct Candidate {
   Eigen::VectorXd y0;
 };
 
+// The wall of each impact: d_{j_i} (a sequence is `impacts` contacts).
+Eigen::VectorXd Gaps(const AnalysisBasis& b, const std::vector<int>& sequence, int impacts) {
+  Eigen::VectorXd d(impacts);
+  for (int i = 0; i < impacts; ++i) d[i] = b.contacts[sequence.empty() ? 0 : sequence[i]].gap;
+  return d;
+}
+
 // phi(times) and the y0 that realises it (see explore.h).
-Candidate Objective(const AnalysisBasis& b, const std::vector<double>& times, double period, int impacts) {
+Candidate Objective(const AnalysisBasis& b, const std::vector<double>& times, double period, int impacts,
+                    const std::vector<int>& sequence) {
   const int k = impacts % 2 == 0 ? 2 : 1;
   KernelContacts kc;
-  if (!KernelAtImpacts(b, times, period, k, kc)) return {std::numeric_limits<double>::infinity(), {}};
-  const Eigen::VectorXd rhs = Eigen::VectorXd::Constant(impacts, b.gap);
+  if (!KernelAtImpacts(b, times, period, k, kc, sequence)) return {std::numeric_limits<double>::infinity(), {}};
+  const Eigen::VectorXd rhs = Gaps(b, sequence, impacts);
   const Eigen::VectorXd alpha = kc.c.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(rhs);
-  const double misfit = (kc.c * alpha - rhs).norm() / (b.gap * std::sqrt(impacts));
+  const double misfit = (kc.c * alpha - rhs).norm() / (rhs.maxCoeff() * std::sqrt(impacts));
   const double sigma = impacts % 2 == 0 ? kc.sigma_k : 0.0;
   return {sigma + misfit, kc.basis * alpha};
 }
@@ -42,21 +50,23 @@ struct NmParams {
   const AnalysisBasis* b;
   double period;
   int impacts;
+  const std::vector<int>* sequence;
 };
 
 double NmObjective(const gsl_vector* v, void* p) {
   const auto* prm = static_cast<const NmParams*>(p);
   std::vector<double> times(v->size);
   for (std::size_t i = 0; i < v->size; ++i) times[i] = gsl_vector_get(v, i);
-  const double phi = Objective(*prm->b, times, prm->period, prm->impacts).phi;
+  const double phi = Objective(*prm->b, times, prm->period, prm->impacts, *prm->sequence).phi;
   return std::isfinite(phi) ? phi : 1e6;
 }
 
-std::vector<double> Polish(const AnalysisBasis& b, std::vector<double> times, double period, int impacts) {
+std::vector<double> Polish(const AnalysisBasis& b, std::vector<double> times, double period, int impacts,
+                           const std::vector<int>& sequence) {
   // NmObjective never returns a non-finite value, so GSL's handler is never
   // reached (gsl_call.h).
   const std::size_t n = times.size();
-  NmParams prm{&b, period, impacts};
+  NmParams prm{&b, period, impacts, &sequence};
   gsl_multimin_function f{&NmObjective, n, &prm};
   gsl_vector* x = gsl_vector_alloc(n);
   gsl_vector* step = gsl_vector_alloc(n);
@@ -77,9 +87,16 @@ std::vector<double> Polish(const AnalysisBasis& b, std::vector<double> times, do
   return times;
 }
 
+// The contact of impact i (0-based) of a sequence, empty meaning contact 1.
+int ContactOf(const std::vector<int>& sequence, int i) {
+  return sequence.empty() ? 0 : sequence[static_cast<std::size_t>(i) % sequence.size()];
+}
+
 // A potential m-ipp orbit that is a lower-m orbit repeated: its impact times
-// form a periodic pattern (t_{i+p} = t_i + T p / m for some divisor p of m).
-bool RepeatsLowerOrbit(const std::vector<double>& times, double period, int impacts) {
+// form a periodic pattern (t_{i+p} = t_i + T p / m for some divisor p of m),
+// and so does its sequence (j_{i+p} = j_i).
+bool RepeatsLowerOrbit(const std::vector<double>& times, double period, int impacts,
+                       const std::vector<int>& sequence) {
   std::vector<double> all{0.0};
   all.insert(all.end(), times.begin(), times.end());
   // Two impacts at one instant cancel (N^2 = I for e = 1): an orbit with fewer impacts.
@@ -91,7 +108,9 @@ bool RepeatsLowerOrbit(const std::vector<double>& times, double period, int impa
     if (impacts % p != 0) continue;
     const double shift = period * p / impacts;
     bool ok = true;
-    for (int i = 0; i + p < impacts && ok; ++i) ok = std::abs(all[i + p] - all[i] - shift) < 1e-6 * period;
+    for (int i = 0; i + p < impacts && ok; ++i) {
+      ok = std::abs(all[i + p] - all[i] - shift) < 1e-6 * period && ContactOf(sequence, i + p) == ContactOf(sequence, i);
+    }
     if (ok) return true;
   }
   return false;
@@ -110,11 +129,18 @@ std::vector<double> Intervals(const std::vector<double>& times, double period) {
   return d;
 }
 
-bool SameOrbit(const Orbit& a, const std::vector<double>& times, double period) {
+// The same orbit started at another impact: the flights rotated by a shift
+// that maps the sequence onto itself.
+bool SameOrbit(const Orbit& a, const std::vector<double>& times, double period, const std::vector<int>& sequence) {
   if (a.period != period) return false;
   const std::vector<double> x = Intervals(a.times, period), y = Intervals(times, period);
   const std::size_t m = x.size();
   for (std::size_t shift = 0; shift < m; ++shift) {
+    bool same = true;
+    for (std::size_t i = 0; i < m && same; ++i) {
+      same = ContactOf(sequence, static_cast<int>((i + shift) % m)) == ContactOf(sequence, static_cast<int>(i));
+    }
+    if (!same) continue;
     double dist = 0.0;
     for (std::size_t i = 0; i < m; ++i) dist = std::max(dist, std::abs(x[i] - y[(i + shift) % m]));
     if (dist < 1e-6 * period) return true;
@@ -129,13 +155,16 @@ double GrazingRatio(const AnalysisBasis& b, const Orbit& o) {
   double prev = 0.0, vmin = INFINITY, vmax = 0.0;
   std::vector<double> ends = o.times;
   ends.push_back(o.period);
-  for (double t : ends) {
-    Flow(b, t - prev, y);
-    prev = t;
-    const double v = std::abs(ContactVelocity(b, y));
+  const int m = static_cast<int>(ends.size());
+  for (int k = 0; k < m; ++k) {
+    Flow(b, ends[k] - prev, y);
+    prev = ends[k];
+    // The flight ends at impact k + 1 (mod m): its own contact.
+    const ModalContact& c = b.contacts[ContactOf(o.sequence, (k + 1) % m)];
+    const double v = std::abs(ContactVelocity(b, c, y));
     vmin = std::min(vmin, v);
     vmax = std::max(vmax, v);
-    ElasticImpact(b, y);
+    Impact(b, c, AnalysisBasis::kRestitution, y);
   }
   return vmax > 0.0 ? vmin / vmax : 0.0;
 }
@@ -159,6 +188,7 @@ namespace {
 // The search at one period.
 ExploreReport ExploreOnePeriod(const AnalysisBasis& b, double period, const ExploreOptions& options) {
   const int m = options.impacts;
+  const std::vector<int>& seq = options.sequence;
   ExploreReport report;
   report.impacts = m;
   report.best_phi_new = std::numeric_limits<double>::infinity();
@@ -169,28 +199,28 @@ ExploreReport ExploreOnePeriod(const AnalysisBasis& b, double period, const Expl
     Enumerate(m, options.grid, idx, 0, [&] {
       for (int i = 0; i < m - 1; ++i) times[i] = period * idx[i] / options.grid;
       ++report.samples;
-      if (m % 2 == 1) ++report.kernel_dimension_histogram[KernelDimension(MatrixA(b, times, period), 1e-8)];
-      const double phi = Objective(b, times, period, m).phi;
+      if (m % 2 == 1) ++report.kernel_dimension_histogram[KernelDimension(MatrixA(b, times, period, seq), 1e-8)];
+      const double phi = Objective(b, times, period, m, seq).phi;
       best.emplace_back(phi, times);
     });
     const std::size_t keep = std::min<std::size_t>(best.size(), options.starts_per_period);
     std::partial_sort(best.begin(), best.begin() + keep, best.end(),
                       [](const auto& x, const auto& y) { return x.first < y.first; });
     for (std::size_t s = 0; s < keep; ++s) {
-      const std::vector<double> polished = Polish(b, best[s].second, period, m);
-      const Candidate cand = Objective(b, polished, period, m);
-      const bool repeated = RepeatsLowerOrbit(polished, period, m);
+      const std::vector<double> polished = Polish(b, best[s].second, period, m, seq);
+      const Candidate cand = Objective(b, polished, period, m, seq);
+      const bool repeated = RepeatsLowerOrbit(polished, period, m, seq);
       if (!repeated) report.best_phi_new = std::min(report.best_phi_new, cand.phi);
       if (!(cand.phi < options.potential_tol)) continue;
       bool seen = false;
-      for (const ExploreFinding& f : report.findings) seen = seen || SameOrbit(f.orbit, polished, period);
+      for (const ExploreFinding& f : report.findings) seen = seen || SameOrbit(f.orbit, polished, period, seq);
       if (seen) continue;
       ExploreFinding finding;
-      finding.orbit = EvaluateOrbit(b, cand.y0, polished, period);
+      finding.orbit = EvaluateOrbit(b, cand.y0, polished, period, {}, seq);
       finding.grazing_ratio = GrazingRatio(b, finding.orbit);
       // A contact velocity below 1e-6 of the largest is a touch, not an impact.
       finding.kind = repeated ? "repeated-lower-m" : finding.grazing_ratio < 1e-6 ? "grazing-contact" : "new";
-      finding.kernel_dimension = KernelDimension(MatrixA(b, polished, period), 1e-6);
+      finding.kernel_dimension = KernelDimension(MatrixA(b, polished, period, seq), 1e-6);
       if (m % 2 == 0) ++report.kernel_dimension_histogram[finding.kernel_dimension];
       report.findings.push_back(finding);
     }
@@ -213,6 +243,18 @@ ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& 
   }
   if (options.grid < 4 || options.grid > 200) {
     throw InputError("grid", "must lie in [4, 200], got " + std::to_string(options.grid));
+  }
+  if (!options.sequence.empty()) {
+    if (static_cast<int>(options.sequence.size()) != options.impacts) {
+      throw InputError("sequence", "lists " + std::to_string(options.sequence.size()) + " impacts, but impacts is " +
+                                       std::to_string(options.impacts));
+    }
+    for (int c : options.sequence) {
+      if (c < 0 || c >= static_cast<int>(b.contacts.size())) {
+        throw InputError("sequence", "names contact " + std::to_string(c + 1) + ", but the model has " +
+                                         std::to_string(b.contacts.size()) + " contact(s)");
+      }
+    }
   }
   for (double period : periods) b.CheckPeriod(period);
   // The work, bounded before it starts (issue 29): each period samples the
@@ -265,24 +307,28 @@ constexpr double kFamilyTol = 1e-12;
 // NC2 of an odd-m orbit at (times, T): r_i = c_i / c_0 - 1, i = 1..m-1, with c
 // the x_c of the kernel vector at the impacts; y0 = y d / c_0. False outside
 // the domain (times out of order, c_0 = 0).
-bool OddResidual(const AnalysisBasis& b, const std::vector<double>& times, double period, Eigen::VectorXd& r,
-                 Eigen::VectorXd* y0 = nullptr) {
+bool OddResidual(const AnalysisBasis& b, const std::vector<double>& times, double period,
+                 const std::vector<int>& sequence, Eigen::VectorXd& r, Eigen::VectorXd* y0 = nullptr) {
   KernelContacts kc;
-  if (!KernelAtImpacts(b, times, period, 1, kc)) return false;
-  const Eigen::VectorXd c = kc.c.col(0);
-  const long m = c.size();
+  if (!KernelAtImpacts(b, times, period, 1, kc, sequence)) return false;
+  const long m = kc.c.rows();
+  // c_i / d_{j_i}: each impact on its own wall (all d: one contact).
+  const Eigen::VectorXd d = Gaps(b, sequence, static_cast<int>(m));
+  const bool one_wall = std::all_of(sequence.begin(), sequence.end(), [](int j) { return j == 0; });
+  const Eigen::VectorXd c = one_wall ? Eigen::VectorXd(kc.c.col(0)) : Eigen::VectorXd(kc.c.col(0).cwiseQuotient(d));
   if (!(std::abs(c[0]) > 0.0)) return false;
   r = c.tail(m - 1) / c[0] - Eigen::VectorXd::Ones(m - 1);
-  if (y0 != nullptr) *y0 = kc.basis.col(0) * (b.gap / c[0]);
+  if (y0 != nullptr) *y0 = kc.basis.col(0) * ((one_wall ? b.gap : 1.0) / c[0]);
   return r.allFinite();
 }
 
 // Newton on the impact times at a fixed period.
-std::optional<std::vector<double>> CorrectTimes(const AnalysisBasis& b, std::vector<double> times, double period) {
+std::optional<std::vector<double>> CorrectTimes(const AnalysisBasis& b, std::vector<double> times, double period,
+                                                const std::vector<int>& sequence) {
   const int k = static_cast<int>(times.size());
   Eigen::VectorXd r(k), rh(k);
   for (int it = 0; it <= 30; ++it) {
-    if (!OddResidual(b, times, period, r)) return std::nullopt;
+    if (!OddResidual(b, times, period, sequence, r)) return std::nullopt;
     if (r.cwiseAbs().maxCoeff() <= kFamilyTol) return times;
     if (it == 30) break;
     Eigen::MatrixXd jac(k, k);
@@ -290,7 +336,7 @@ std::optional<std::vector<double>> CorrectTimes(const AnalysisBasis& b, std::vec
     for (int j = 0; j < k; ++j) {
       std::vector<double> tp = times;
       tp[j] += h;
-      if (!OddResidual(b, tp, period, rh)) return std::nullopt;
+      if (!OddResidual(b, tp, period, sequence, rh)) return std::nullopt;
       jac.col(j) = (rh - r) / h;
     }
     const Eigen::VectorXd dx = jac.fullPivLu().solve(-r);
@@ -308,12 +354,13 @@ std::vector<double> Interpolate(const Orbit& a, const Orbit& b, double period) {
   return t;
 }
 
-std::optional<Orbit> FamilyOrbit(const AnalysisBasis& b, const std::vector<double>& guess, double period) {
-  const std::optional<std::vector<double>> times = CorrectTimes(b, guess, period);
+std::optional<Orbit> FamilyOrbit(const AnalysisBasis& b, const std::vector<double>& guess, double period,
+                                 const std::vector<int>& sequence) {
+  const std::optional<std::vector<double>> times = CorrectTimes(b, guess, period, sequence);
   if (!times) return std::nullopt;
   Eigen::VectorXd r, y0;
-  OddResidual(b, *times, period, r, &y0);
-  return EvaluateOrbit(b, y0, *times, period);
+  OddResidual(b, *times, period, sequence, r, &y0);
+  return EvaluateOrbit(b, y0, *times, period, {}, sequence);
 }
 
 }  // namespace
@@ -353,7 +400,7 @@ Family FollowOddImpactFamily(const AnalysisBasis& b, const Orbit& start, double 
     } else {
       for (double& t : guess) t *= period / cur.period;
     }
-    const std::optional<Orbit> next = FamilyOrbit(b, guess, period);
+    const std::optional<Orbit> next = FamilyOrbit(b, guess, period, start.sequence);
     if (!next) {
       if (++halvings > 30) {
         f.stop = "Newton does not converge beyond T = " + FormatValue(cur.period) + " (30 step halvings)";
@@ -372,7 +419,7 @@ Family FollowOddImpactFamily(const AnalysisBasis& b, const Orbit& start, double 
       Orbit lo = a, hi = z;
       for (int it = 0; it < 60 && std::abs(hi.period - lo.period) > 1e-12 * std::abs(lo.period); ++it) {
         const double mid = 0.5 * (lo.period + hi.period);
-        const std::optional<Orbit> o = FamilyOrbit(b, Interpolate(a, z, mid), mid);
+        const std::optional<Orbit> o = FamilyOrbit(b, Interpolate(a, z, mid), mid, start.sequence);
         if (!o) break;
         (o->admissible == a.admissible ? lo : hi) = *o;
       }

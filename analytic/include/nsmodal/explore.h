@@ -23,6 +23,12 @@ namespace nsmodal {
 
 struct ExploreOptions {
   int impacts = 3;
+  // The contact of each impact (0-based, `impacts` entries, issue 24): A_m
+  // with each impact's own reflection, NC2 on each impact's own wall; empty:
+  // every impact on contact 1. A finding is the same orbit as another only
+  // by a rotation that maps the sequence onto itself, and a lower-m orbit
+  // repeated only when the sequence repeats with it.
+  std::vector<int> sequence;
   int grid = 24;            // grid nodes per impact-time axis on (0, T)
   int starts_per_period = 6;  // best grid points polished per period
   // A polished point is a potential solution when phi is below this; phi
@@ -51,12 +57,14 @@ struct ExploreReport {
   long Count(const std::string& kind, bool admissible_only = false) const;
 };
 
-// Throws InputError naming "impacts" (3 to 6) or "grid" (4 to 200).
+// Throws InputError naming "impacts" (3 to 6), "grid" (4 to 200) or
+// "sequence" (not `impacts` entries, or a contact that does not exist).
 ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& periods, const ExploreOptions& options);
 
 // Continuation in T of a family of potential orbits with an odd number m of
-// impacts (dim ker A_m = 1, explore.h): with y the kernel vector and c_i its
-// x_c at the impacts, NC2 is c_i / c_0 = 1 for i = 1..m-1, m - 1 equations in
+// impacts (dim ker A_m = 1, explore.h), on the start's sequence: with y the
+// kernel vector and c_i its n_{j_i} . x at the impacts, NC2 is
+// (c_i / d_{j_i}) / (c_0 / d_{j_0}) = 1 for i = 1..m-1, m - 1 equations in
 // the m - 1 impact times t_2..t_m. From `start` the period steps by `step`
 // towards `to`; each point is predicted by the secant of the last two and
 // corrected by Newton (finite-difference Jacobian, at most 30 iterations,
