@@ -70,25 +70,24 @@ RigidBodySplit SplitRigidBody(const Eigen::MatrixXd& mass, const Eigen::MatrixXd
   // damping gives a rigid mode the rate 0); 1e-12 of the scale is a real
   // dashpot or force.
   const double phi_scale = std::max(1.0, out.rigid.cwiseAbs().maxCoeff());
-  if (damping.size() > 0 && rigid > 0) {
-    const double leak = (damping * out.rigid).cwiseAbs().maxCoeff();
-    if (leak > 1e-12 * damping.cwiseAbs().maxCoeff() * phi_scale) {
-      throw InputError("system.damping_matrix",
-                       "damps a rigid-body motion (|C Phi_0| = " + FormatValue(leak) + ", not 0): nsmodal flies a "
-                       "rigid-body mode as an undamped drift in its closed-form flight (the exact integrator, the "
-                       "forced analysis); damp the relative motion only (a dashpot between masses, not to ground), or "
-                       "simulate with cvode or moreau-jean");
+  const std::string alternative = " in its closed-form flight (the exact integrator, the forced analysis); ";
+  // Refuses `what` = size above 1e-12 of `scale`.
+  auto refuse_above = [&](double size, double scale, const std::string& field, const std::string& what,
+                          const std::string& remedy) {
+    if (size > 1e-12 * scale * phi_scale) {
+      throw InputError(field, what + " = " + FormatValue(size) + ", not 0: nsmodal flies a rigid-body mode as a free "
+                                     "drift" + alternative + remedy + ", or simulate with cvode or moreau-jean");
     }
+  };
+  if (damping.size() > 0 && rigid > 0) {
+    refuse_above((damping * out.rigid).cwiseAbs().maxCoeff(), damping.cwiseAbs().maxCoeff(), "system.damping_matrix",
+                 "damps a rigid-body motion: |C Phi_0|", "damp the relative motion only (a dashpot between masses, "
+                 "not to ground)");
   }
   if (constant_force.size() > 0 && rigid > 0) {
-    const double push = (out.rigid.transpose() * constant_force).cwiseAbs().maxCoeff();
-    if (push > 1e-12 * constant_force.cwiseAbs().maxCoeff() * phi_scale) {
-      throw InputError("forcing.constant",
-                       "pushes a rigid-body mode (|Phi_0' f0| = " + FormatValue(push) + "): the free part would "
-                       "accelerate without bound between impacts, which the closed-form flight (the exact integrator, "
-                       "the forced analysis) does not model; give a constant force the springs hold, or simulate "
-                       "with cvode or moreau-jean");
-    }
+    refuse_above((out.rigid.transpose() * constant_force).cwiseAbs().maxCoeff(), constant_force.cwiseAbs().maxCoeff(),
+                 "forcing.constant", "pushes a rigid-body mode: |Phi_0' f0|",
+                 "give a constant force the springs hold (one pushing the free part accelerates it without bound)");
   }
   return out;
 }
