@@ -1128,6 +1128,7 @@ A run that stopped early has "status" != "finished" and says why in
           const py::object times = all.attr("pop")("t_eval");
           if (all.contains("sample_dt")) throw py::type_error("simulate(): give t_eval or sample_dt, not both");
           t_eval = DoublesOf(times, "t_eval");
+          all["sample_dt"] = 0.0;  // no grid: the samples are t_eval's (the summary's settings say so)
         }
         const SettingPatch keywords = KeywordPatch(SimulateSettings(), "simulate", all);
         const Configured<SimulationRequest> request = SimulateSettings().Resolve({&keywords});

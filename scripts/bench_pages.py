@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The benchmark pages, regenerated from measured runs.
 
-  python3 scripts/bench_pages.py run [--build build] [--repetitions 3] [--filter REGEX]
+  python3 scripts/bench_pages.py run [--build build] [--repetitions 3]
       runs the Google Benchmark programs (bench_sim, bench_analytic,
       bench_report) with JSON output into docs/bench/results/<program>.json,
       then renders the page;
@@ -64,7 +64,7 @@ def run(args):
             sys.exit(f"bench_pages: {exe} is missing: build with NSMODAL_BUILD_BENCH=ON (the default)")
         out = os.path.join(RESULTS, program + ".json")
         cmd = [exe, "--benchmark_format=json", f"--benchmark_repetitions={args.repetitions}",
-               "--benchmark_report_aggregates_only=true", f"--benchmark_filter={args.filter}"]
+               "--benchmark_report_aggregates_only=true"]
         print("bench_pages:", " ".join(cmd), flush=True)
         done = subprocess.run(cmd, capture_output=True, text=True)
         if done.returncode != 0:
@@ -154,7 +154,6 @@ def main():
     r = sub.add_parser("run", help="measure, then render")
     r.add_argument("--build", default=os.path.join(ROOT, "build"), help="the CMake build directory")
     r.add_argument("--repetitions", type=int, default=3, help="repetitions of each case (the median is shown)")
-    r.add_argument("--filter", default=".", help="Google Benchmark's --benchmark_filter (default: every case)")
     sub.add_parser("render", help="write the page from the stored JSON")
     sub.add_parser("check", help="fail when the page differs from a render of the stored JSON")
     args = parser.parse_args()

@@ -234,3 +234,29 @@ TEST(ImpactDamper, ASequenceThatDoesNotStopTheFreeMassIsRefused) {
 
 }  // namespace
 }  // namespace nsmodal
+
+namespace nsmodal {
+namespace {
+
+// A sequence a rotation maps onto itself, (1, 2, 1, 2) over two forcing
+// periods: every orbit FindAll returns (canonical: started at the impact
+// earliest in the forcing cycle, the free mass's shift moved with it) solves
+// the problem to Newton's tolerance (1e-13 of the gap; 1e-11 leaves the
+// rotation's round-off room).
+TEST(ImpactDamper, ARotatedStartKeepsTheFreeMassWhereItIs) {
+  const Damper p;
+  const Model model = DamperModel(p);
+  for (double big_w : {0.8, 1.2}) {
+    const ForcedProblem problem(model, std::vector<int>{0, 1, 0, 1}, 2, big_w, p.f);
+    const std::vector<Eigen::VectorXd> found = problem.FindAll();
+    EXPECT_FALSE(found.empty());
+    for (const Eigen::VectorXd& u : found) {
+      Eigen::VectorXd r;
+      ASSERT_TRUE(problem.Residual(u, r));
+      EXPECT_LT(r.cwiseAbs().maxCoeff(), 1e-11 * problem.gap_scale()) << "W = " << big_w;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace nsmodal

@@ -100,7 +100,8 @@ ForcedProblem::ForcedProblem(const Model& model, const std::vector<int>& sequenc
   // the quadrature scan more than 1e5 of them per period. For a damped flow
   // that scale can be far shorter than the shortest linear period (an
   // overdamped mode decays at up to 2 zeta w_k).
-  fastest_ = std::max(flow_.Eigenvalues().cwiseAbs().maxCoeff(), w_);
+  const Eigen::VectorXcd lambda = flow_.Eigenvalues();  // (empty when every mode is rigid)
+  fastest_ = std::max(lambda.size() > 0 ? lambda.cwiseAbs().maxCoeff() : 0.0, w_);
   if (!(period_ * fastest_ <= 2.0 * M_PI * AnalysisBasis::kMaxPeriodRatio)) {
     throw InputError("forcing.frequency", "w = " + FormatValue(frequency) + " with n = " + std::to_string(periods) +
                                               " gives a response period of " + FormatValue(period_) +
@@ -130,11 +131,17 @@ ForcedProblem::ForcedProblem(const Model& model, const std::vector<int>& sequenc
   }
   rigid_ = flow_.rigid_modes();
   if (rigid_ > 0) {
-    const Eigen::MatrixXd& phi0 = flow_.rigid_basis();
+    // The rigid modes scaled to a largest displacement of 1: the shifts c and
+    // the drifts sigma P are lengths, comparable with the gaps.
+    const Eigen::MatrixXd& phi_m = flow_.rigid_basis();  // M-orthonormal
+    const Eigen::VectorXd scale = phi_m.cwiseAbs().colwise().maxCoeff().transpose();
+    rigid_len_ = phi_m * scale.cwiseInverse().asDiagonal();
+    rigid_coord_ = scale.asDiagonal() * (phi_m.transpose() * model_.mass);  // rigid_coord_ * rigid_len_ = I
+    const Eigen::MatrixXd& phi0 = rigid_len_;
     kick_ = Eigen::MatrixXd::Zero(2 * n, rigid_);
     kick_.bottomRows(n) = phi0;
     gauge_ = Eigen::MatrixXd::Zero(rigid_, 2 * n);
-    gauge_.leftCols(n) = phi0.transpose() * model_.mass;
+    gauge_.leftCols(n) = rigid_coord_;
     gap_shift_.resize(m_, rigid_);
     for (int i = 0; i < m_; ++i) gap_shift_.row(i) = model_.contacts[sequence_[i]].normal.transpose() * phi0;
     const Eigen::FullPivLU<Eigen::MatrixXd> g(gap_shift_);
@@ -203,7 +210,7 @@ bool ForcedProblem::Run(const Eigen::VectorXd& u, Pass& pass) const {
     if (!(lu.rcond() > 1e-14)) return false;
     const Eigen::VectorXd sol = lu.solve(rhs);
     z = sol.head(dim);
-    z.head(model_.dofs()) += flow_.rigid_basis() * u.tail(rigid_);
+    z.head(model_.dofs()) += rigid_len_ * u.tail(rigid_);
     pass.drift = sol.tail(rigid_) * period_;
   }
   pass.before.assign(m_, Eigen::VectorXd());
@@ -299,6 +306,12 @@ Eigen::VectorXd ForcedProblem::Canonical(const Eigen::VectorXd& u) const {
   out[0] = w_ * best_phase;
   for (int i = 1; i < m_; ++i) out[i] = tau[(best + i - 1) % m_];
   out.tail(rigid_) = u.tail(rigid_);
+  if (rigid_ > 0 && best != 0) {
+    // The shift is the free part's position just after the first impact:
+    // started at impact `best`, it is the position there.
+    Pass pass;
+    if (Run(u, pass)) out.tail(rigid_) = rigid_coord_ * pass.after[best].head(model_.dofs());
+  }
   return out;
 }
 
@@ -469,8 +482,13 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
       if (o.admissible) {
         const double tol = 1e-13 * std::max(d, g.bound[0]);
         const FirstRiseResult r = FirstRise(g, tau, tol);
-        const double vc = contact.Along(pass.before[next].tail(n));
-        const double window = 1e-9 * period_ + 4.0 * tol / std::max(std::abs(vc), 1e-300);
+        // The contact struck at the flight's end is met there, within the
+        // search's band (tol / v_c in time); any other contact must not be met
+        // at all before it (1e-9 P: the same instant).
+        double window = 1e-9 * period_;
+        if (j == sequence_[next]) {
+          window += 4.0 * tol / std::max(std::abs(contact.Along(pass.before[next].tail(n))), 1e-300);
+        }
         if (r.found && r.s < tau - window) {
           o.admissible = false;
           o.verdict = (contacts == 1 ? std::string("NC3: x_c reaches d") : "NC3: contact " + std::to_string(j + 1) + " (" +

@@ -150,6 +150,14 @@ ForcedFlow::ForcedFlow(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& dampi
   // modes) of the elastic coordinates q_e = Phi_e' M x, whose matrix is
   // [[0, I], [-Omega^2, -Phi_e' C Phi_e]], mapped back by Phi_e.
   const int ne = n - rigid;
+  if (ne == 0) {
+    // Every mode rigid (a held subsystem with no spring left): a drift only.
+    lambda_.resize(0);
+    v_.resize(2 * n, 0);
+    v_inv_.resize(0, 2 * n);
+    weight_.resize(0);
+    return;
+  }
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * ne, 2 * ne);
   a.topRightCorner(ne, ne).setIdentity();
   if (rigid > 0) {

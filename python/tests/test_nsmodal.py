@@ -677,3 +677,6 @@ def test_simulate_takes_scipys_t_span_and_t_eval(paper):
         nsmodal.simulate(paper, x0, v0, t_end=5.0, t_eval=[1.0, 0.5])
     with pytest.raises(TypeError, match="give t_eval or sample_dt"):
         nsmodal.simulate(paper, x0, v0, t_eval=[1.0], sample_dt=0.1)
+    # A long run sampled at a few times: sample_dt's bound on the sample count does not apply.
+    long = nsmodal.simulate(paper, x0, v0, t_span=(0, 2e5), t_eval=[0.0, 1.0, 2e5])
+    assert list(long["trajectory"]["t"]) == [0.0, 1.0, 2e5]

@@ -17,6 +17,9 @@ def stub_tree():
         return ast.parse(f.read())
 
 
+REQUIRED = "<required>"  # no default (distinct from a default of None)
+
+
 def stub_parameters(fn):
     """(name, kind, default) of a stub's def, self dropped."""
     a = fn.args
@@ -24,13 +27,13 @@ def stub_parameters(fn):
     positional = a.posonlyargs + a.args
     defaults = [None] * (len(positional) - len(a.defaults)) + list(a.defaults)
     for arg, d in zip(positional, defaults):
-        out.append((arg.arg, "positional", None if d is None else ast.literal_eval(d)))
+        out.append((arg.arg, "positional", REQUIRED if d is None else ast.literal_eval(d)))
     if a.vararg:
-        out.append((a.vararg.arg, "*args", None))
+        out.append((a.vararg.arg, "*args", REQUIRED))
     for arg, d in zip(a.kwonlyargs, a.kw_defaults):
-        out.append((arg.arg, "keyword", None if d is None else ast.literal_eval(d)))
+        out.append((arg.arg, "keyword", REQUIRED if d is None else ast.literal_eval(d)))
     if a.kwarg:
-        out.append((a.kwarg.arg, "**kwargs", None))
+        out.append((a.kwarg.arg, "**kwargs", REQUIRED))
     return [p for p in out if p[0] != "self"]
 
 
@@ -46,7 +49,7 @@ KIND = {
 def runtime_parameters(obj):
     out = []
     for p in inspect.signature(obj).parameters.values():
-        default = None if p.default is inspect.Parameter.empty else p.default
+        default = REQUIRED if p.default is inspect.Parameter.empty else p.default
         out.append((p.name, KIND[p.kind], default))
     return [p for p in out if p[0] != "self"]
 
@@ -67,6 +70,10 @@ def test_the_stubs_parameters_are_the_modules():
             compared += 1
         elif isinstance(node, ast.ClassDef):
             cls = getattr(nsmodal, node.name)
+            # Every public member of the class has a stub.
+            stubbed = {item.name for item in node.body if isinstance(item, ast.FunctionDef)}
+            public = {n for n in vars(cls) if not n.startswith("_")}
+            assert public <= stubbed, f"{node.name}: no stub for {sorted(public - stubbed)}"
             for item in node.body:
                 if not isinstance(item, ast.FunctionDef):
                     continue

@@ -49,7 +49,7 @@ void SimulateOptions::Validate(const FieldNames& name) const {
     }
   }
   if (sample_times.size() > 10000000) throw InputError(name("sample_times"), "has more than 1e7 times");
-  if (sample_dt > 0.0 && t_end / sample_dt > 1e7) {
+  if (sample_times.empty() && sample_dt > 0.0 && t_end / sample_dt > 1e7) {  // (sample_times replace the grid)
     throw InputError(name("sample_dt"), "gives more than 1e7 samples over t_end = " + FormatValue(t_end));
   }
   if (integrator == Integrator::kMoreauJean && t_end / step > 1e10) {

@@ -22,8 +22,9 @@
 // the bordered system
 //   [I - A, (0, Phi_0); (Phi_0' M, 0), 0] (z; sigma) = (b; 0)
 // (sigma: the jump of the free part's velocity the period would need), plus
-// (Phi_0 c, 0); the unknowns gain the r shifts c and the residuals the r
-// drifts sigma P (lengths: how far the free part would drift in a period),
+// (Phi_0 c, 0), with Phi_0 each mode scaled to a largest displacement of 1;
+// the unknowns gain the r shifts c and the residuals the r drifts sigma P
+// (lengths: the shift of the free part, how far it would drift in a period),
 // so Newton stays square. Each rigid-body mode must be moved by a contact
 // struck (n_{j_i} . Phi_0 not all 0), or its shift is free.
 //
@@ -148,9 +149,11 @@ class ForcedProblem {
   std::vector<Eigen::MatrixXd> impact_;  // R_j, per contact
   Eigen::MatrixXd minv_k_, minv_d_;
   Eigen::VectorXd minv_f0_, minv_f_;
-  // With rigid-body modes: (0, Phi_0) and (Phi_0' M, 0), the borders, and
-  // G = n_{j_i} . Phi_0 (m x r), the gaps' shift per unit c.
-  Eigen::MatrixXd kick_, gauge_, gap_shift_;
+  // With rigid-body modes: Phi_0 scaled to a largest displacement of 1 (so c
+  // and sigma P are lengths) and its coordinates (rigid_coord_ rigid_len_ =
+  // I); (0, Phi_0) and (rigid_coord_, 0), the borders; G = n_{j_i} . Phi_0
+  // (m x r), the gaps' shift per unit c.
+  Eigen::MatrixXd rigid_len_, rigid_coord_, kick_, gauge_, gap_shift_;
 };
 
 // The non-impacting steady state (m = 0): x_s + Re[X e^{i w t}] with
