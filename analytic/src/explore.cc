@@ -87,11 +87,6 @@ std::vector<double> Polish(const AnalysisBasis& b, std::vector<double> times, do
   return times;
 }
 
-// The contact of impact i (0-based) of a sequence, empty meaning contact 1.
-int ContactOf(const std::vector<int>& sequence, int i) {
-  return sequence.empty() ? 0 : sequence[static_cast<std::size_t>(i) % sequence.size()];
-}
-
 // A potential m-ipp orbit that is a lower-m orbit repeated: its impact times
 // form a periodic pattern (t_{i+p} = t_i + T p / m for some divisor p of m),
 // and so does its sequence (j_{i+p} = j_i).
@@ -107,10 +102,9 @@ bool RepeatsLowerOrbit(const std::vector<double>& times, double period, int impa
   for (int p = 1; p < impacts; ++p) {
     if (impacts % p != 0) continue;
     const double shift = period * p / impacts;
-    bool ok = true;
-    for (int i = 0; i + p < impacts && ok; ++i) {
-      ok = std::abs(all[i + p] - all[i] - shift) < 1e-6 * period && ContactOf(sequence, i + p) == ContactOf(sequence, i);
-    }
+    // (p divides m: the sequence repeating with period p is its rotation by p.)
+    bool ok = SequenceKeptBy(sequence, p);
+    for (int i = 0; i + p < impacts && ok; ++i) ok = std::abs(all[i + p] - all[i] - shift) < 1e-6 * period;
     if (ok) return true;
   }
   return false;
@@ -136,11 +130,7 @@ bool SameOrbit(const Orbit& a, const std::vector<double>& times, double period, 
   const std::vector<double> x = Intervals(a.times, period), y = Intervals(times, period);
   const std::size_t m = x.size();
   for (std::size_t shift = 0; shift < m; ++shift) {
-    bool same = true;
-    for (std::size_t i = 0; i < m && same; ++i) {
-      same = ContactOf(sequence, static_cast<int>((i + shift) % m)) == ContactOf(sequence, static_cast<int>(i));
-    }
-    if (!same) continue;
+    if (!SequenceKeptBy(sequence, static_cast<int>(shift))) continue;
     double dist = 0.0;
     for (std::size_t i = 0; i < m; ++i) dist = std::max(dist, std::abs(x[i] - y[(i + shift) % m]));
     if (dist < 1e-6 * period) return true;
@@ -160,7 +150,7 @@ double GrazingRatio(const AnalysisBasis& b, const Orbit& o) {
     Flow(b, ends[k] - prev, y);
     prev = ends[k];
     // The flight ends at impact k + 1 (mod m): its own contact.
-    const ModalContact& c = b.contacts[ContactOf(o.sequence, (k + 1) % m)];
+    const ModalContact& c = b.contacts[o.sequence.empty() ? 0 : o.sequence[(k + 1) % m]];
     const double v = std::abs(ContactVelocity(b, c, y));
     vmin = std::min(vmin, v);
     vmax = std::max(vmax, v);

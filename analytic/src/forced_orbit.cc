@@ -12,6 +12,7 @@
 #include "nsmodal/error.h"
 #include "nsmodal/first_rise.h"
 #include "nsmodal/modal_basis.h"
+#include "nsmodal/orbit.h"
 #include "nsmodal/roots.h"
 
 namespace nsmodal {
@@ -65,6 +66,13 @@ std::vector<int> OnFirstContact(int impacts) {
 
 }  // namespace
 
+double LeastGapStruck(const Model& model, const std::vector<int>& sequence) {
+  if (sequence.empty()) return model.contacts[0].gap;
+  double d = std::numeric_limits<double>::infinity();
+  for (int c : sequence) d = std::min(d, model.contacts[c].gap);
+  return d;
+}
+
 ForcedProblem::ForcedProblem(const Model& model, int impacts, int periods, double frequency, double amplitude)
     : ForcedProblem(model, OnFirstContact(impacts), periods, frequency, amplitude) {}
 
@@ -110,11 +118,8 @@ ForcedProblem::ForcedProblem(const Model& model, const std::vector<int>& sequenc
                                               FormatValue(2.0 * M_PI / fastest_));
   }
   bool elastic = true;  // every contact struck has e = 1
-  gap_scale_ = std::numeric_limits<double>::infinity();
-  for (int c : sequence_) {
-    elastic = elastic && model_.contacts[c].restitution == 1.0;
-    gap_scale_ = std::min(gap_scale_, model_.contacts[c].gap);
-  }
+  for (int c : sequence_) elastic = elastic && model_.contacts[c].restitution == 1.0;
+  gap_scale_ = LeastGapStruck(model_, sequence_);
   if (elastic && !model_.HasDamping()) {
     throw InputError("system", "has no damping and e = 1 on every contact struck: its forced periodic responses are "
                                "not isolated (the return map keeps the multiplier 1 of the free orbits, paper "
@@ -289,10 +294,7 @@ Eigen::VectorXd ForcedProblem::Canonical(const Eigen::VectorXd& u) const {
   int best = 0;
   double best_phase = std::numeric_limits<double>::infinity();
   for (int k = 0; k < m_; ++k) {
-    // Only a start that leaves the sequence as it is.
-    bool same = true;
-    for (int i = 0; i < m_ && same; ++i) same = sequence_[(k + i) % m_] == sequence_[i];
-    if (!same) continue;
+    if (!SequenceKeptBy(sequence_, k)) continue;  // only a start that leaves the sequence as it is
     double p = std::fmod(t[k], cycle);
     if (p < 0.0) p += cycle;
     // Equal phases (1e-12 of a cycle) keep the earlier impact: n > 1 orbits

@@ -66,11 +66,7 @@ class Tracer {
     const double w_mid = opt.parameter == ResponseParameter::kFrequency ? mid : opt.fixed;
     period_scale_ = opt.periods * 2.0 * M_PI / w_mid;
     lambda_scale_ = std::max(opt.grid.to - opt.grid.from, opt.grid.step);
-    gap_scale_ = model.contacts[0].gap;
-    if (!opt.sequence.empty()) {
-      gap_scale_ = std::numeric_limits<double>::infinity();
-      for (int c : opt.sequence) gap_scale_ = std::min(gap_scale_, model.contacts[c].gap);
-    }
+    gap_scale_ = LeastGapStruck(model, opt.sequence);
   }
   int dim() const { return k_ + 1; }
   double Lambda(const Vec& xi) const { return xi[k_] * lambda_scale_; }

@@ -84,6 +84,10 @@ struct ForcedOrbit {
   bool stable = false;     // max |multiplier| < 1
 };
 
+// The least gap among the contacts a sequence strikes (empty: contact 1's):
+// the length a response's residuals are measured in.
+double LeastGapStruck(const Model& model, const std::vector<int>& sequence);
+
 // One response problem: the model at one frequency and forcing amplitude.
 class ForcedProblem {
  public:
@@ -101,7 +105,7 @@ class ForcedProblem {
   // The size of u and of the residual: m plus the rigid-body modes.
   int unknowns() const { return m_ + rigid_; }
   const std::vector<int>& sequence() const { return sequence_; }
-  // The length the residuals are measured in: the least gap struck.
+  // The length the residuals are measured in: LeastGapStruck.
   double gap_scale() const { return gap_scale_; }
   // The model at this frequency and amplitude (the one the orbits solve).
   const Model& model() const { return model_; }

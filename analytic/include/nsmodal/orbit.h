@@ -8,6 +8,17 @@
 
 namespace nsmodal {
 
+// Whether starting an impact sequence at its impact `shift` leaves it as it
+// is (j_{i + shift mod m} = j_i for all i): the rotations under which an orbit
+// of that sequence is the same orbit. Empty means every impact on contact 1.
+inline bool SequenceKeptBy(const std::vector<int>& sequence, int shift) {
+  const int m = static_cast<int>(sequence.size());
+  for (int i = 0; i < m; ++i) {
+    if (sequence[(i + shift) % m] != sequence[i]) return false;
+  }
+  return true;
+}
+
 struct Orbit {
   int impacts = 1;
   double period = 0.0;
