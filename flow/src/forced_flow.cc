@@ -59,9 +59,8 @@ double DampedSignal::MaxRate() const {
 }
 
 RigidBodySplit SplitRigidBody(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
-                              const Eigen::MatrixXd& stiffness, const Eigen::VectorXd& constant_force) {
+                              const Eigen::MatrixXd& stiffness, const Eigen::VectorXd& constant_force, int rigid) {
   const int n = static_cast<int>(mass.rows());
-  const int rigid = RigidBodyModes(stiffness);
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(stiffness, mass);
   NSMODAL_CHECK(ges.info() == Eigen::Success);
   RigidBodySplit out{ges.eigenvectors().leftCols(rigid), ges.eigenvectors().rightCols(n - rigid),
@@ -127,7 +126,7 @@ ForcedFlow::ForcedFlow(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& dampi
   Eigen::MatrixXd elastic;  // Phi_e (n x (n - r)), with rigid modes only
   Eigen::VectorXd omega2;   // its K eigenvalues
   if (rigid > 0) {
-    RigidBodySplit split = SplitRigidBody(mass, c, stiffness, constant_force);
+    RigidBodySplit split = SplitRigidBody(mass, c, stiffness, constant_force, rigid);
     rigid_ = std::move(split.rigid);
     rigid_coord_ = rigid_.transpose() * mass;
     elastic = std::move(split.elastic);

@@ -70,13 +70,15 @@ std::optional<Eigen::VectorXcd> HarmonicResponse(const Eigen::MatrixXd& mass, co
 // Checked: the damping must leave the rigid motion alone (C Phi_0 = 0: a
 // dashpot between masses, not to ground) and no constant force may push it
 // (Phi_0' f0 = 0); throws InputError naming "system.damping_matrix" or
-// "forcing.constant" otherwise (CVODE and Moreau-Jean need neither). damping and constant_force may be empty.
+// "forcing.constant" otherwise (CVODE and Moreau-Jean need neither).
+// damping and constant_force may be empty; rigid is RigidBodyModes(stiffness),
+// which the caller has counted (one eigenvalue solve, not two).
 struct RigidBodySplit {
   Eigen::MatrixXd rigid, elastic;
   Eigen::VectorXd omega2;
 };
 RigidBodySplit SplitRigidBody(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
-                              const Eigen::MatrixXd& stiffness, const Eigen::VectorXd& constant_force);
+                              const Eigen::MatrixXd& stiffness, const Eigen::VectorXd& constant_force, int rigid);
 
 class ForcedFlow {
  public:
