@@ -41,6 +41,10 @@ struct UserData {
   void SetHeld(const std::vector<int>& set) {
     held = set;
     if (held.size() > 1) g_inv = cm->DelassusBlock(held).inverse();
+  }
+  // `locked` for the held set (the root functions' concern: the RHS and the
+  // held kinematics need only SetHeld).
+  void LockRoots() {
     locked.assign(cm->NumContacts(), 0);
     if (held.empty()) return;
     const int n = cm->model.dofs();
@@ -198,6 +202,7 @@ class Cvode {
   Eigen::Map<Eigen::VectorXd> State() { return {N_VGetArrayPointer(y_), 2 * n_}; }
   void Restart(double t, const std::vector<int>& held) {
     ud_.SetHeld(held);
+    ud_.LockRoots();
     Check(CVodeReInit(mem_, t, y_), "CVodeReInit");
   }
   // One internal step towards tout, never past it (a stop time: roots and
