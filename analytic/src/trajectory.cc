@@ -21,7 +21,9 @@ Eigen::MatrixXd OrbitTrajectory(const AnalysisBasis& b, const Orbit& orbit, int 
     const double duration = ends[k] - start;
     for (int j = 0; j <= samples; ++j) {
       Eigen::VectorXd yj = y;
-      const double t = duration * j / samples;
+      // The last sample at the impact itself: duration * samples / samples
+      // can be an ulp off, and the impact's two rows must share their time.
+      const double t = j == samples ? duration : duration * j / samples;
       Flow(b, t, yj);
       out(row, 0) = start + t;
       out.row(row).tail(2 * n) = PhysicalOf(b, yj).transpose();
