@@ -212,7 +212,7 @@ TEST(Bridge, APeriodDoublingWhoseDirectionLeavesTheContactAloneOpensABridge) {
   ASSERT_LT(br.s_begin, 0.0);
   ASSERT_GT(br.s_end, 0.0);
   EXPECT_NEAR(br.s_begin, -br.s_end, kRoundOff * br.s_end);
-  const double e0 = Energy(br.origin);
+  const double e0 = Energy(b, br.origin);
   for (int j = 0; j <= 16; ++j) {
     const double s = br.s_begin + (br.s_end - br.s_begin) * j / 16.0;
     const Orbit o = BridgeOrbit(b, br, s);

@@ -14,12 +14,20 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <complex>
+#include <functional>
+#include <string>
 #include <vector>
 
 #include "nsmodal/error.h"
 #include "nsmodal/forced_orbit.h"
+#include "nsmodal/modal_basis.h"
 #include "nsmodal/model.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/return_map.h"
 #include "nsmodal/simulate.h"
+#include "nsmodal/stability.h"
+#include "nsmodal/two_impact.h"
 #include "nsmodal/validate.h"
 
 namespace nsmodal {
@@ -286,6 +294,189 @@ TEST(ImpactDamper, CvodeRidesOneWallOfTheCavity) {
   ASSERT_EQ(cvode.status, SimulationStatus::kFinished) << cvode.message;
   EXPECT_GT(exact.sticking_time, 1.0);
   EXPECT_NEAR(cvode.sticking_time, exact.sticking_time, 1e-3);
+}
+
+}  // namespace
+}  // namespace nsmodal
+
+// The conservative impact damper's nonsmooth modes (e = 1, no damping, no
+// force): its (1, 2) orbits, a free mass that no spring holds (two_impact.h,
+// rigid-body modes).
+
+namespace nsmodal {
+namespace {
+
+Model FreeDamper(const Damper& p) {
+  Model model = DamperModel(p);
+  model.forcing = Forcing{};
+  for (Contact& c : model.contacts) c.restitution = 1.0;
+  return model;
+}
+
+// The symmetric free orbit (impacts at 0 on y - x = d/2 and at T/2 on
+// x - y = d/2, z(t + T/2) = -z(t)): with w^2 = k/M, h = w T/2, the primary
+// x = x0 cos(w t) + (u0/w) sin(w t) on (0, T/2) and the free mass
+// y = x0 + d/2 - V t. x(T/2) = -x0 gives u0 = -w x0 cot(h/2); y(T/2) =
+// -(x0 + d/2) gives V = 4 (x0 + d/2) / T; the momentum of the impact at
+// T/2, M (u- - u+) = m (w+ - w-), with u- = u0 (Newton's law then holds by
+// itself), gives M u0 = m V. So
+//   x0 = -4 m (d/2) / (T M w cot(h/2) + 4 m).
+TEST(ImpactDamper, ItsFreeSymmetricOrbitsAreTheClosedForm) {
+  const Damper p;
+  const AnalysisBasis b(FreeDamper(p));
+  ASSERT_EQ(b.rigid, 1);
+  const double w = std::sqrt(p.k / p.big_m);
+  int admissible = 0;
+  for (double period = 2.0; period <= 30.0; period += 0.7) {
+    const std::vector<double> roots = TwoImpactRoots(b, period, {}, 0, 1);
+    ASSERT_TRUE(std::find(roots.begin(), roots.end(), 0.5 * period) != roots.end()) << "T = " << period;
+    const Orbit o = TwoImpactOrbitAt(b, 0.5 * period, period, {}, 0, 1);
+    const double x0 = -4.0 * p.m * 0.5 * p.d / (period * p.big_m * w / std::tan(0.25 * w * period) + 4.0 * p.m);
+    const double u0 = -w * x0 / std::tan(0.25 * w * period), v = 4.0 * (x0 + 0.5 * p.d) / period;
+    const Eigen::Vector4d closed(x0, x0 + 0.5 * p.d, u0, -v);
+    // Both are O(1) linear algebra on O(1) numbers away from cot(h/2) = 0 or
+    // a zero denominator (none on this grid): round-off, 1e-12 with room.
+    EXPECT_LT((o.z0 - closed).cwiseAbs().maxCoeff(), 1e-12) << "T = " << period << ": " << o.z0.transpose();
+    EXPECT_TRUE(o.potential) << o.reason;
+    EXPECT_LT(o.periodicity_residual, 1e-13);
+    const double energy = 0.5 * p.big_m * (w * w * x0 * x0 + u0 * u0) + 0.5 * p.m * v * v;
+    EXPECT_NEAR(o.energy, energy, 1e-13 * energy);
+    admissible += o.admissible;
+  }
+  EXPECT_GT(admissible, 10);
+}
+
+// Every root t2 of the rigid NC1 signal is a kernel of A_2 one larger than
+// the rigid shift's (the second smallest singular value vanishes there), and
+// the asymmetric orbits come in pairs t2, T - t2.
+TEST(ImpactDamper, EachRootOfItsSignalIsAKernelOfA2) {
+  const Damper p;
+  const AnalysisBasis b(FreeDamper(p));
+  int asymmetric = 0;
+  for (double period = 2.0; period <= 40.0; period += 0.37) {
+    const std::vector<double> roots = TwoImpactRoots(b, period, {}, 0, 1);
+    for (double t2 : roots) {
+      const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(MatrixA(b, {t2}, period, {0, 1})).singularValues();
+      // Ascending from the back: sv[3] the shift (0 exactly in exact
+      // arithmetic), sv[2] NC1's; A is O(1), so round-off is ~1e-15.
+      EXPECT_LT(sv[2], 1e-12) << "T = " << period << ", t2 = " << t2;
+      EXPECT_GT(sv[1], 1e-6) << "T = " << period << ", t2 = " << t2;
+      const bool mirrored = std::any_of(roots.begin(), roots.end(),
+                                        [&](double s) { return std::abs(s - (period - t2)) < 1e-9 * period; });
+      EXPECT_TRUE(mirrored) << "T = " << period << ", t2 = " << t2;
+      asymmetric += std::abs(t2 - 0.5 * period) > 1e-9 * period;
+      const Orbit o = TwoImpactOrbitAt(b, t2, period, {}, 0, 1);
+      EXPECT_TRUE(o.potential) << "T = " << period << ", t2 = " << t2 << ": " << o.reason;
+    }
+    // Between roots the kernel is the shift's alone (a point midway).
+    for (std::size_t i = 0; i + 1 < roots.size(); ++i) {
+      const double mid = 0.5 * (roots[i] + roots[i + 1]);
+      const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(MatrixA(b, {mid}, period, {0, 1})).singularValues();
+      EXPECT_GT(sv[2], 1e-9) << "T = " << period << ", t2 = " << mid;
+    }
+  }
+  EXPECT_GT(asymmetric, 0);
+}
+
+// The multipliers (saltation matrices with the free drift, the trivial pair
+// taken out along the energy's gradient) against central differences of the
+// exact simulator's period map: the trivial pair is a Jordan block that
+// differences split by ~sqrt(their error), so the comparison is on the
+// similarity invariants tr(J) and tr(J^2), which are not split.
+TEST(ImpactDamper, ItsFreeMultipliersMatchFiniteDifferencesOfTheSimulator) {
+  const Damper p;
+  const Model model = FreeDamper(p);
+  const AnalysisBasis b(model);
+  int stable = 0, unstable = 0;
+  for (double period : {4.0, 6.0, 9.0, 12.0, 13.0}) {
+    for (double t2 : TwoImpactRoots(b, period, {}, 0, 1)) {
+      const Orbit o = TwoImpactOrbitAt(b, t2, period, {}, 0, 1);
+      if (!o.admissible) continue;
+      const Stability st = OrbitStability(b, o);
+      ASSERT_TRUE(st.defined);
+      SimulateOptions opt;
+      opt.integrator = Integrator::kExact;
+      opt.t_end = period;
+      opt.sample_dt = period;
+      auto end = [&](const Eigen::VectorXd& z) { return Simulate(model, z.head(2), z.tail(2), opt).final_state; };
+      // From mid-flight (the state after the impact sits on a wall, where
+      // half the differences would start beyond it): the period map from
+      // any point of the orbit has the same multipliers.
+      opt.t_end = 0.5 * t2;
+      const Eigen::VectorXd mid = end(o.z0);
+      opt.t_end = period;
+      Eigen::Matrix4d j;
+      for (int k = 0; k < 4; ++k) {
+        const double step = 1e-6 * std::max(1.0, std::abs(mid[k]));
+        Eigen::VectorXd a = mid, c = mid;
+        a[k] += step;
+        c[k] -= step;
+        j.col(k) = (end(a) - end(c)) / (2.0 * step);
+      }
+      std::complex<double> tr1 = 0.0, tr2 = 0.0;
+      for (const std::complex<double>& mu : st.multipliers) {
+        tr1 += mu;
+        tr2 += mu * mu;
+      }
+      // Central differences of a map with |J| up to ~100 here: truncation
+      // O(step^2 |J'''|) and the simulator's round-off over 2 step: 1e-6 of
+      // the scale (as for the forced orbits above).
+      const double scale = std::max(1.0, st.max_modulus * st.max_modulus);
+      EXPECT_LT(std::abs(tr1 - j.trace()), 1e-6 * scale) << "T = " << period << ", t2 = " << t2;
+      EXPECT_LT(std::abs(tr2 - (j * j).trace()), 1e-6 * scale) << "T = " << period << ", t2 = " << t2;
+      (st.stable ? stable : unstable) += 1;
+    }
+  }
+  EXPECT_GT(stable, 0);
+  EXPECT_GT(unstable, 0);
+}
+
+// Simulated 200 periods by each integrator, each admissible orbit does what
+// its multipliers say (validate's verdicts).
+TEST(ImpactDamper, TheThreeIntegratorsFollowItsFreeOrbits) {
+  const Damper p;
+  const Model model = FreeDamper(p);
+  const AnalysisBasis b(model);
+  ValidateOptions options;
+  options.periods = 200;
+  int admissible = 0;
+  for (double period : {4.0, 9.0, 16.0}) {
+    for (const Orbit& o : TwoImpactOrbits(b, period, {}, 0, 1)) {
+      if (!o.admissible) continue;
+      ++admissible;
+      for (Integrator integrator : {Integrator::kExact, Integrator::kCvode, Integrator::kMoreauJean}) {
+        const OrbitValidation v = ValidateOrbit(model, o, integrator, options);
+        EXPECT_TRUE(v.consistent) << "T = " << period << ", " << ToString(integrator) << ": " << v.reason;
+      }
+    }
+  }
+  EXPECT_GE(admissible, 3);
+}
+
+// What the rigid-body mode leaves undefined is refused, naming the field.
+TEST(ImpactDamper, ItsFreeAnalysisRefusesWhatHasNoOrbit) {
+  const Damper p;
+  Model model = FreeDamper(p);
+  const AnalysisBasis b(model);
+  auto message = [](const std::function<void()>& f) {
+    try {
+      f();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message([&] { OneImpactOrbit(b, 5.0); }).find("system.stiffness_matrix: "), std::string::npos);
+  EXPECT_NE(message([&] { TwoImpactRoots(b, 5.0, {}, 0, 0); }).find("system.stiffness_matrix: "), std::string::npos);
+  // A stop of the primary alone does not move the free mass.
+  model.contacts.push_back(DofContact(2, 0, true, 2.0, 1.0));
+  const AnalysisBasis with_stop(model);
+  const std::string err = message([&] { TwoImpactRoots(with_stop, 5.0, {}, 0, 2); });
+  EXPECT_NE(err.find("sequence: contacts 1 and 3: contact 3 does not move the rigid-body mode"), std::string::npos)
+      << err;
+  // One contact and a free mass: no orbit at all.
+  model.contacts = {model.contacts.front()};
+  EXPECT_NE(message([&] { AnalysisBasis one(model); }).find("system.stiffness_matrix: "), std::string::npos);
 }
 
 }  // namespace

@@ -65,7 +65,7 @@ TEST(ModalBasis, MassOrthonormalAndRoundTrip) {
   EXPECT_TRUE(PositionOf(b, y).isApprox(x, kTol));
   EXPECT_TRUE(VelocityOf(b, y).isApprox(v, kTol));
   // E = v'Mv/2 + x'Kx/2 = |y|^2/2.
-  EXPECT_NEAR(Energy(y), 0.5 * v.dot(m.mass * v) + 0.5 * x.dot(m.stiffness * x), kTol);
+  EXPECT_NEAR(Energy(b, y), 0.5 * v.dot(m.mass * v) + 0.5 * x.dot(m.stiffness * x), kTol);
 }
 
 }  // namespace

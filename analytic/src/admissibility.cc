@@ -69,7 +69,7 @@ Orbit EvaluateOrbit(const AnalysisBasis& b, const Eigen::VectorXd& y0, const std
   orbit.sequence = sequence;
   orbit.y0 = y0;
   orbit.z0 = PhysicalOf(b, y0);
-  orbit.energy = Energy(y0);
+  orbit.energy = Energy(b, y0);
   orbit.max_excess = -std::numeric_limits<double>::infinity();
   const int contacts = static_cast<int>(b.contacts.size());
   std::vector<bool> in_sequence(contacts, false);

@@ -65,8 +65,8 @@ double AdmissibleExtent(const AnalysisBasis& b, const Bridge& br, double from, d
   return lo;
 }
 
-void Energies(Bridge& br) {
-  const auto energy = [&](double s) { return Energy(br.origin + s * br.direction); };
+void Energies(const AnalysisBasis& b, Bridge& br) {  // b elastic: E(s) is quadratic, vertex below
+  const auto energy = [&](double s) { return Energy(b, br.origin + s * br.direction); };
   br.energy_min = std::min(energy(br.s_begin), energy(br.s_end));
   br.energy_max = std::max(energy(br.s_begin), energy(br.s_end));
   const double vertex = -br.origin.dot(br.direction);
@@ -76,13 +76,13 @@ void Energies(Bridge& br) {
 BridgeSearch NotFound(BridgeStatus status, std::string message) { return {status, std::move(message), {}}; }
 
 // The ends are known: bounded, with its energies, or unbounded.
-BridgeSearch Finish(Bridge br) {
+BridgeSearch Finish(const AnalysisBasis& b, Bridge br) {
   if (std::isinf(br.s_begin) || std::isinf(br.s_end)) {
     return NotFound(BridgeStatus::kUnbounded, "T = " + FormatValue(br.period) +
                                                   ": the continuum of 2-ipp orbits stays admissible to 1e3 times "
                                                   "the origin's size; unbounded");
   }
-  Energies(br);
+  Energies(b, br);
   return {BridgeStatus::kFound, "", std::move(br)};
 }
 
@@ -133,7 +133,7 @@ BridgeSearch FindBridgeAt(const AnalysisBasis& b, double grazing_period) {
   if (minus) br.direction = -br.direction;
   br.s_begin = 0.0;
   br.s_end = AdmissibleExtent(b, br, probe, br.origin.norm() / 256.0);
-  return Finish(std::move(br));
+  return Finish(b, std::move(br));
 }
 
 std::vector<double> OneImpactPeriodDoublings(const AnalysisBasis& b, double from, double to, double step) {
@@ -175,7 +175,7 @@ BridgeSearch FindPeriodDoublingBridge(const AnalysisBasis& b, double doubling_pe
   const double step = br.origin.norm() / 256.0;
   br.s_begin = AdmissibleExtent(b, br, 0.0, -step);
   br.s_end = AdmissibleExtent(b, br, 0.0, step);
-  return Finish(std::move(br));
+  return Finish(b, std::move(br));
 }
 
 }  // namespace nsmodal

@@ -227,6 +227,7 @@ long ExploreReport::Count(const std::string& kind, bool admissible_only) const {
 }
 
 ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& periods, const ExploreOptions& options) {
+  b.RequireElastic("the search for orbits of 3 to 6 impacts (explore)");
   if (options.impacts < 3 || options.impacts > 6) {
     throw InputError("impacts", "the exploratory search takes 3 to 6 impacts, got " +
                                     std::to_string(options.impacts));
@@ -356,6 +357,7 @@ std::optional<Orbit> FamilyOrbit(const AnalysisBasis& b, const std::vector<doubl
 }  // namespace
 
 Family FollowOddImpactFamily(const AnalysisBasis& b, const Orbit& start, double to, const FamilyOptions& options) {
+  b.RequireElastic("the odd-m family continuation");
   const int m = start.impacts;
   if (m % 2 == 0 || m < 3 || m > 5 || static_cast<int>(start.times.size()) != m - 1) {
     throw InputError("impacts", "the family continuation takes an orbit with 3 or 5 impacts (odd m: a one-"

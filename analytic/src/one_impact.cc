@@ -8,6 +8,7 @@
 namespace nsmodal {
 
 double SingularFunction(const AnalysisBasis& b, double period, int contact) {
+  b.RequireElastic("1-impact orbits");
   const Eigen::VectorXd& r = b.contacts[contact].r;
   double d = 0.0;
   for (int i = 0; i < b.n; ++i) {
@@ -44,6 +45,7 @@ Orbit OneImpactOrbit(const AnalysisBasis& b, double period, const AdmissibilityO
 }
 
 Orbit OneImpactOrbitFromKernel(const AnalysisBasis& b, double period, const AdmissibilityOptions& options) {
+  b.RequireElastic("1-impact orbits");
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(MatrixA(b, {}, period), Eigen::ComputeFullV);
   Eigen::VectorXd k = svd.matrixV().col(2 * b.n - 1);
   k *= b.gap / ContactPosition(b, k);

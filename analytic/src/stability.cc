@@ -23,6 +23,7 @@ Eigen::VectorXd Field(const ModalBasis& b, const Eigen::VectorXd& y) {
   Eigen::VectorXd f(2 * b.n);
   f.head(b.n) = b.omega.cwiseProduct(y.tail(b.n));
   f.tail(b.n) = -b.omega.cwiseProduct(y.head(b.n));
+  f.head(b.rigid) = y.segment(b.n, b.rigid);  // a rigid-body mode drifts: u_i' = s_i (u_i = q_i)
   return f;
 }
 
@@ -94,7 +95,11 @@ Stability DenseStability(const AnalysisBasis& b, const Orbit& orbit, double tol)
   Eigen::MatrixXd m;
   if (!DenseMonodromy(b, orbit, m)) return Undefined(dim);
   Eigen::MatrixXd pair(dim, 2);
-  pair << orbit.y0, Field(b, orbit.y0);
+  // The energy's gradient (y0 itself, less the rigid-body positions, which
+  // store no energy: flow.h Energy) is the left eigenvector.
+  Eigen::VectorXd gradient = orbit.y0;
+  gradient.head(b.rigid).setZero();
+  pair << gradient, Field(b, orbit.y0);
   const Eigen::MatrixXd q = Eigen::HouseholderQR<Eigen::MatrixXd>(pair).householderQ();
   const Eigen::MatrixXd u = q.rightCols(dim - 2);
   const Eigen::MatrixXd reduced = u.transpose() * m * u;
@@ -630,6 +635,7 @@ double OneImpactSecular::Value(double x) const {
 }
 
 OneImpactSecular OneImpactSecularFunction(const AnalysisBasis& b, double period, int contact) {
+  b.RequireElastic("1-impact orbits");
   const ModalContact& mc = b.contacts[contact];
   OneImpactSecular s;
   std::vector<double> z, a, bb, c, free;

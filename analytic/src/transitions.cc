@@ -25,6 +25,7 @@ std::string ToString(TransitionKind kind) {
 }
 
 std::vector<double> ModalPeriods(const AnalysisBasis& b, double from, double to, int contact) {
+  b.RequireElastic("the modal transitions of 1-impact families");
   const ModalContact& c = b.contacts[contact];
   std::vector<double> out;
   const Eigen::VectorXd periods = b.Periods();

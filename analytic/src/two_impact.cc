@@ -25,9 +25,67 @@ double SmallestSingularValue(const AnalysisBasis& b, double t2, double period) {
 // |sin(w_i T / 2)| below this (relative) makes T a multiple of T_i to round-off.
 constexpr double kSingularPeriod = 1e-14;
 
+// The rigid-body part of a two-contact sequence (two_impact.h): the unit
+// impulse directions' rigid components p1_r, p2_r and kappa with
+// p2_r = kappa p1_r. Throws InputError naming "sequence" when a contact does
+// not move the rigid-body modes or the two move them along different lines.
+struct RigidPart {
+  Eigen::VectorXd p1, p2;  // p1_r, p2_r
+  double kappa = 0.0;
+};
+RigidPart RigidPartOf(const AnalysisBasis& b, int first, int second) {
+  if (first == second) b.RequireElastic("two impacts per period on one contact");
+  const ModalContact &c1 = b.contacts[first], &c2 = b.contacts[second];
+  RigidPart out;
+  out.p1 = c1.r.head(b.rigid) / std::sqrt(c1.r_norm2);
+  out.p2 = c2.r.head(b.rigid) / std::sqrt(c2.r_norm2);
+  const std::string pair = "contacts " + std::to_string(first + 1) + " and " + std::to_string(second + 1);
+  // p is a unit vector: 1e-12 is round-off of a component that is zero.
+  for (const auto& [p, j] : {std::pair(&out.p1, first), std::pair(&out.p2, second)}) {
+    if (!(p->norm() > 1e-12)) {
+      throw InputError("sequence", pair + ": contact " + std::to_string(j + 1) +
+                                       " does not move the rigid-body mode(s), so its impulse cannot send the " +
+                                       "free motion back; no periodic orbit of this sequence has impacts");
+    }
+  }
+  const double dot = out.p1.dot(out.p2);
+  if (!(std::abs(dot) >= (1.0 - 1e-12) * out.p1.norm() * out.p2.norm())) {
+    throw InputError("sequence", pair + " push the rigid-body modes along different lines: the free motion " +
+                                     "cannot return to its start; no periodic orbit of this sequence");
+  }
+  out.kappa = dot / out.p1.squaredNorm();
+  return out;
+}
+
 }  // namespace
 
+void CheckTwoImpactSequence(const AnalysisBasis& b, int first, int second) {
+  if (b.rigid > 0) RigidPartOf(b, first, second);
+}
+
 SinusoidSum TwoImpactSignal(const AnalysisBasis& b, double period, int first, int second) {
+  if (b.rigid > 0) {
+    // F(t2) = |p2_r|^2 (2 t2 - T) / T + kappa sum_i rho_i (cot(w_i T/2) sin(w_i t2) - cos(w_i t2))
+    // over the elastic modes (two_impact.h).
+    const RigidPart rp = RigidPartOf(b, first, second);
+    const ModalContact &c1 = b.contacts[first], &c2 = b.contacts[second];
+    const double norms = std::sqrt(c1.r_norm2 * c2.r_norm2);
+    const int ne = b.n - b.rigid;
+    Eigen::VectorXd a(ne), c(ne);
+    for (int k = 0; k < ne; ++k) {
+      const int i = b.rigid + k;
+      const double h = 0.5 * b.omega[i] * period;
+      if (!(std::abs(std::sin(h)) > kSingularPeriod)) return {};
+      const double rho = rp.kappa * c1.r[i] * c2.r[i] / norms;
+      a[k] = -rho;
+      c[k] = rho * std::cos(h) / std::sin(h);
+    }
+    const double p2 = rp.p2.squaredNorm();
+    SinusoidSum f(-p2, std::move(a), std::move(c), b.omega.tail(ne));
+    f.slope = 2.0 * p2 / period;
+    f.UpdateBounds();
+    return f;
+  }
   // rho_i sin(w (t - T/2)) / (2 sin(w T/2)) = (rho_i / 2) (cot(w T/2) sin(w t) - cos(w t)),
   // rho_i = r1_i r2_i / (|r1| |r2|) (r_i^2 / |r|^2 for one contact).
   const ModalContact &c1 = b.contacts[first], &c2 = b.contacts[second];
@@ -46,11 +104,11 @@ SinusoidSum TwoImpactSignal(const AnalysisBasis& b, double period, int first, in
 std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const TwoImpactOptions& options, int first,
                                    int second) {
   const SinusoidSum p = TwoImpactSignal(b, period, first, second);
-  if (p.omega.size() == 0) return {};
+  if (p.omega.size() == 0 && p.slope == 0.0) return {};
   // Two contacts that share no mode (r1_i r2_i = 0 for every i: decoupled
   // parts) make P vanish for every t2: each wall's 1-impact orbit at any
   // phase, a continuum of orbits, not isolated roots.
-  if (first != second && !(p.a.cwiseAbs().maxCoeff() > 0.5e-14)) {
+  if (b.rigid == 0 && first != second && !(p.a.cwiseAbs().maxCoeff() > 0.5e-14)) {
     throw InputError("sequence", "contacts " + std::to_string(first + 1) + " and " + std::to_string(second + 1) +
                                      " move no common mode (decoupled parts): every t2 is a root, the orbits of "
                                      "the sequence are each contact's 1-impact orbits at any phase; ask for "
@@ -58,34 +116,114 @@ std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const 
   }
   const double half = 0.5 * period;
   const double min_width = 1e-12 * period;
-  // As CheckSegment (admissibility.cc): P has about w_max T / pi roots, each
-  // isolated in ~40 halvings.
-  const long max_cells = static_cast<long>(std::min(1e9, 1000.0 * (2.0 + p.omega.maxCoeff() * period / M_PI)));
+  // P is odd about T/2 (two_impact.h): P(T/2 + x) = s x + sum_i A_i sin(w_i x),
+  // A_i = b_i cos(w_i T/2) - a_i sin(w_i T/2). Its other roots are T/2 +- x
+  // for the roots x in (0, T/2) of the even H(x) = P(T/2 + x) / x
+  //   = s + sum_i A_i w_i sinc(w_i x).
+  // Dividing by x takes out the root at T/2, which is triple where a pair of
+  // asymmetric orbits is born from the symmetric one (a pitchfork): there the
+  // cells that isolate P itself grow as 1 / sqrt(distance to it) (a sweep of
+  // the impact damper's backbone met one at 4e-5 in P' and hit the work
+  // limit), those that isolate H as its logarithm. The bounds:
+  // |d^k/dx^k sinc(w x) w| <= w^(k+1) / (k + 1).
+  const int terms = static_cast<int>(p.omega.size());
+  Eigen::VectorXd amp(terms);
+  double l1 = 0.0, l2 = 0.0;
+  for (int i = 0; i < terms; ++i) {
+    const double h = p.omega[i] * half;
+    amp[i] = p.b[i] * std::cos(h) - p.a[i] * std::sin(h);
+    const double w2 = p.omega[i] * p.omega[i];
+    l1 += std::abs(amp[i]) * w2 / 2.0;
+    l2 += std::abs(amp[i]) * w2 * p.omega[i] / 3.0;
+  }
+  const auto h_dh = [&p, &amp, terms](double x) {
+    double h = p.slope, dh = 0.0;
+    for (int i = 0; i < terms; ++i) {
+      const double w = p.omega[i], u = w * x;
+      double sinc, dsinc;  // sin(u) / u and its derivative in u
+      if (std::abs(u) < 1e-3) {  // the series, to ~1e-19: the quotients lose digits there
+        const double u2 = u * u;
+        sinc = 1.0 - u2 / 6.0 + u2 * u2 / 120.0;
+        dsinc = u * (-1.0 / 3.0 + u2 / 30.0);
+      } else {
+        sinc = std::sin(u) / u;
+        dsinc = (std::cos(u) - sinc) / u;
+      }
+      h += amp[i] * w * sinc;
+      dh += amp[i] * w * w * dsinc;
+    }
+    return std::make_pair(h, dh);
+  };
+  // As CheckSegment (admissibility.cc): H has about w_max T / (2 pi) roots,
+  // each isolated in ~40 halvings.
+  const double w_max = terms > 0 ? p.omega.maxCoeff() : 0.0;
+  const long max_cells = static_cast<long>(std::min(1e9, 1000.0 * (2.0 + w_max * period / M_PI)));
   bool complete = true;
-  const std::vector<double> found = IsolateRoots(
-      [&p](double t) {
-        double d[4];
-        p.Derivatives(t, d);
-        return std::make_pair(d[0], d[1]);
-      },
-      p.bound[1], p.bound[2], 0.0, period, min_width, max_cells, &complete);
+  const std::vector<double> found = IsolateRoots(h_dh, l1, l2, 0.0, half, min_width, max_cells, &complete);
   if (!complete) {
     throw std::runtime_error("2-ipp roots at T = " + FormatValue(period) + ": the isolation of the roots of P(t2) hit its " +
                              "work limit of " + std::to_string(max_cells) + " cells");
   }
   std::vector<double> roots{half};  // exactly (eq. 26)
-  for (double t2 : found) {
+  for (double x : found) {
     // Coincident impacts (t2 at 0 or T) are 1-ipp orbits; T/2 is already in.
-    if (t2 < 1e-9 * period || t2 > (1.0 - 1e-9) * period || std::abs(t2 - half) <= 1e-9 * period) continue;
-    // A bracket left at its minimum width is a tangency only if P vanishes there.
-    if (std::abs(p.Position(t2)) <= options.kernel_tol * p.bound[0]) roots.push_back(t2);
+    if (x <= 1e-9 * period || x >= (0.5 - 1e-9) * period) continue;
+    for (double t2 : {half - x, half + x}) {
+      // T/2 - x loses the digits of a small t2 (x ~ T/2): one Newton step on
+      // P itself restores them (a simple root; none at a tangency).
+      double d[4];
+      p.Derivatives(t2, d);
+      const double step = d[0] / d[1];
+      if (std::abs(step) <= 1e-9 * period) t2 -= step;
+      // A bracket left at its minimum width is a tangency only if P vanishes there.
+      if (std::abs(p.Position(t2)) <= options.kernel_tol * (p.bound[0] + std::abs(p.offset))) roots.push_back(t2);
+    }
   }
   std::sort(roots.begin(), roots.end());
   return roots;
 }
 
+namespace {
+
+// TwoImpactOrbitAt with rigid-body modes (two_impact.h): y0 = alpha K1 + gamma E,
+// K1 = 2 X_e (S_e(T - t2) p2 - kappa p1) in the elastic modes and the rigid
+// velocity 2 (T - t2) / T p2_r; E the unit shift along p1_r (the shifts
+// across it move no gap: the minimum-norm orbit leaves them at 0).
+Orbit RigidTwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const TwoImpactOptions& options,
+                            int first, int second) {
+  const int n = b.n;
+  const RigidPart rp = RigidPartOf(b, first, second);
+  const ModalContact &c1 = b.contacts[first], &c2 = b.contacts[second];
+  Eigen::VectorXd k1 = Eigen::VectorXd::Zero(2 * n), e = Eigen::VectorXd::Zero(2 * n);
+  const double norm1 = std::sqrt(c1.r_norm2), norm2 = std::sqrt(c2.r_norm2);
+  for (int i = b.rigid; i < n; ++i) {
+    const double p1 = c1.r[i] / norm1, p2 = c2.r[i] / norm2;
+    const double k = 0.5 * std::cos(0.5 * b.omega[i] * period) / std::sin(0.5 * b.omega[i] * period);
+    const double c = std::cos(b.omega[i] * (period - t2)), s = std::sin(b.omega[i] * (period - t2));
+    k1[i] = 2.0 * (p2 * (-0.5 * s - k * c) + rp.kappa * p1 * k);
+    k1[n + i] = 2.0 * (p2 * (k * s - 0.5 * c) + rp.kappa * p1 * 0.5);
+  }
+  k1.segment(n, b.rigid) = (2.0 * (period - t2) / period) * rp.p2;
+  e.head(b.rigid) = rp.p1.normalized();
+  Eigen::VectorXd k1_t2 = k1;
+  Flow(b, t2, k1_t2);  // the shift E is a fixed point of every flight
+  Eigen::Matrix2d c;
+  c << ContactPosition(b, c1, k1), ContactPosition(b, c1, e), ContactPosition(b, c2, k1_t2), ContactPosition(b, c2, e);
+  const Eigen::Vector2d rhs(c1.gap, c2.gap);
+  Eigen::JacobiSVD<Eigen::Matrix2d> csvd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const bool degenerate = csvd.singularValues()[1] <= 1e-10 * csvd.singularValues()[0];
+  csvd.setThreshold(1e-10);
+  const Eigen::Vector2d coef = degenerate ? Eigen::Vector2d(csvd.solve(rhs)) : Eigen::Vector2d(c.partialPivLu().solve(rhs));
+  Orbit orbit = EvaluateOrbit(b, coef[0] * k1 + coef[1] * e, {t2}, period, options.admissibility, {first, second});
+  orbit.degenerate = degenerate;
+  return orbit;
+}
+
+}  // namespace
+
 Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const TwoImpactOptions& options, int first,
                        int second) {
+  if (b.rigid > 0) return RigidTwoImpactOrbitAt(b, t2, period, options, first, second);
   const int n = b.n;
   const ModalContact &c1 = b.contacts[first], &c2 = b.contacts[second];
   // ker A_2 = span{X S(T - t2) p2, X p1} (two_impact.h; p1 = p2 = p for one
@@ -148,6 +286,7 @@ Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const T
 std::optional<Orbit> TwoImpactKernelOrbit(const AnalysisBasis& b, double t2, double period, double at_t2,
                                           double rank_tol, const AdmissibilityOptions& admissibility, int first,
                                           int second) {
+  b.RequireElastic("the 2-impact kernel from the SVD");
   KernelContacts kc;
   if (!KernelAtImpacts(b, {t2}, period, 2, kc, {first, second})) return std::nullopt;
   const Eigen::Matrix2d c = kc.c;
@@ -201,6 +340,7 @@ double TwoImpactKernelResidual(const AnalysisBasis& b, double t2, double period)
 }
 
 std::vector<BranchPoint> TwoImpactBranch(const AnalysisBasis& b, double t2, double period, const BranchOptions& options) {
+  b.RequireElastic("the continuation of the 2-impact root curve");
   if (!(SmallestSingularValue(b, t2, period) < options.kernel_tol)) {
     throw InputError("t2", "(t2, T) = (" + std::to_string(t2) + ", " + std::to_string(period) +
                                ") is not a root of det A_2: no branch to follow");

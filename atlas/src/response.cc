@@ -614,7 +614,15 @@ std::optional<std::string> NoBackbone(const Model& model, const ResponseOptions&
            "sequence's free orbits (nsmodal orbits --sequence, 1 or 2 impacts)";
   }
   if (RigidBodyModes(model.stiffness) > 0) {
-    return "the model has a rigid-body mode: its conservative twin has no one-impact mode to follow";
+    if (!TwoContactBackbone(seq)) {
+      return "the model has a rigid-body mode: its conservative twin has no one-impact mode to follow (a "
+             "backbone needs two contacts struck once each, e.g. --sequence 1,2)";
+    }
+    try {
+      CheckTwoImpactSequence(AnalysisBasis(ConservativeTwin(model)), seq[0], seq[1]);
+    } catch (const InputError& e) {
+      return std::string("the conservative twin has no orbits of the sequence: ") + e.what();
+    }
   }
   return std::nullopt;
 }

@@ -76,13 +76,21 @@ const Model& ElasticModel(const Model& model) {
 }  // namespace
 
 AnalysisBasis::AnalysisBasis(const Model& model) : ModalBasis(MakeModalBasis(ElasticModel(model))) {
-  if (rigid > 0) {
-    throw InputError("system.stiffness_matrix",
-                     "has " + std::to_string(rigid) + " rigid-body mode(s) (zero eigenvalues of K: a free-free " +
-                         "structure, or a mass with no spring to ground): no periodic orbit has impacts (each " +
-                         "impact pushes the drift's momentum away from the obstacle and no flight brings it back), " +
-                         "so there are no nonsmooth modes to compute; simulate it, or ground it with a spring");
-  }
+  // One contact: each impact pushes the drift's momentum away from the
+  // obstacle and no flight brings it back. Two or more (a cavity, a free body
+  // between walls) can send it back: the (a, b) sequences (two_impact.h).
+  if (rigid > 0 && contacts.size() < 2) RequireElastic("nonsmooth modes with one contact");
+}
+
+void AnalysisBasis::RequireElastic(const std::string& what) const {
+  if (rigid == 0) return;
+  throw InputError("system.stiffness_matrix",
+                   "has " + std::to_string(rigid) + " rigid-body mode(s) (zero eigenvalues of K: a free-free " +
+                       "structure, or a mass with no spring to ground): " + what + " need(s) a positive definite " +
+                       "K (one contact: no periodic orbit has impacts, each impact pushes the drift's momentum " +
+                       "away from the obstacle and no flight brings it back; several contacts: only the " +
+                       "two-impact sequences of two different contacts, orbits --sequence a,b, are computed); " +
+                       "simulate it, or ground it with a spring");
 }
 
 void AnalysisBasis::CheckPeriod(double period, const std::string& field) const {

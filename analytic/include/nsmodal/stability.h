@@ -10,10 +10,11 @@
 //   M = Sal_T S(T - t_m) ... Sal_2 S(t_2),
 // and its eigenvalues are the Floquet multipliers. For these conservative
 // families two are trivially 1 (along the flow, M f = f, and along the family:
-// energy is conserved, y0' M = y0'), a Jordan block whose computed eigenvalues
-// would split by ~sqrt(eps); they are taken out exactly: the others are the
-// eigenvalues of M restricted to {y0, f(y0)}-perp (M maps y0-perp to itself;
-// the quotient by f is U' M U for U an orthonormal basis of that complement).
+// energy is conserved, g' M = g' with g its gradient, y0 less the rigid-body
+// positions), a Jordan block whose computed eigenvalues would split by
+// ~sqrt(eps); they are taken out exactly: the others are the eigenvalues of M
+// restricted to {g, f(y0)}-perp (M maps g-perp to itself; the quotient by f
+// is U' M U for U an orthonormal basis of that complement).
 // The others come in pairs (lambda, 1/lambda) (det M = 1, symplectic): the
 // orbit is stable only if all lie on the unit circle.
 //

@@ -52,6 +52,23 @@ struct TwoImpactOptions {
 // first, second: the contacts (0-based) of the impacts at 0 and at t2.
 SinusoidSum TwoImpactSignal(const AnalysisBasis& b, double period, int first = 0, int second = 0);
 
+// With rigid-body modes (b.rigid > 0: a free mass between two walls, the
+// conservative impact damper) S(T) - I is singular on them and the same
+// substitution is made with X_e on the elastic modes only: the rigid
+// velocity must come back, alpha p2_r = beta p1_r, so p1_r and p2_r (the
+// contacts' unit impulse directions' rigid parts) must be parallel,
+// p2_r = kappa p1_r, and the rigid drift must come back,
+// s_r = 2 alpha (T - t2) / T p2_r. What is left is one equation,
+//   F(t2) = |p2_r|^2 (2 t2 - T) / T + kappa sum_e rho_i (cot(w_i T/2) sin(w_i t2) - cos(w_i t2)),
+// a sum of sinusoids with an offset and a slope (T/2 is a root: the
+// symmetric orbit, Masri and Caughey's), and the kernel is the alpha
+// direction plus the shifts of the rigid position, which the two NC2
+// conditions fix (the minimum-norm shift: across p1_r no gap moves). A
+// contact that does not move the rigid part, two that move it along
+// different lines, or one contact twice: InputError naming "sequence" or
+// system.stiffness_matrix.
+void CheckTwoImpactSequence(const AnalysisBasis& b, int first, int second);
+
 // All roots t2 in (0, T) of det A_2(., T), sorted, T/2 included; none when
 // T is a multiple of a linear period. The isolation's work limit (1000 cells
 // per half-oscillation of the fastest mode, ~25 times what it needs) is an

@@ -36,7 +36,11 @@ inline double ContactPosition(const ModalBasis& b, const ModalContact& c, const 
 inline double ContactVelocity(const ModalBasis& b, const ModalContact& c, const Eigen::Ref<const Eigen::VectorXd>& y) {
   return c.r.dot(y.tail(b.n));
 }
-inline double Energy(const Eigen::Ref<const Eigen::VectorXd>& y) { return 0.5 * y.squaredNorm(); }
+// E = v'Mv/2 + x'Kx/2 = |y|^2 / 2 less the rigid-body modes' positions u_i
+// (i < rigid), which store no energy.
+inline double Energy(const ModalBasis& b, const Eigen::Ref<const Eigen::VectorXd>& y) {
+  return 0.5 * (y.squaredNorm() - y.head(b.rigid).squaredNorm());
+}
 
 // A sum of sinusoids with an offset and a drift,
 //   f(t) = c + p t + sum_i a_i cos(w_i t) + b_i sin(w_i t):

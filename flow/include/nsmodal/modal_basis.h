@@ -11,8 +11,9 @@
 //
 // Rigid-body modes (w_i = 0, K semi-definite; the first `rigid` modes): u_i = q_i
 // (there is no w_i to scale by) and the flight is the free drift
-// u_i <- u_i + t s_i, exactly. |y|^2 / 2 is then no longer the energy; the
-// analysis (AnalysisBasis) refuses such systems, the simulator flies them.
+// u_i <- u_i + t s_i, exactly. The energy is then |y|^2 / 2 less the rigid
+// u_i^2 / 2 (flow.h Energy); the analysis (AnalysisBasis) takes such systems
+// only for the sequences it can solve, the simulator flies them all.
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
@@ -60,10 +61,13 @@ ModalBasis MakeModalBasis(const Model& model);
 // constructor throws InputError naming system.restitution), every analysis
 // function takes one, and kRestitution is the one place the analysis states e.
 // Nonsmooth modes are those of the conservative system: a model with damping
-// or forcing is refused too (InputError naming "system" or "forcing"), and so
-// is one with a rigid-body mode ("system.stiffness_matrix"): no periodic orbit
-// has impacts there (each impact pushes the drift's momentum away from the
-// obstacle and no flight brings it back).
+// or forcing is refused too (InputError naming "system" or "forcing"). A model
+// with a rigid-body mode (K semi-definite) is refused with one contact
+// ("system.stiffness_matrix"): no periodic orbit has impacts there (each
+// impact pushes the drift's momentum away from the obstacle and no flight
+// brings it back). With several contacts (a free mass in a cavity: the impact
+// damper) the two-impact sequences (a, b), a != b, have orbits
+// (two_impact.h); every other analysis calls RequireElastic first.
 struct AnalysisBasis : ModalBasis {
   static constexpr double kRestitution = 1.0;
   // Periods the analysis honours, relative to the shortest linear period
@@ -75,6 +79,9 @@ struct AnalysisBasis : ModalBasis {
   explicit AnalysisBasis(const Model& model);
   // Throws InputError naming `field` when T is outside that range.
   void CheckPeriod(double period, const std::string& field = "period") const;
+  // Throws InputError naming system.stiffness_matrix when the basis has a
+  // rigid-body mode: `what` (e.g. "1-impact orbits") needs K definite.
+  void RequireElastic(const std::string& what) const;
 };
 
 // Conversions between the physical state z = (x, v) and the scaled modal y.
