@@ -48,6 +48,17 @@ expect_error "\\-\\-sequence: explore takes 3 to 6 impacts" "$bin" explore "$cle
 expect_error "\\-\\-impacts: 4 disagrees" "$bin" explore "$clear2" --impacts 4 --sequence 1,1,2 --period 4:5:1
 # Decoupled contacts (no common mode): the (1, 2) sequence is a continuum, refused naming the sequence.
 expect_error "sequence: contacts 1 and 2 move no common mode" "$bin" orbit "$(scene decoupled '[system]\nmass_matrix=[[1,0],[0,1]]\nstiffness_matrix=[[1,0],[0,2]]\n[[contact]]\ndof=1\ngap=1\nrestitution=1\n[[contact]]\ndof=2\ngap=1\nrestitution=1\n')" --sequence 1,2 --period 4
+# A free mass in a cavity (a rigid-body mode): figures draws Fig. 18 alone,
+# its (1, 2) family; 1-impact orbits are refused naming the stiffness.
+free=$src/configs/impact-damper-free.toml
+if "$bin" figures "$free" --period 2:20:0.05 --out "$tmp/free" >"$tmp/free.txt" 2>&1; then
+  [ "$(ls "$tmp/free" | grep -c '\.csv$')" = 1 ] && [ "$(grep -c '^1-2,' "$tmp/free/fig18_sequences_fep.csv")" -gt 300 ] \
+    && ok || bad "figures of a free mass: not Fig. 18 alone with its (1, 2) family"
+else
+  bad "figures of a free mass failed: $(tail -2 "$tmp/free.txt")"
+fi
+expect_error "system.stiffness_matrix: has 1 rigid-body mode" "$bin" orbits "$free" --impacts 1 --period 2:3:0.5 --out "$tmp/o"
+expect_error "sequence: contacts 1 and 1" "$bin" orbits "$free" --sequence 1,1 --period 2:3:0.5 --out "$tmp/o"
 # The paper's figures need contact 1 as an upper stop on a dof.
 expect_error "figures draw contact 1" "$bin" figures "$(scene lowerfirst '[system]\nmasses=[1,1]\nsprings=[0.85,2]\n[[contact]]\ndof=2\nside="lower"\ngap=1\nrestitution=1\n')" --out "$tmp/f"
 # A forced response against a lower wall (the forced scene mirrored: wall and
@@ -63,7 +74,7 @@ fi
 expect_error "cannot open" "$bin" orbit "$tmp/missing.toml" --period 3
 # A built-in scene by name (compiled in from configs/), from a directory that has no such file.
 if env -C "$tmp" "$bin" orbit paper --period 7.5 | grep -q "admissible"; then ok; else bad "orbit paper: no built-in scene"; fi
-expect_error "no built-in scene of that name (bar, clearance, forced, impact-damper, paper-simulate, paper)" env -C "$tmp" "$bin" orbit papr --period 3
+expect_error "no built-in scene of that name (bar, clearance, forced, impact-damper-free, impact-damper, paper-simulate, paper)" env -C "$tmp" "$bin" orbit papr --period 3
 expect_error "\-\-period" "$bin" orbits "$paper" --period 1:2 --out "$tmp/o"
 expect_error "\-\-period" "$bin" orbits "$paper" --period 5:1:0.1 --out "$tmp/o"
 expect_error "\-\-period" "$bin" orbits "$paper" --period 1:2:0 --out "$tmp/o"

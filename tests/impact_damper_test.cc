@@ -467,7 +467,7 @@ TEST(ImpactDamper, ItsFreeAnalysisRefusesWhatHasNoOrbit) {
     return std::string("accepted");
   };
   EXPECT_NE(message([&] { OneImpactOrbit(b, 5.0); }).find("system.stiffness_matrix: "), std::string::npos);
-  EXPECT_NE(message([&] { TwoImpactRoots(b, 5.0, {}, 0, 0); }).find("system.stiffness_matrix: "), std::string::npos);
+  EXPECT_NE(message([&] { TwoImpactRoots(b, 5.0, {}, 0, 0); }).find("sequence: contacts 1 and 1: "), std::string::npos);
   // A stop of the primary alone does not move the free mass.
   model.contacts.push_back(DofContact(2, 0, true, 2.0, 1.0));
   const AnalysisBasis with_stop(model);

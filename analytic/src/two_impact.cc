@@ -34,12 +34,16 @@ struct RigidPart {
   double kappa = 0.0;
 };
 RigidPart RigidPartOf(const AnalysisBasis& b, int first, int second) {
-  if (first == second) b.RequireElastic("two impacts per period on one contact");
+  const std::string pair = "contacts " + std::to_string(first + 1) + " and " + std::to_string(second + 1);
+  if (first == second) {
+    throw InputError("sequence", pair + ": with a rigid-body mode (a free part, K semi-definite) one contact struck "
+                                        "twice cannot send the free motion back; ask for two different contacts, "
+                                        "e.g. 1,2");
+  }
   const ModalContact &c1 = b.contacts[first], &c2 = b.contacts[second];
   RigidPart out;
   out.p1 = c1.r.head(b.rigid) / std::sqrt(c1.r_norm2);
   out.p2 = c2.r.head(b.rigid) / std::sqrt(c2.r_norm2);
-  const std::string pair = "contacts " + std::to_string(first + 1) + " and " + std::to_string(second + 1);
   // p is a unit vector: 1e-12 is round-off of a component that is zero.
   for (const auto& [p, j] : {std::pair(&out.p1, first), std::pair(&out.p2, second)}) {
     if (!(p->norm() > 1e-12)) {

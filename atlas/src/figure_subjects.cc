@@ -13,9 +13,11 @@ namespace nsmodal {
 
 PeriodGrid FiguresGrid(const AnalysisBasis& b, const std::optional<std::string>& text, const std::string& field) {
   const double step = 0.01;
+  // (4 times the longest elastic period: a rigid-body mode's is infinite.)
   const std::string range = text ? *text
-                                 : FormatValue(step) + ":" + FormatValue(std::ceil(4.0 * b.Periods().maxCoeff())) +
-                                       ":" + FormatValue(step);
+                                 : FormatValue(step) + ":" +
+                                       FormatValue(std::ceil(4.0 * b.Periods().tail(b.n - b.rigid).maxCoeff())) + ":" +
+                                       FormatValue(step);
   const PeriodGrid grid = PeriodGrid::Parse(range, field);
   if (grid.Count() < 2) throw InputError(field, "needs at least two periods, got '" + range + "'");
   CheckSweepWork(b, grid, {1, 2}, field, true);

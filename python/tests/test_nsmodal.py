@@ -647,6 +647,24 @@ def test_orbits_of_an_impact_sequence():
         nsmodal.orbits(clearance(), impacts=2, sequence=[1], period=(2.0, 3.0, 0.5))
 
 
+def test_the_free_impact_dampers_nonsmooth_modes():
+    # A free mass (no spring) in a cavity: the (1, 2) orbits of a model with a
+    # rigid-body mode; the symmetric one against its closed form
+    # x0 = -4 m (d/2) / (T M w cot(w T / 4) + 4 m) (tests/impact_damper_test.cc).
+    m = nsmodal.Model(masses=[1.0, 0.1], springs=[1.0, 0.0],
+                      contacts=[dict(between=[2, 1], gap=0.5, restitution=1.0),
+                                dict(between=[1, 2], gap=0.5, restitution=1.0)])
+    o = nsmodal.orbits(m, sequence=[1, 2], period=(2.0, 20.0, 0.5))
+    sym = np.isclose(o["t2"], o["T"] / 2)
+    assert sym.sum() == len(np.unique(o["T"])) and o["admissible"].any()
+    T = o["T"][sym]
+    x0 = -4 * 0.1 * 0.5 / (T / np.tan(T / 4) + 4 * 0.1)
+    # Closed form against linear algebra on O(1) numbers: round-off.
+    assert np.allclose(o["x1"][sym], x0, rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="system.stiffness_matrix: has 1 rigid-body mode"):
+        nsmodal.orbits(m, impacts=1, period=(2.0, 3.0, 0.5))
+
+
 def test_the_impact_dampers_response_by_sequence():
     m = nsmodal.load_scene(os.path.join(os.path.dirname(FORCED), "impact-damper.toml"))
     r = nsmodal.response(m, sequence=[1, 2], frequency=(1.3, 1.5, 0.05), validate=20)

@@ -890,14 +890,29 @@ void Figure16(Context& c) {
 // (j) for each contact, (j, j) and (j, k), j < k ((k, j) is (j, k) shifted
 // by t2). Admissible orbits only, over the atlas's grid; 1-impact families
 // as lines (solid stable, dashed unstable), 2-impact ones as points (filled
-// stable, open unstable).
+// stable, open unstable). With a rigid-body mode (a free mass in a cavity)
+// only the pairs (j, k), j < k, that can send the free motion back
+// (two_impact.h CheckTwoImpactSequence).
 void Figure18(Context& c) {
   const int k = static_cast<int>(c.b.contacts.size());
   if (k < 2) return;
   std::vector<std::vector<int>> sequences;
-  for (int j = 0; j < k; ++j) sequences.push_back({j});
+  if (c.b.rigid == 0) {
+    for (int j = 0; j < k; ++j) sequences.push_back({j});
+  }
   for (int j = 0; j < k; ++j) {
-    for (int l = j; l < k; ++l) sequences.push_back({j, l});
+    for (int l = c.b.rigid == 0 ? j : j + 1; l < k; ++l) {
+      try {
+        CheckTwoImpactSequence(c.b, j, l);
+        sequences.push_back({j, l});
+      } catch (const InputError&) {
+        // (no orbit of that pair: not drawn)
+      }
+    }
+  }
+  if (sequences.empty()) {
+    c.log << "  fig18_sequences_fep: no pair of contacts has orbits with this rigid-body mode: not drawn\n";
+    return;
   }
   report::ResultFile out(c.dir, "fig18_sequences_fep.csv");
   std::ostream& os = out.stream();
@@ -986,6 +1001,16 @@ FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas&
   Figures13To15(c);
   Figure16(c);
   Figure17(c);
+  Figure18(c);
+  c.log << c.drawn << " figures drawn" << (c.failed ? ", " + std::to_string(c.failed) + " failed" : "") << "\n";
+  return {c.drawn, c.failed};
+}
+
+FiguresResult DrawSequenceFigures(const AnalysisBasis& b, const std::vector<double>& periods, const OutputDir& dir,
+                                  std::ostream& log) {
+  const Atlas none;
+  Context c{.b = b, .contact = 0, .other = 0, .dir = dir, .atlas = none, .log = log, .periods = periods};
+  c.log << "figures in " << c.dir.path().string() << ":\n";
   Figure18(c);
   c.log << c.drawn << " figures drawn" << (c.failed ? ", " + std::to_string(c.failed) + " failed" : "") << "\n";
   return {c.drawn, c.failed};

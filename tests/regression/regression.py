@@ -180,6 +180,9 @@ def cases(src):
     # (1, 2) and (1), the latter's transitions with the lower wall's grazings.
     add("orbits-clearance-12", ["orbits", clearance, "--sequence", "1,2", "--period", "2:20:0.5"], ["orbits.csv"])
     add("orbits-clearance-1", ["orbits", clearance, "--sequence", "1", "--period", "1:30:0.25"], sweep_files)
+    # The conservative impact damper: a rigid-body mode, its (1, 2) family.
+    add("orbits-damper-free-12", ["orbits", os.path.join(src, "configs/impact-damper-free.toml"), "--sequence", "1,2",
+                                  "--period", "2:30:0.25"], ["orbits.csv"])
     # orbit --json: a stable 1-ipp orbit; the 2-ipp roots of T = 6 (Fig. 6).
     add("orbit-paper-1-T7.5", ["orbit", paper, "--impacts", "1", "--period", "7.5", "--json"], [], stdout="orbit.json")
     add("orbit-paper-2-T6", ["orbit", paper, "--impacts", "2", "--period", "6", "--json"], [], stdout="orbit.json")
@@ -237,7 +240,7 @@ def cases(src):
     add("response-damper-12",
         ["response", damper, "--sequence", "1,2", "--frequency", "0.6:1.6:0.05", "--validate", "20",
          "--integrators", "exact"],
-        ["response.csv", "response_points.csv", "response_validation.csv"], "response")
+        ["response.csv", "response_points.csv", "response_validation.csv", "backbone.csv"], "response")
     return out
 
 

@@ -65,8 +65,7 @@ SinusoidSum TwoImpactSignal(const AnalysisBasis& b, double period, int first = 0
 // direction plus the shifts of the rigid position, which the two NC2
 // conditions fix (the minimum-norm shift: across p1_r no gap moves). A
 // contact that does not move the rigid part, two that move it along
-// different lines, or one contact twice: InputError naming "sequence" or
-// system.stiffness_matrix.
+// different lines, or one contact twice: InputError naming "sequence".
 void CheckTwoImpactSequence(const AnalysisBasis& b, int first, int second);
 
 // All roots t2 in (0, T) of det A_2(., T), sorted, T/2 included; none when

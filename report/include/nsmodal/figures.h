@@ -25,6 +25,12 @@ struct FiguresResult {
 FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas& atlas, const OutputDir& dir,
                                std::ostream& log);
 
+// Fig. 18 alone (the frequency-energy plot of the impact sequences) over
+// `periods`: for a model with a rigid-body mode, which has no 1-impact
+// families for the paper's Figs. 2-17 to follow.
+FiguresResult DrawSequenceFigures(const AnalysisBasis& b, const std::vector<double>& periods, const OutputDir& dir,
+                                  std::ostream& log);
+
 // One log-log chart of error against CPU time per work-precision case, a line
 // per integrator, DIR/work_precision_CASE.{png,svg}, drawn from
 // DIR/work_precision.csv (written before). Returns the number of charts gnuplot
