@@ -1,5 +1,6 @@
 #include "command_line.h"
 
+#include <algorithm>
 #include <csignal>
 #include <iostream>
 #include <new>
@@ -158,8 +159,27 @@ CommandLine::CommandLine() {
   c_settings->add_flag("--json", settings.json, "Print a JSON list of objects");
 }
 
+namespace {
+
+// An --impacts given with --sequence must agree with the sequence's length
+// (one left at its default defers to the sequence, as in Python).
+void CheckImpactsAgree(const CLI::App* command, int impacts, const std::optional<std::string>& sequence) {
+  if (!*command || !sequence || command->count("--impacts") == 0) return;
+  const long m = std::count(sequence->begin(), sequence->end(), ',') + 1;
+  if (impacts != m) {
+    throw InputError("--impacts", std::to_string(impacts) + " disagrees with the sequence " + *sequence + " (" +
+                                      std::to_string(m) + " impacts): give one of them");
+  }
+}
+
+}  // namespace
+
 int CommandLine::Run() const {
   try {
+    CheckImpactsAgree(c_orbits, orbits.impacts, orbits.sequence);
+    CheckImpactsAgree(c_orbit, orbit.impacts, orbit.sequence);
+    CheckImpactsAgree(c_explore, explore.impacts, explore.sequence);
+    CheckImpactsAgree(c_resp, response.impacts, response.sequence);
     int status = 1;
     if (*c_orbits) status = RunOrbits(orbits);
     if (*c_orbit) status = RunOrbit(orbit);

@@ -201,12 +201,7 @@ int RunExplore(const ExploreArgs& a) {
   int impacts = a.impacts;
   if (a.sequence) {
     sequence = ParseSequence(*a.sequence, static_cast<int>(b.contacts.size()), "--sequence", 6);
-    const int m = static_cast<int>(sequence.size());
-    if (a.impacts != 3 && a.impacts != m) {
-      throw InputError("--impacts", std::to_string(a.impacts) + " disagrees with the sequence " + *a.sequence + " (" +
-                                        std::to_string(m) + " impacts): give one of them");
-    }
-    impacts = m;
+    impacts = static_cast<int>(sequence.size());  // (an --impacts given agrees: command_line.cc)
   }
   if (impacts < 3 || impacts > 6) {
     throw InputError(a.sequence ? "--sequence" : "--impacts",

@@ -59,6 +59,9 @@ else
 fi
 expect_error "system.stiffness_matrix: has 1 rigid-body mode" "$bin" orbits "$free" --impacts 1 --period 2:3:0.5 --out "$tmp/o"
 expect_error "sequence: contacts 1 and 1" "$bin" orbits "$free" --sequence 1,1 --period 2:3:0.5 --out "$tmp/o"
+# An --impacts given must agree with --sequence, its default value too.
+expect_error "\\-\\-impacts: 1 disagrees with the sequence 1,2" "$bin" orbits "$free" --impacts 1 --sequence 1,2 --period 2:3:0.5 --out "$tmp/o"
+expect_error "\\-\\-impacts: 3 disagrees with the sequence 1,2,1,2" "$bin" explore "$clear2" --impacts 3 --sequence 1,2,1,2 --period 4:5:1
 # The paper's figures need contact 1 as an upper stop on a dof.
 expect_error "figures draw contact 1" "$bin" figures "$(scene lowerfirst '[system]\nmasses=[1,1]\nsprings=[0.85,2]\n[[contact]]\ndof=2\nside="lower"\ngap=1\nrestitution=1\n')" --out "$tmp/f"
 # A forced response against a lower wall (the forced scene mirrored: wall and

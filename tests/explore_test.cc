@@ -168,3 +168,29 @@ TEST(Explore, FamilyRequestsAreChecked) {
 
 }  // namespace
 }  // namespace nsmodal
+
+namespace nsmodal {
+namespace {
+
+// Two impacts at one instant: on one contact they cancel (a lower-m orbit),
+// on two contacts they are a simultaneous impact (issue 24's review).
+TEST(Explore, CoincidentImpactsAreToldApartByTheirContacts) {
+  const double period = 10.0;
+  // Impacts at 0, 4, 4 + 1e-8 (coincident to 1e-6 T) with contacts (1, 1, 2).
+  const std::vector<double> times{4.0, 4.0 + 1e-8};
+  EXPECT_TRUE(CoincidentImpacts(times, period, 3, {0, 0, 1}, false));
+  EXPECT_FALSE(CoincidentImpacts(times, period, 3, {0, 0, 1}, true));
+  EXPECT_TRUE(CoincidentImpacts(times, period, 3, {0, 1, 1}, true));
+  // The last impact and the next period's first (at T): (2, 1, 1) wraps.
+  EXPECT_TRUE(CoincidentImpacts({4.0, period - 1e-8}, period, 3, {0, 1, 0}, true));
+  EXPECT_TRUE(CoincidentImpacts({4.0, period - 1e-8}, period, 3, {1, 0, 0}, false));
+  // An empty sequence is every impact on contact 1.
+  EXPECT_TRUE(CoincidentImpacts(times, period, 3, {}, true));
+  EXPECT_FALSE(CoincidentImpacts(times, period, 3, {}, false));
+  // Apart by more than 1e-6 T: neither.
+  EXPECT_FALSE(CoincidentImpacts({4.0, 4.001}, period, 3, {0, 0, 1}, false));
+  EXPECT_FALSE(CoincidentImpacts({4.0, 4.001}, period, 3, {0, 1, 1}, true));
+}
+
+}  // namespace
+}  // namespace nsmodal

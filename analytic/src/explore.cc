@@ -94,11 +94,9 @@ bool RepeatsLowerOrbit(const std::vector<double>& times, double period, int impa
                        const std::vector<int>& sequence) {
   std::vector<double> all{0.0};
   all.insert(all.end(), times.begin(), times.end());
-  // Two impacts at one instant cancel (N^2 = I for e = 1): an orbit with fewer impacts.
-  for (int i = 0; i < impacts; ++i) {
-    const double next = i + 1 < impacts ? all[i + 1] : period;
-    if (next - all[i] < 1e-6 * period) return true;
-  }
+  // Two impacts of one contact at one instant cancel (N^2 = I for e = 1): an
+  // orbit with fewer impacts.
+  if (CoincidentImpacts(times, period, impacts, sequence, true)) return true;
   for (int p = 1; p < impacts; ++p) {
     if (impacts % p != 0) continue;
     const double shift = period * p / impacts;
@@ -209,7 +207,10 @@ ExploreReport ExploreOnePeriod(const AnalysisBasis& b, double period, const Expl
       finding.orbit = EvaluateOrbit(b, cand.y0, polished, period, {}, seq);
       finding.grazing_ratio = GrazingRatio(b, finding.orbit);
       // A contact velocity below 1e-6 of the largest is a touch, not an impact.
-      finding.kind = repeated ? "repeated-lower-m" : finding.grazing_ratio < 1e-6 ? "grazing-contact" : "new";
+      finding.kind = repeated                                                   ? "repeated-lower-m"
+                     : CoincidentImpacts(polished, period, m, seq, false) ? "simultaneous-impacts"
+                     : finding.grazing_ratio < 1e-6                       ? "grazing-contact"
+                                                                          : "new";
       finding.kernel_dimension = KernelDimension(MatrixA(b, polished, period, seq), 1e-6);
       if (m % 2 == 0) ++report.kernel_dimension_histogram[finding.kernel_dimension];
       report.findings.push_back(finding);
@@ -224,6 +225,19 @@ long ExploreReport::Count(const std::string& kind, bool admissible_only) const {
   long n = 0;
   for (const ExploreFinding& f : findings) n += f.kind == kind && (!admissible_only || f.orbit.admissible);
   return n;
+}
+
+bool CoincidentImpacts(const std::vector<double>& times, double period, int impacts, const std::vector<int>& sequence,
+                       bool same_contact) {
+  std::vector<double> all{0.0};
+  all.insert(all.end(), times.begin(), times.end());
+  for (int i = 0; i < impacts; ++i) {
+    const double next = i + 1 < impacts ? all[i + 1] : period;
+    // (An empty sequence: every impact on contact 1.)
+    const bool same = sequence.empty() || sequence[i] == sequence[(i + 1) % impacts];
+    if (next - all[i] < 1e-6 * period && same == same_contact) return true;
+  }
+  return false;
 }
 
 ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& periods, const ExploreOptions& options) {

@@ -86,7 +86,9 @@ void PrintExplore(std::ostream& out, const ExploreReport& r, long periods) {
   out << "dim ker A_m " << (r.impacts % 2 ? "at grid samples" : "at roots found") << ":";
   for (auto [k, v] : r.kernel_dimension_histogram) out << "  " << k << " -> " << v;
   out << "\npotential orbits (cyclic shifts merged): " << r.Count("repeated-lower-m") << " repeat a lower-m orbit, "
-      << r.Count("grazing-contact") << " have a grazing contact, " << r.Count("new") << " new ("
+      << r.Count("grazing-contact") << " have a grazing contact, ";
+  if (r.Count("simultaneous-impacts") > 0) out << r.Count("simultaneous-impacts") << " strike two contacts at once, ";
+  out << r.Count("new") << " new ("
       << r.Count("new", true) << " admissible)\n";
   out << "smallest defect away from repeated orbits: " << r.best_phi_new << "\n";
   out << "conjecture (paper 2.3): dim ker = " << (r.impacts % 2 ? 1 : 2)

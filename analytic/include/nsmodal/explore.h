@@ -38,10 +38,20 @@ struct ExploreOptions {
   std::function<void(long done, long count)> progress;
 };
 
+// Whether two consecutive impacts of an orbit (times = t2..tm, t1 = 0, and
+// tm to T + 0) fall at one instant, to 1e-6 T, on one contact
+// (same_contact: they cancel, N^2 = I) or on two different ones (a
+// simultaneous impact). An empty sequence: every impact on contact 1.
+bool CoincidentImpacts(const std::vector<double>& times, double period, int impacts, const std::vector<int>& sequence,
+                       bool same_contact);
+
 struct ExploreFinding {
   Orbit orbit;
-  // "repeated-lower-m" (a lower-m orbit repeated, or coincident impacts),
-  // "grazing-contact" (an impact at zero velocity: fewer true impacts), or "new".
+  // "repeated-lower-m" (a lower-m orbit repeated, or two impacts of one
+  // contact at one instant, which cancel), "simultaneous-impacts" (two
+  // different contacts struck at one instant: a corner of the gaps, one
+  // impact instant fewer), "grazing-contact" (an impact at zero velocity:
+  // fewer true impacts), or "new".
   std::string kind;
   int kernel_dimension = 0;
   double grazing_ratio = 0.0;  // min |v_c-| / max |v_c-| over the impacts
@@ -53,7 +63,7 @@ struct ExploreReport {
   std::map<int, long> kernel_dimension_histogram;  // over grid samples (odd m) or findings (even m)
   std::vector<ExploreFinding> findings;            // distinct potential orbits (cyclic shifts merged)
   double best_phi_new = 0.0;                       // smallest phi away from repeated lower-m orbits
-  // Findings of one kind ("new", "grazing-contact", "repeated-lower-m").
+  // Findings of one kind ("new", "grazing-contact", "simultaneous-impacts", "repeated-lower-m").
   long Count(const std::string& kind, bool admissible_only = false) const;
 };
 
