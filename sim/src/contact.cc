@@ -91,6 +91,14 @@ bool ContactModel::ApplyImpacts(const std::vector<int>& set, Eigen::Ref<Eigen::V
   return true;
 }
 
+void ContactModel::HoldVelocity(const std::vector<int>& set, Eigen::Ref<Eigen::VectorXd> v) const {
+  const int k = static_cast<int>(set.size());
+  Eigen::VectorXd u(k);
+  for (int a = 0; a < k; ++a) u[a] = model.contacts[set[a]].Along(v);
+  const Eigen::VectorXd p = DelassusBlock(set).ldlt().solve(u);
+  for (int a = 0; a < k; ++a) v -= p[a] * terms[set[a]].minv_n;
+}
+
 Eigen::MatrixXd ContactModel::DelassusBlock(const std::vector<int>& set) const {
   const int k = static_cast<int>(set.size());
   Eigen::MatrixXd g(k, k);

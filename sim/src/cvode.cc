@@ -159,6 +159,11 @@ void ProjectOnEnergy(const ContactModel& cm, double e0, Eigen::Ref<Eigen::Vector
 // while a long run's drift is held at it.
 constexpr double kProjectionBand = 100.0;
 
+// While held under a harmonic force, CVODE's steps are at most this fraction
+// of its period (Cvode::Restart): a force negative on a window shorter than
+// two of them (a twentieth of the period) can still be stepped over.
+constexpr double kHeldStepsPerForcingPeriod = 40.0;
+
 void Check(int flag, const char* call) {
   if (flag < 0) throw SolverError(std::string(call) + " failed with flag " + std::to_string(flag));
 }
@@ -204,6 +209,15 @@ class Cvode {
     ud_.SetHeld(held);
     ud_.LockRoots();
     Check(CVodeReInit(mem_, t, y_), "CVodeReInit");
+    // Held under a harmonic force, the release root (a held force) moves
+    // with cos(w t) where the state may not move at all (every dof held: the
+    // held flow is z' = 0, and CVODE's steps grow without bound, over a
+    // whole window where the force is negative). CVODE sees a root only as a
+    // sign change between its steps: at most 1/kHeldStepsPerForcingPeriod of
+    // the forcing period apart while held (0: no bound, in free flight).
+    const double w = ud_.cm->model.forcing.HasHarmonic() ? ud_.cm->model.forcing.frequency : 0.0;
+    Check(CVodeSetMaxStep(mem_, held.empty() || !(w > 0.0) ? 0.0 : 2.0 * M_PI / w / kHeldStepsPerForcingPeriod),
+          "CVodeSetMaxStep");
   }
   // One internal step towards tout, never past it (a stop time: roots and
   // samples stay inside the last step, where the dense output is valid);
@@ -389,7 +403,8 @@ class CvodeStepper {
     return struck_;
   }
   // Hold j: alone (plastic: n_j . v -> 0), or with the contacts already held
-  // (a plastic impulse over all of them: contact.h's law with e = 0).
+  // (the impulses that bring all their normal velocities to 0: contact.h
+  // HoldVelocity).
   void Hold(int j) {
     if (held_.empty()) {
       const nsmodal::Contact& c = cm_.contact(j);
@@ -400,9 +415,7 @@ class CvodeStepper {
     }
     held_.push_back(j);
     std::sort(held_.begin(), held_.end());
-    if (!cm_.ApplyImpacts(held_, z_.tail(n_), true)) {
-      throw SolverError("the LCP of the contacts held at once at t = " + std::to_string(t_) + " has no solution");
-    }
+    cm_.HoldVelocity(held_, z_.tail(n_));
   }
   void Release(int j) { held_.erase(std::remove(held_.begin(), held_.end(), j), held_.end()); }
   void Restart() {

@@ -313,8 +313,9 @@ class ExactStepper {
     if (struck_.empty()) struck_ = {j};  // round-off left no impulse: the contact found is the event
     return struck_;
   }
-  // Hold j: alone (n_j . v -> 0), or with the contacts already held (a
-  // plastic impulse over all of them: contact.h's law with e = 0).
+  // Hold j: alone (n_j . v -> 0), or with the contacts already held (the
+  // impulses that bring all their normal velocities to 0: contact.h
+  // HoldVelocity).
   void Hold(int j) {
     if (held_.empty()) {
       f_.Impact(j, 0.0, y_);  // n_j . v -> 0
@@ -325,9 +326,7 @@ class ExactStepper {
     Eigen::VectorXd z = f_.PhysicalHeld(yr_);
     held_.push_back(j);
     std::sort(held_.begin(), held_.end());
-    if (!cm_.ApplyImpacts(held_, z.tail(cm_.model.dofs()), true)) {
-      throw SolverError("the LCP of the contacts held at once at t = " + std::to_string(t_) + " has no solution");
-    }
+    cm_.HoldVelocity(held_, z.tail(cm_.model.dofs()));
     yr_ = f_.Hold(held_, t_, f_.FromPhysical(z));
   }
   // Release j: free flight, or the others held on from the same state.

@@ -58,6 +58,13 @@ struct ContactModel {
   // contacts given an impulse (p_j > 0).
   bool ApplyImpacts(const std::vector<int>& set, Eigen::Ref<Eigen::VectorXd> v, bool plastic = false,
                     std::vector<int>* struck = nullptr) const;
+  // The contacts of `set` made held: the impulses along M^-1 H' that bring
+  // every normal velocity of the set to 0, v <- v - M^-1 H' G_S^-1 H v. A
+  // hold is bilateral: the plastic LCP above leaves a contact moving away
+  // (slower than the resolution that decided the hold) as it was, and the
+  // held flow, which keeps n_j . v constant, would carry that residual on
+  // (a pair of held contacts drifted off one wall at 1e-5 m/s for seconds).
+  void HoldVelocity(const std::vector<int>& set, Eigen::Ref<Eigen::VectorXd> v) const;
   // The acceleration of free flight, M^-1 (f0 + f cos(w t) - C v - K x).
   Eigen::VectorXd FreeAcceleration(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
                                    const Eigen::Ref<const Eigen::VectorXd>& v) const;
