@@ -385,6 +385,69 @@ TEST(ContactsAnalysis, OneWallsFamilyAndTheAlternatingOrbitMatchTheirClosedForms
   }
 }
 
+// Where a family of one contact grazes another (transitions.csv's grazing
+// rows with that contact), the family of the two meets it: the graze time t_g
+// is a root of the (1, 2) signal and the (1, 2) orbit there is the grazing
+// 1-impact orbit (an impact of zero velocity). Unlike one contact's grazing
+// (bridge.h) the two NC2 conditions, on two walls, stay independent: no line
+// of orbits, no bridge. The (1, 2) branch passes through, its impact
+// velocity on wall 2 changing sign: admissible on one side only. (The
+// clearance: the paper's chain between x2 <= 1 and x2 >= -1.2.)
+TEST(ContactsAnalysis, AnotherContactsGrazingIsAJunctionNotABridge) {
+  Model m = PaperModel();
+  m.contacts = {DofContact(2, 1, true, 1.0, 1.0), DofContact(2, 1, false, 1.2, 1.0)};
+  const AnalysisBasis b(m);
+  std::vector<double> periods;
+  std::vector<bool> admissible;
+  for (double t = 1.0; t <= 10.0; t += 0.01) {
+    periods.push_back(t);
+    admissible.push_back(OneImpactOrbit(b, t, {}, 0).admissible);
+  }
+  int junctions = 0;
+  for (const Transition& tr : OneImpactTransitions(b, periods, admissible, 0)) {
+    if (tr.kind != TransitionKind::kGrazing || tr.contact != 1) continue;
+    ++junctions;
+    const double tg_period = tr.period;
+    const Orbit one = OneImpactOrbit(b, tg_period, {}, 0);
+    const SegmentCheck seg = CheckSegment(b, b.contacts[1], one.y0, tg_period);
+    const double tg = seg.t_at_max;
+    // The graze: wall 2 reached (to the transition's ~1e-15 in T) at rest.
+    EXPECT_LT(std::abs(seg.max_excess), 1e-12);
+    const std::vector<double> roots = TwoImpactRoots(b, tg_period, {}, 0, 1);
+    double nearest = INFINITY;
+    for (double r : roots) nearest = std::min(nearest, std::abs(r - tg));
+    // Both are roots located to ~1e-15 relative; 1e-9 T leaves room for the
+    // graze time's error at a tangency (the square root of 1e-15 ~ 3e-8 in
+    // the worst case, measured ~1e-11).
+    EXPECT_LT(nearest, 1e-9 * tg_period) << "T_g = " << tg_period;
+    const Orbit two = TwoImpactOrbitAt(b, tg, tg_period, {}, 0, 1);
+    EXPECT_FALSE(two.degenerate) << "T_g = " << tg_period;
+    EXPECT_LT((two.z0 - one.z0).norm(), 1e-9 * one.z0.norm()) << "T_g = " << tg_period;
+    // Either side, 1e-3 away: the (1, 2) root near t_g, its velocity on wall
+    // 2 just before the impact (> 0 towards it), admissible where it is > 0.
+    int sides = 0;
+    for (double dt : {-1e-3, 1e-3}) {
+      const double period = tg_period + dt;
+      double t2 = INFINITY;
+      for (double r : TwoImpactRoots(b, period, {}, 0, 1)) {
+        if (std::abs(r - tg) < std::abs(t2 - tg)) t2 = r;
+      }
+      const Orbit o = TwoImpactOrbitAt(b, t2, period, {}, 0, 1);
+      Eigen::VectorXd y = o.y0;
+      Flow(b, t2, y);
+      const double vc = ContactVelocity(b, b.contacts[1], y);
+      // n_2 . v = -v2 for the lower wall: moving towards it is > 0.
+      EXPECT_GT(std::abs(vc), 1e-5) << "T = " << period;
+      EXPECT_EQ(o.admissible, vc > 0.0) << "T = " << period << ": " << o.reason;
+      sides += vc > 0.0 ? 1 : -1;
+    }
+    EXPECT_EQ(sides, 0) << "T_g = " << tg_period << ": the velocity keeps its sign";
+  }
+  // T_g = 2.9555, 5.8457, 8.3170 (as in the orbits-clearance-1 regression
+  // case, on a coarser grid) and 9.1961 (a zone that grid does not resolve).
+  EXPECT_EQ(junctions, 4);
+}
+
 // The monodromy of a two-contact orbit (each impact with its own contact's
 // saltation matrix) against finite differences of the exact simulator: the
 // paper's chain with stops x2 <= 1 and x1 >= -0.6 (different dofs: the two

@@ -30,6 +30,11 @@
 // interior of its line (s_begin < 0 < s_end). The paper's bridge is also one
 // of these (T* = T_G / 2). Where the eigenvector moves x_c the period doubling
 // is a pitchfork of the 2-ipp roots instead, and there is no bridge.
+//
+// Another contact's grazing (several contacts, issue 24) is no bridge: there
+// the family of contact j meets the (j, k) family at one orbit, whose two NC2
+// conditions, on two walls, stay independent (tests/contacts_test.cc,
+// AnotherContactsGrazingIsAJunctionNotABridge). Bridges are contact 1's own.
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
