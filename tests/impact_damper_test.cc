@@ -313,6 +313,45 @@ Model FreeDamper(const Damper& p) {
   return model;
 }
 
+// The non-impacting response of a damper whose free mass is off-centre in
+// its cavity (x2 - x1 in [-0.7, 0.3]): the free mass is at rest anywhere, so
+// the response is admissible while the primary's amplitude A is at most half
+// the clearance, 0.5, with the free mass at c = -0.2 (the cavity's middle),
+// not only while A <= 0.3 (the free mass at 0).
+TEST(ImpactDamper, ItsLinearResponseCentresTheFreeMassInTheCavity) {
+  Damper p;
+  Model model = DamperModel(p, 0.02);
+  model.contacts = {BetweenContact(2, 1, 0, 0.3, p.e), BetweenContact(2, 0, 1, 0.7, p.e)};
+  Validate(model);
+  const double w = 0.7;
+  const ForcedOrbit unit = LinearResponse(model, w, 1.0);
+  const double a_unit = unit.max_interior_gap + 0.5;  // the amplitude per unit force: excess A - 0.5
+  ASSERT_GT(a_unit, 0.0);
+  for (double a : {0.25, 0.45, 0.55}) {
+    const ForcedOrbit o = LinearResponse(model, w, a / a_unit);
+    // Linear in the force: A = a; the excess is A minus half the clearance.
+    EXPECT_NEAR(o.max_interior_gap, a - 0.5, 1e-12) << "A = " << a;
+    EXPECT_EQ(o.admissible, a <= 0.5) << "A = " << a;
+    // The free mass in the middle of the cavity.
+    EXPECT_NEAR(o.after[0][1], -0.2, 1e-12) << "A = " << a;
+  }
+  // Simulated from its state at t = 0 (the primary's X = f / (k - M w^2 +
+  // i c w), the free mass at rest at c), the admissible one never touches a
+  // wall.
+  const double f = 0.45 / a_unit;
+  const std::complex<double> x1 = f / std::complex<double>(p.k - p.big_m * w * w, 2.0 * 0.02 * std::sqrt(p.k * p.big_m) * w);
+  EXPECT_NEAR(std::abs(x1), 0.45, 1e-12);
+  Model forced = model;  // the force of that level (LinearResponse's amplitude: the largest |f_i|)
+  forced.forcing.amplitude = Eigen::Vector2d(f, 0.0);
+  forced.forcing.frequency = w;
+  SimulateOptions opt;
+  opt.t_end = 20.0 * 2.0 * M_PI / w;
+  opt.sample_dt = 0.0;
+  const SimulationSummary sum =
+      Simulate(forced, Eigen::Vector2d(x1.real(), -0.2), Eigen::Vector2d(-w * x1.imag(), 0.0), opt);
+  EXPECT_EQ(sum.impacts, 0);
+}
+
 // The symmetric free orbit (impacts at 0 on y - x = d/2 and at T/2 on
 // x - y = d/2, z(t + T/2) = -z(t)): with w^2 = k/M, h = w T/2, the primary
 // x = x0 cos(w t) + (u0/w) sin(w t) on (0, T/2) and the free mass

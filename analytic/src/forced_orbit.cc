@@ -556,17 +556,59 @@ ForcedOrbit LinearResponse(const Model& model, double frequency, double amplitud
   // x_c(t) = x_s,c + |X_c| cos(w t + arg X_c): largest at w t = -arg X_c.
   double t_max = std::fmod(-std::arg(xc) / w, o.period);
   if (t_max < 0.0) t_max += o.period;
+  // Each contact's largest excess n_j . x_s + |n_j . X| - d_j.
+  const int k = static_cast<int>(m.contacts.size());
+  Eigen::VectorXd excess(k), moves(k);
+  for (int j = 0; j < k; ++j) {
+    const Contact& cj = m.contacts[j];
+    const std::complex<double> xj = cj.normal.cast<std::complex<double>>().dot(flow.harmonic_response());
+    excess[j] = cj.Along(flow.static_response()) + std::abs(xj) - cj.gap;
+    moves[j] = flow.rigid_modes() == 1 ? cj.Along(flow.rigid_basis().col(0)) : 0.0;
+  }
+  // One rigid-body mode leaves the free part anywhere: x + Phi_0 c is a
+  // steady state for every c, and the response is admissible when some c
+  // keeps every wall open. c is taken where the largest excess
+  // max_j (e_j + g_j c), g_j = n_j . Phi_0, is least: where a wall that c
+  // closes meets one that it opens. When c moves walls one way only, the
+  // free part is taken a largest gap clear of them. (Two or more rigid-body
+  // modes: the free parts at rest at 0.)
+  double c = 0.0;
+  if ((moves.array() > 0.0).any() || (moves.array() < 0.0).any()) {
+    const auto worst = [&](double at) { return (excess + at * moves).maxCoeff(); };
+    if ((moves.array() > 0.0).any() && (moves.array() < 0.0).any()) {
+      double best = INFINITY;
+      for (int j = 0; j < k; ++j) {
+        for (int l = 0; l < k; ++l) {
+          if (!(moves[j] > 0.0 && moves[l] < 0.0)) continue;
+          const double at = (excess[l] - excess[j]) / (moves[j] - moves[l]);
+          if (worst(at) < best) {
+            best = worst(at);
+            c = at;
+          }
+        }
+      }
+    } else {
+      // Each moving wall's e_j + g_j c <= -L (L the largest gap): c at the
+      // bound of the wall that binds.
+      double largest = 0.0;
+      for (const Contact& cj : m.contacts) largest = std::max(largest, cj.gap);
+      const bool opens_up = (moves.array() < 0.0).any();  // c increasing opens them
+      c = opens_up ? -INFINITY : INFINITY;
+      for (int j = 0; j < k; ++j) {
+        if (moves[j] == 0.0) continue;
+        const double bound = (-largest - excess[j]) / moves[j];
+        c = opens_up ? std::max(c, bound) : std::min(c, bound);
+      }
+    }
+  }
+  const Eigen::VectorXd shift = flow.rigid_modes() == 1 ? Eigen::VectorXd(c * flow.rigid_basis().col(0))
+                                                         : Eigen::VectorXd::Zero(m.dofs());
   o.times = {t_max};
   o.after = {flow.Particular(t_max)};
+  o.after[0].head(m.dofs()) += shift;
   o.before = o.after;
-  o.max_xc = contact.Along(flow.static_response()) + std::abs(xc);
-  o.max_interior_gap = o.max_xc - d;
-  // Every other contact's n_j . x_s + |n_j . X| against its gap.
-  for (std::size_t j = 1; j < m.contacts.size(); ++j) {
-    const Contact& other = m.contacts[j];
-    const std::complex<double> xj = other.normal.cast<std::complex<double>>().dot(flow.harmonic_response());
-    o.max_interior_gap = std::max(o.max_interior_gap, other.Along(flow.static_response()) + std::abs(xj) - other.gap);
-  }
+  o.max_xc = contact.Along(flow.static_response() + shift) + std::abs(xc);
+  o.max_interior_gap = (excess + c * moves).maxCoeff();
   o.min_impact_velocity = std::numeric_limits<double>::quiet_NaN();
   // Means over a period of x'Kx/2 and v'Mv/2 for x = x_s + Re[X e^{i w t}].
   const Eigen::VectorXd xr = flow.harmonic_response().real(), xi = flow.harmonic_response().imag();

@@ -162,7 +162,9 @@ class ForcedProblem {
 
 // The non-impacting steady state (m = 0): x_s + Re[X e^{i w t}] with
 // max n_j . x = n_j . x_s + |n_j . X|; admissible while that is <= d_j for every
-// contact j (max_xc: contact 1's; max_interior_gap: the largest excess).
+// contact j (max_xc: contact 1's; max_interior_gap: the largest excess). With
+// one rigid-body mode, x + Phi_0 c for the c that leaves the walls the most
+// room (a free mass centred in its cavity: forced_orbit.cc).
 ForcedOrbit LinearResponse(const Model& model, double frequency, double amplitude);
 
 }  // namespace nsmodal
