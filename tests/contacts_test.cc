@@ -593,6 +593,37 @@ namespace {
 // the Schur complement of G_S, so the force of j falling through 0 is its
 // gap's acceleration turning to separation, and the others' forces do not
 // jump.) Mass 2 falls back (e = 0.5, a Zeno sequence) and is held again.
+// Which contacts at rest stay held is Moreau's acceleration-level law, not a
+// decision one at a time: mass 1 against x1 <= 0.5 and mass 2 against mass 1
+// (x1 - x2 <= 0.3), unit masses, so G = [1 1; 1 2]. With free normal
+// accelerations a = (1, 3) both push in, but holding both would need the
+// forces G^-1 a = (-1, 2): contact 1 would pull. Holding contact 1 first,
+// contact 2 still pushes in along that motion (3 - 1 = 2 > 0): the rule one
+// at a time in that order holds both. The LCP holds contact 2 alone
+// (lambda = (0, 1.5), contact 1's acceleration 1.5 - 1 = 0.5 away).
+TEST(Contacts, TheContactsAtRestThatStayHeldAreMoreausAccelerationLaw) {
+  Model m;
+  m.mass = Eigen::Matrix2d::Identity();
+  m.stiffness = Eigen::Matrix2d::Identity();
+  m.contacts = {DofContact(2, 0, true, 0.5, 0.5), BetweenContact(2, 0, 1, 0.3, 0.5)};
+  const Eigen::Vector2d x(0.5, 0.2);
+  m.forcing.constant = Eigen::Vector2d(1.0, -2.0) + x;  // M a + K x
+  Validate(m);
+  const ContactModel cm(m);
+  Eigen::VectorXd z(4);
+  z << x, 0.0, 0.0;
+  EXPECT_NEAR(cm.FreeContactAcceleration(0, 0.0, x, z.tail(2)), 1.0, 1e-15);
+  EXPECT_NEAR(cm.FreeContactAcceleration(1, 0.0, x, z.tail(2)), 3.0, 1e-15);
+  std::vector<int> held;
+  ASSERT_TRUE(cm.HeldByForces({0, 1}, 0.0, z, held));
+  EXPECT_EQ(held, std::vector<int>{1});
+  // Either contact alone is held (its own acceleration pushes in).
+  ASSERT_TRUE(cm.HeldByForces({0}, 0.0, z, held));
+  EXPECT_EQ(held, std::vector<int>{0});
+  ASSERT_TRUE(cm.HeldByForces({1}, 0.0, z, held));
+  EXPECT_EQ(held, std::vector<int>{1});
+}
+
 TEST(Contacts, OneOfTwoHeldContactsIsReleasedWithACoupledDelassusMatrix) {
   Model m;
   m.mass = Eigen::Vector2d(1.0, 0.5).asDiagonal();

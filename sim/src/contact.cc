@@ -99,6 +99,21 @@ void ContactModel::HoldVelocity(const std::vector<int>& set, Eigen::Ref<Eigen::V
   for (int a = 0; a < k; ++a) v -= p[a] * terms[set[a]].minv_n;
 }
 
+bool ContactModel::HeldByForces(const std::vector<int>& set, double t, const Eigen::Ref<const Eigen::VectorXd>& z,
+                                std::vector<int>& held) const {
+  const int n = model.dofs(), k = static_cast<int>(set.size());
+  const Eigen::VectorXd a = FreeAcceleration(t, z.head(n), z.tail(n));
+  Eigen::VectorXd q(k);
+  for (int i = 0; i < k; ++i) q[i] = -model.contacts[set[i]].Along(a);
+  const LcpSolution lambda = SolveLcp(DelassusBlock(set), q);
+  if (!lambda.solved) return false;
+  held.clear();
+  for (int i = 0; i < k; ++i) {
+    if (lambda.z[i] > 0.0) held.push_back(set[i]);
+  }
+  return true;
+}
+
 Eigen::MatrixXd ContactModel::DelassusBlock(const std::vector<int>& set) const {
   const int k = static_cast<int>(set.size());
   Eigen::MatrixXd g(k, k);

@@ -219,15 +219,29 @@ SimulationSummary RunEventLoop(Stepper& s, const ContactModel& cm, const Simulat
               s.Restart();
             } else {
               // An impact: Newton's law over it and the held contacts (in
-              // their bands, at rest: struck at once, contact.h); those the
-              // impulse leaves at rest and still pushed in stay held.
+              // their bands, at rest: struck at once, contact.h); of those
+              // the impulse leaves at rest, the ones the forces of Moreau's
+              // acceleration-level law keep (with those held now) stay held
+              // (contact.h HeldByForces).
               const std::vector<int> was = held;
               while (!held.empty()) release(held.back());
               handle_contact(j, true);
+              std::vector<int> rest;
               for (int h : was) {
                 if (std::find(held.begin(), held.end(), h) != held.end()) continue;
-                const ContactKinematics rest = s.Resting(h);
-                if (std::abs(rest.velocity) <= rest.resolution.vtol && rest.acceleration > 0.0) {
+                const ContactKinematics kin_h = s.Resting(h);
+                if (std::abs(kin_h.velocity) <= kin_h.resolution.vtol) rest.push_back(h);
+              }
+              if (!rest.empty()) {
+                std::vector<int> set = held;
+                set.insert(set.end(), rest.begin(), rest.end());
+                std::vector<int> keep;
+                if (!cm.HeldByForces(set, s.Time(), s.Physical(), keep)) {
+                  throw SolverError("the LCP of the forces of the contacts at rest at t = " +
+                                    std::to_string(s.Time()) + " has no solution");
+                }
+                for (int h : rest) {
+                  if (std::find(keep.begin(), keep.end(), h) == keep.end()) continue;
                   hold(h, false);
                   s.Restart();
                 }

@@ -65,6 +65,15 @@ struct ContactModel {
   // held flow, which keeps n_j . v constant, would carry that residual on
   // (a pair of held contacts drifted off one wall at 1e-5 m/s for seconds).
   void HoldVelocity(const std::vector<int>& set, Eigen::Ref<Eigen::VectorXd> v) const;
+  // Which contacts of `set` (at rest on their walls at time t, state z =
+  // (x, v)) are held: Moreau's law at the acceleration level, the forces
+  // 0 <= lambda _|_ G_S lambda - a >= 0 (a the free normal accelerations,
+  // > 0 pushing in; an LCP, lcp.h), those with lambda > 0. Deciding one at a
+  // time on the motion held by the others depends on the order: holding a
+  // contact whose free acceleration pushes in can make a coupled one's force
+  // negative. False (held untouched) when the LCP solver failed.
+  bool HeldByForces(const std::vector<int>& set, double t, const Eigen::Ref<const Eigen::VectorXd>& z,
+                    std::vector<int>& held) const;
   // The acceleration of free flight, M^-1 (f0 + f cos(w t) - C v - K x).
   Eigen::VectorXd FreeAcceleration(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
                                    const Eigen::Ref<const Eigen::VectorXd>& v) const;
