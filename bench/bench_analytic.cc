@@ -177,6 +177,39 @@ void BM_TwoContactSweep(benchmark::State& state) {
 }
 BENCHMARK(BM_TwoContactSweep)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
+// The conservative impact damper (configs/impact-damper-free.toml: a free
+// mass, a rigid-body mode), its (1, 2) family over T = 2:52:0.01 (5,001
+// periods) with every potential orbit's stability, on one core.
+void BM_FreeDamperSweep(benchmark::State& state) {
+  Model m;
+  m.mass = Eigen::Vector2d(1.0, 0.1).asDiagonal();
+  m.stiffness = Eigen::Matrix2d::Zero();
+  m.stiffness(0, 0) = 1.0;
+  m.contacts = {BetweenContact(2, 1, 0, 0.5, 1.0), BetweenContact(2, 0, 1, 0.5, 1.0)};
+  const AnalysisBasis b(m);
+  SweepOptions opt;
+  opt.stability = StabilityPolicy::kPotential;
+  opt.sequence = {0, 1};
+  opt.threads = 1;
+  const PeriodGrid grid{2.0, 52.0, 0.01};
+  long orbits = 0, admissible = 0, stable = 0;
+  for (auto _ : state) {
+    orbits = admissible = stable = 0;
+    StreamSweep(b, grid, 2, opt, [&](double, std::vector<OrbitRecord>& list) {
+      for (const OrbitRecord& r : list) {
+        ++orbits;
+        admissible += r.orbit.admissible;
+        stable += r.stable();
+      }
+    });
+  }
+  state.counters["periods"] = static_cast<double>(grid.Count());
+  state.counters["orbits"] = static_cast<double>(orbits);
+  state.counters["admissible"] = static_cast<double>(admissible);
+  state.counters["stable"] = static_cast<double>(stable);
+}
+BENCHMARK(BM_FreeDamperSweep)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
 void BM_TransitionsTo40(benchmark::State& state) {
   const AnalysisBasis b(PaperModel());
   double worst = 0.0;
