@@ -150,15 +150,13 @@ BENCHMARK(BM_ChainTwoImpactSweep)->Args({10, 1})->Args({100, 1})->Unit(benchmark
 // (1, 2) over T = 2:27:0.005 (5,001 periods) with every potential orbit's
 // stability, on one core (arg 1) and on both (arg 0: all cores). Target:
 // under 1 s.
-void BM_TwoContactSweep(benchmark::State& state) {
-  Model m = PaperModel();
-  m.contacts = {DofContact(2, 1, true, 1.0, 1.0), DofContact(2, 1, false, 1.2, 1.0)};
-  const AnalysisBasis b(m);
+// The family of the sequence (1, 2) of `b` over `grid`, with every potential
+// orbit's stability, and its counts.
+void SequenceSweep(benchmark::State& state, const AnalysisBasis& b, const PeriodGrid& grid, int threads) {
   SweepOptions opt;
   opt.stability = StabilityPolicy::kPotential;
   opt.sequence = {0, 1};
-  opt.threads = static_cast<int>(state.range(0));
-  const PeriodGrid grid{2.0, 27.0, 0.005};
+  opt.threads = threads;
   long orbits = 0, admissible = 0, stable = 0;
   for (auto _ : state) {
     orbits = admissible = stable = 0;
@@ -175,6 +173,12 @@ void BM_TwoContactSweep(benchmark::State& state) {
   state.counters["admissible"] = static_cast<double>(admissible);
   state.counters["stable"] = static_cast<double>(stable);
 }
+
+void BM_TwoContactSweep(benchmark::State& state) {
+  Model m = PaperModel();
+  m.contacts = {DofContact(2, 1, true, 1.0, 1.0), DofContact(2, 1, false, 1.2, 1.0)};
+  SequenceSweep(state, AnalysisBasis(m), PeriodGrid{2.0, 27.0, 0.005}, static_cast<int>(state.range(0)));
+}
 BENCHMARK(BM_TwoContactSweep)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
 // The conservative impact damper (configs/impact-damper-free.toml: a free
@@ -186,27 +190,7 @@ void BM_FreeDamperSweep(benchmark::State& state) {
   m.stiffness = Eigen::Matrix2d::Zero();
   m.stiffness(0, 0) = 1.0;
   m.contacts = {BetweenContact(2, 1, 0, 0.5, 1.0), BetweenContact(2, 0, 1, 0.5, 1.0)};
-  const AnalysisBasis b(m);
-  SweepOptions opt;
-  opt.stability = StabilityPolicy::kPotential;
-  opt.sequence = {0, 1};
-  opt.threads = 1;
-  const PeriodGrid grid{2.0, 52.0, 0.01};
-  long orbits = 0, admissible = 0, stable = 0;
-  for (auto _ : state) {
-    orbits = admissible = stable = 0;
-    StreamSweep(b, grid, 2, opt, [&](double, std::vector<OrbitRecord>& list) {
-      for (const OrbitRecord& r : list) {
-        ++orbits;
-        admissible += r.orbit.admissible;
-        stable += r.stable();
-      }
-    });
-  }
-  state.counters["periods"] = static_cast<double>(grid.Count());
-  state.counters["orbits"] = static_cast<double>(orbits);
-  state.counters["admissible"] = static_cast<double>(admissible);
-  state.counters["stable"] = static_cast<double>(stable);
+  SequenceSweep(state, AnalysisBasis(m), PeriodGrid{2.0, 52.0, 0.01}, 1);
 }
 BENCHMARK(BM_FreeDamperSweep)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 

@@ -145,10 +145,20 @@ std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const 
     for (int i = 0; i < terms; ++i) {
       const double w = p.omega[i], u = w * x;
       double sinc, dsinc;  // sin(u) / u and its derivative in u
-      if (std::abs(u) < 1e-3) {  // the series, to ~1e-19: the quotients lose digits there
-        const double u2 = u * u;
-        sinc = 1.0 - u2 / 6.0 + u2 * u2 / 120.0;
-        dsinc = u * (-1.0 / 3.0 + u2 / 30.0);
+      if (std::abs(u) < 0.5) {
+        // The series (the quotient (cos u - sinc) / u loses the digits of
+        // cos u - sinc ~ -u^2 / 3: 3e-10 relative at u = 1e-3): with
+        // s_k = (-1)^k u^(2k-1) / (2k+1)!, sinc = 1 + sum u s_k and
+        // sinc' = sum 2k s_k; to k = 7, the first term left out is below
+        // 1e-16 of each at |u| < 0.5.
+        double s = -u / 6.0;
+        sinc = 1.0;
+        dsinc = 0.0;
+        for (int k = 1; k <= 7; ++k) {
+          sinc += u * s;
+          dsinc += 2.0 * k * s;
+          s *= -u * u / ((2.0 * k + 2.0) * (2.0 * k + 3.0));
+        }
       } else {
         sinc = std::sin(u) / u;
         dsinc = (std::cos(u) - sinc) / u;
