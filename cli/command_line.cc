@@ -1,10 +1,10 @@
 #include "command_line.h"
 
-#include <algorithm>
 #include <csignal>
 #include <iostream>
 #include <new>
 
+#include "nsmodal/atlas.h"
 #include "nsmodal/error.h"
 #include "nsmodal/simulate_settings.h"
 #include "nsmodal/validate_settings.h"
@@ -165,7 +165,7 @@ namespace {
 // (one left at its default defers to the sequence, as in Python).
 void CheckImpactsAgree(const CLI::App* command, int impacts, const std::optional<std::string>& sequence) {
   if (!*command || !sequence || command->count("--impacts") == 0) return;
-  const long m = std::count(sequence->begin(), sequence->end(), ',') + 1;
+  const long m = static_cast<long>(ParseValues(*sequence, "--sequence").size());
   if (impacts != m) {
     throw InputError("--impacts", std::to_string(impacts) + " disagrees with the sequence " + *sequence + " (" +
                                       std::to_string(m) + " impacts): give one of them");

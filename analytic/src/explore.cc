@@ -1,5 +1,6 @@
 #include "nsmodal/explore.h"
 
+#include "nsmodal/check.h"
 #include "nsmodal/parallel.h"
 
 #include <gsl/gsl_errno.h>
@@ -229,6 +230,8 @@ long ExploreReport::Count(const std::string& kind, bool admissible_only) const {
 
 bool CoincidentImpacts(const std::vector<double>& times, double period, int impacts, const std::vector<int>& sequence,
                        bool same_contact) {
+  NSMODAL_CHECK(static_cast<int>(times.size()) + 1 == impacts &&
+                (sequence.empty() || static_cast<int>(sequence.size()) == impacts));
   std::vector<double> all{0.0};
   all.insert(all.end(), times.begin(), times.end());
   for (int i = 0; i < impacts; ++i) {

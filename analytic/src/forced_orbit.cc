@@ -565,6 +565,12 @@ ForcedOrbit LinearResponse(const Model& model, double frequency, double amplitud
     excess[j] = cj.Along(flow.static_response()) + std::abs(xj) - cj.gap;
     moves[j] = flow.rigid_modes() == 1 ? cj.Along(flow.rigid_basis().col(0)) : 0.0;
   }
+  // A wall the free part does not move shows round-off of the eigenvectors
+  // (~1e-16): below 1e-12 of the largest it is none.
+  const double largest_move = moves.cwiseAbs().maxCoeff();
+  for (int j = 0; j < k; ++j) {
+    if (std::abs(moves[j]) <= 1e-12 * largest_move) moves[j] = 0.0;
+  }
   // One rigid-body mode leaves the free part anywhere: x + Phi_0 c is a
   // steady state for every c, and the response is admissible when some c
   // keeps every wall open. c is taken where the largest excess

@@ -86,6 +86,7 @@ double Pfaffian(Eigen::MatrixXd a) {
 }
 
 double TwoImpactIndicator(const AnalysisBasis& b, double t2, double period) {
+  b.RequireElastic("the 2-impact indicator Pf(Q_2 - Q_2')");
   const Eigen::MatrixXd q = ReturnMap(b, {t2}, period);
   return Pfaffian(q - q.transpose());
 }

@@ -52,8 +52,11 @@ RigidPart RigidPartOf(const AnalysisBasis& b, int first, int second) {
                                        "free motion back; no periodic orbit of this sequence has impacts");
     }
   }
+  // Parallel: p2_r's part across p1_r below 1e-12 of it (the modal basis's
+  // round-off is ~1e-15; a part of 1e-12 leaves the rigid velocity off by as
+  // much after a period, the periodicity target).
   const double dot = out.p1.dot(out.p2);
-  if (!(std::abs(dot) >= (1.0 - 1e-12) * out.p1.norm() * out.p2.norm())) {
+  if (!((out.p2 - (dot / out.p1.squaredNorm()) * out.p1).norm() <= 1e-12 * out.p2.norm())) {
     throw InputError("sequence", pair + " push the rigid-body modes along different lines: the free motion " +
                                      "cannot return to its start; no periodic orbit of this sequence");
   }
@@ -188,7 +191,7 @@ std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const 
       double d[4];
       p.Derivatives(t2, d);
       const double step = d[0] / d[1];
-      if (std::abs(step) <= 1e-9 * period) t2 -= step;
+      if (std::abs(step) <= 1e-9 * period && std::abs(p.Position(t2 - step)) < std::abs(d[0])) t2 -= step;
       // A bracket left at its minimum width is a tangency only if P vanishes there.
       if (std::abs(p.Position(t2)) <= options.kernel_tol * (p.bound[0] + std::abs(p.offset))) roots.push_back(t2);
     }
@@ -218,6 +221,9 @@ Orbit RigidTwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, co
     k1[n + i] = 2.0 * (p2 * (k * s - 0.5 * c) + rp.kappa * p1 * 0.5);
   }
   k1.segment(n, b.rigid) = (2.0 * (period - t2) / period) * rp.p2;
+  // Unit length, as E: K1 grows as cot(w T / 2) near a multiple of a linear
+  // period, and the rank test below compares the two columns' scales.
+  k1.normalize();
   e.head(b.rigid) = rp.p1.normalized();
   Eigen::VectorXd k1_t2 = k1;
   Flow(b, t2, k1_t2);  // the shift E is a fixed point of every flight
@@ -350,6 +356,9 @@ bool Correct(const AnalysisBasis& b, const Eigen::Vector2d& tangent, Eigen::Vect
 }  // namespace
 
 double TwoImpactKernelResidual(const AnalysisBasis& b, double t2, double period) {
+  // (With a rigid-body mode A_2 always has the shift in its kernel: this
+  // would be ~0 at every t2.)
+  b.RequireElastic("the 2-impact kernel residual sigma_min(A_2)");
   return SmallestSingularValue(b, t2, period);
 }
 

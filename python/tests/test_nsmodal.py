@@ -673,7 +673,17 @@ def test_the_impact_dampers_response_by_sequence():
     assert np.any(rows["admissible"] & rows["stable"])
     # The backbone: the symmetric (1, 2) orbits of the conservative twin, a
     # free mass that no spring holds (two_impact.h).
-    assert len(r["backbone"]["T"]) > 100 and r["backbone"]["admissible"].any()
+    bb = r["backbone"]
+    assert len(bb["T"]) > 100 and bb["admissible"].any()
+    # Its energies are the symmetric free orbit's closed form (M = k = 1,
+    # m = 0.1, half clearance 0.5; tests/impact_damper_test.cc):
+    # x0 = -4 m (d/2) / (T cot(T/4) + 4 m), u0 = -x0 cot(T/4), V = 4 (x0 + d/2) / T.
+    T = bb["T"]
+    x0 = -4 * 0.1 * 0.5 / (T / np.tan(T / 4) + 4 * 0.1)
+    u0 = -x0 / np.tan(T / 4)
+    v = 4 * (x0 + 0.5) / T
+    # Closed form against linear algebra on O(1) numbers: round-off.
+    assert np.allclose(bb["energy"], 0.5 * (x0**2 + u0**2) + 0.5 * 0.1 * v**2, rtol=1e-10, atol=0)
     assert all(r["validation"]["consistent"])
     with pytest.raises(ValueError, match="sequence: names contact 3"):
         nsmodal.response(m, sequence=[1, 3], frequency=(1.3, 1.5, 0.1))

@@ -91,12 +91,15 @@ bool ContactModel::ApplyImpacts(const std::vector<int>& set, Eigen::Ref<Eigen::V
   return true;
 }
 
-void ContactModel::HoldVelocity(const std::vector<int>& set, Eigen::Ref<Eigen::VectorXd> v) const {
+bool ContactModel::HoldVelocity(const std::vector<int>& set, Eigen::Ref<Eigen::VectorXd> v) const {
   const int k = static_cast<int>(set.size());
   Eigen::VectorXd u(k);
   for (int a = 0; a < k; ++a) u[a] = model.contacts[set[a]].Along(v);
-  const Eigen::VectorXd p = DelassusBlock(set).ldlt().solve(u);
+  const Eigen::LDLT<Eigen::MatrixXd> g(DelassusBlock(set));
+  if (g.info() != Eigen::Success || !(g.rcond() > 1e-12)) return false;
+  const Eigen::VectorXd p = g.solve(u);
   for (int a = 0; a < k; ++a) v -= p[a] * terms[set[a]].minv_n;
+  return true;
 }
 
 bool ContactModel::HeldByForces(const std::vector<int>& set, double t, const Eigen::Ref<const Eigen::VectorXd>& z,

@@ -415,7 +415,9 @@ class CvodeStepper {
     }
     held_.push_back(j);
     std::sort(held_.begin(), held_.end());
-    cm_.HoldVelocity(held_, z_.tail(n_));
+    if (!cm_.HoldVelocity(held_, z_.tail(n_))) {
+      throw SolverError("the contacts held at once at t = " + std::to_string(t_) + " have dependent normals");
+    }
   }
   void Release(int j) { held_.erase(std::remove(held_.begin(), held_.end(), j), held_.end()); }
   void Restart() {

@@ -326,7 +326,9 @@ class ExactStepper {
     Eigen::VectorXd z = f_.PhysicalHeld(yr_);
     held_.push_back(j);
     std::sort(held_.begin(), held_.end());
-    cm_.HoldVelocity(held_, z.tail(cm_.model.dofs()));
+    if (!cm_.HoldVelocity(held_, z.tail(cm_.model.dofs()))) {
+      throw SolverError("the contacts held at once at t = " + std::to_string(t_) + " have dependent normals");
+    }
     yr_ = f_.Hold(held_, t_, f_.FromPhysical(z));
   }
   // Release j: free flight, or the others held on from the same state.

@@ -35,8 +35,8 @@ namespace nsmodal {
 struct TwoImpactOptions {
   // A root that the isolation could only bracket to its minimum width (a
   // tangency of P, where two roots merge at a fold of the root curve) is kept
-  // when |P| there is below kernel_tol times the sum of P's amplitudes (P's
-  // round-off is ~1e-16 of that).
+  // when |P| there is below kernel_tol times the sum of P's amplitudes and
+  // |offset| (the rigid signal's; P's round-off is ~1e-16 of that).
   double kernel_tol = 1e-11;
   AdmissibilityOptions admissibility;
 };
@@ -68,8 +68,9 @@ SinusoidSum TwoImpactSignal(const AnalysisBasis& b, double period, int first = 0
 // different lines, or one contact twice: InputError naming "sequence".
 void CheckTwoImpactSequence(const AnalysisBasis& b, int first, int second);
 
-// All roots t2 in (0, T) of det A_2(., T), sorted, T/2 included; none when
-// T is a multiple of a linear period. The isolation's work limit (1000 cells
+// All roots t2 in (0, T) of det A_2(., T) (with a rigid-body mode: of F,
+// det A_2 being 0 for every t2), sorted, T/2 included; none when T is a
+// multiple of a linear period. The isolation's work limit (1000 cells
 // per half-oscillation of the fastest mode, ~25 times what it needs) is an
 // internal bound: hitting it throws std::runtime_error.
 std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const TwoImpactOptions& options = {},

@@ -67,7 +67,11 @@ ModalBasis MakeModalBasis(const Model& model);
 // impact pushes the drift's momentum away from the obstacle and no flight
 // brings it back). With several contacts (a free mass in a cavity: the impact
 // damper) the two-impact sequences (a, b), a != b, have orbits
-// (two_impact.h); every other analysis calls RequireElastic first.
+// (two_impact.h); every analysis that needs K definite (1-impact families,
+// transitions, bridges, explore, the 2-impact kernel residual, indicator and
+// continuation) calls RequireElastic first. (ReturnMap, MatrixA and
+// KernelAtImpacts stay general linear algebra: with a rigid mode the shift
+// is always in ker A_m.)
 struct AnalysisBasis : ModalBasis {
   static constexpr double kRestitution = 1.0;
   // Periods the analysis honours, relative to the shortest linear period

@@ -64,7 +64,10 @@ struct ContactModel {
   // (slower than the resolution that decided the hold) as it was, and the
   // held flow, which keeps n_j . v constant, would carry that residual on
   // (a pair of held contacts drifted off one wall at 1e-5 m/s for seconds).
-  void HoldVelocity(const std::vector<int>& set, Eigen::Ref<Eigen::VectorXd> v) const;
+  // False (v untouched) when G_S is singular to round-off (its reciprocal
+  // condition number below 1e-12: normals dependent, which no held set can
+  // be).
+  bool HoldVelocity(const std::vector<int>& set, Eigen::Ref<Eigen::VectorXd> v) const;
   // Which contacts of `set` (at rest on their walls at time t, state z =
   // (x, v)) are held: Moreau's law at the acceleration level, the forces
   // 0 <= lambda _|_ G_S lambda - a >= 0 (a the free normal accelerations,
