@@ -283,6 +283,11 @@ class Responder {
     std::vector<Node> backward =
         end_up == kClosed ? std::vector<Node>{forward.front()} : Follow(xi0, -up, &end_down);
     std::vector<Node> nodes(backward.rbegin(), backward.rend() - 1);  // drop the shared start
+    // The backward nodes' tangents point down the branch: turned to point
+    // along the nodes' order, as the forward ones do (else the start, where
+    // the two meet, looked like a fold to Special: a tangent's lambda
+    // changing sign, and a fold "not located" there).
+    for (Node& n : nodes) n.tangent = -n.tangent;
     nodes.insert(nodes.end(), forward.begin(), forward.end());
     ResponseBranch branch;
     branch.end = end_up == kClosed ? end_up : "down: " + end_down + "; up: " + end_up;
