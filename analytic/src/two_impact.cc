@@ -202,6 +202,35 @@ std::vector<double> TwoImpactRoots(const AnalysisBasis& b, double period, const 
 
 namespace {
 
+// The potential orbit y0 = alpha k1 + beta k2 of a 2-dimensional kernel
+// (k1, k2 of unit length) that meets NC2: the first contact's x_c(0) = d and
+// the second's x_c(t2-) = d, evaluated. The two conditions coincide (rank 1)
+// when the smaller singular value of their 2 x 2 matrix is at round-off level
+// of the larger: then a line of y0 satisfies NC2 (degenerate, the bridge),
+// and its minimum-norm member is taken.
+Orbit OrbitInKernel(const AnalysisBasis& b, const Eigen::VectorXd& k1, const Eigen::VectorXd& k2, double t2,
+                    double period, const TwoImpactOptions& options, int first, int second) {
+  const ModalContact &c1 = b.contacts[first], &c2 = b.contacts[second];
+  Eigen::VectorXd s1 = k1, s2 = k2;
+  Flow(b, t2, s1);
+  Flow(b, t2, s2);
+  Eigen::Matrix2d c;
+  c << ContactPosition(b, c1, k1), ContactPosition(b, c1, k2), ContactPosition(b, c2, s1), ContactPosition(b, c2, s2);
+  const Eigen::Vector2d rhs(c1.gap, c2.gap);
+  Eigen::JacobiSVD<Eigen::Matrix2d> csvd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const bool degenerate = csvd.singularValues()[1] <= 1e-10 * csvd.singularValues()[0];
+  Eigen::Vector2d coef;
+  if (degenerate) {
+    csvd.setThreshold(1e-10);
+    coef = csvd.solve(rhs);
+  } else {
+    coef = c.partialPivLu().solve(rhs);
+  }
+  Orbit orbit = EvaluateOrbit(b, coef[0] * k1 + coef[1] * k2, {t2}, period, options.admissibility, {first, second});
+  orbit.degenerate = degenerate;
+  return orbit;
+}
+
 // TwoImpactOrbitAt with rigid-body modes (two_impact.h): y0 = alpha K1 + gamma E,
 // K1 = 2 X_e (S_e(T - t2) p2 - kappa p1) in the elastic modes and the rigid
 // velocity 2 (T - t2) / T p2_r; E the unit shift along p1_r (the shifts
@@ -225,18 +254,7 @@ Orbit RigidTwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, co
   // period, and the rank test below compares the two columns' scales.
   k1.normalize();
   e.head(b.rigid) = rp.p1.normalized();
-  Eigen::VectorXd k1_t2 = k1;
-  Flow(b, t2, k1_t2);  // the shift E is a fixed point of every flight
-  Eigen::Matrix2d c;
-  c << ContactPosition(b, c1, k1), ContactPosition(b, c1, e), ContactPosition(b, c2, k1_t2), ContactPosition(b, c2, e);
-  const Eigen::Vector2d rhs(c1.gap, c2.gap);
-  Eigen::JacobiSVD<Eigen::Matrix2d> csvd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const bool degenerate = csvd.singularValues()[1] <= 1e-10 * csvd.singularValues()[0];
-  csvd.setThreshold(1e-10);
-  const Eigen::Vector2d coef = degenerate ? Eigen::Vector2d(csvd.solve(rhs)) : Eigen::Vector2d(c.partialPivLu().solve(rhs));
-  Orbit orbit = EvaluateOrbit(b, coef[0] * k1 + coef[1] * e, {t2}, period, options.admissibility, {first, second});
-  orbit.degenerate = degenerate;
-  return orbit;
+  return OrbitInKernel(b, k1, e, t2, period, options, first, second);  // (E is a fixed point of every flight)
 }
 
 }  // namespace
@@ -266,26 +284,8 @@ Orbit TwoImpactOrbitAt(const AnalysisBasis& b, double t2, double period, const T
   const Eigen::MatrixXd q = Eigen::HouseholderQR<Eigen::MatrixXd>(kernel).householderQ() *
                             Eigen::MatrixXd::Identity(2 * n, 2);
   const Eigen::VectorXd k1 = q.col(0), k2 = q.col(1);
-  // NC2: the first contact's x_c(0) = d and the second's x_c(t2-) = d for y0 = alpha k1 + beta k2.
-  Eigen::VectorXd s1 = k1, s2 = k2;
-  Flow(b, t2, s1);
-  Flow(b, t2, s2);
-  Eigen::Matrix2d c;
-  c << ContactPosition(b, c1, k1), ContactPosition(b, c1, k2), ContactPosition(b, c2, s1), ContactPosition(b, c2, s2);
-  const Eigen::Vector2d rhs(c1.gap, c2.gap);
-  Eigen::JacobiSVD<Eigen::Matrix2d> csvd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  // The two conditions coincide (rank 1) when the smaller singular value is at
-  // round-off level of the larger: then a line of y0 satisfies NC2.
-  const bool degenerate = csvd.singularValues()[1] <= 1e-10 * csvd.singularValues()[0];
-  Eigen::Vector2d coef;
-  if (degenerate) {
-    csvd.setThreshold(1e-10);
-    coef = csvd.solve(rhs);  // the minimum-norm member of the continuum
-  } else {
-    coef = c.partialPivLu().solve(rhs);
-  }
-  Orbit orbit = EvaluateOrbit(b, coef[0] * k1 + coef[1] * k2, {t2}, period, options.admissibility, {first, second});
-  orbit.degenerate = degenerate;
+  Orbit orbit = OrbitInKernel(b, k1, k2, t2, period, options, first, second);
+  const bool degenerate = orbit.degenerate;
   // Within ~1e-4 of a multiple of a linear period the closed form divides by
   // sin(w T / 2) ~ 1e-3, whose rounding is not the flow's: the orbit is then
   // periodic to a few 1e-12 only (measured on the paper's system). The kernel
