@@ -579,16 +579,16 @@ ForcedOrbit LinearResponse(const Model& model, double frequency, double amplitud
   // free part is taken a largest gap clear of them. (Two or more rigid-body
   // modes: the free parts at rest at 0.)
   double c = 0.0;
-  if ((moves.array() > 0.0).any() || (moves.array() < 0.0).any()) {
-    const auto worst = [&](double at) { return (excess + at * moves).maxCoeff(); };
+  if (largest_move > 0.0) {
     if ((moves.array() > 0.0).any() && (moves.array() < 0.0).any()) {
       double best = INFINITY;
       for (int j = 0; j < k; ++j) {
         for (int l = 0; l < k; ++l) {
           if (!(moves[j] > 0.0 && moves[l] < 0.0)) continue;
           const double at = (excess[l] - excess[j]) / (moves[j] - moves[l]);
-          if (worst(at) < best) {
-            best = worst(at);
+          const double worst = (excess + at * moves).maxCoeff();
+          if (worst < best) {
+            best = worst;
             c = at;
           }
         }
