@@ -161,25 +161,22 @@ CommandLine::CommandLine() {
 
 namespace {
 
-// An --impacts given with --sequence must agree with the sequence's length
-// (one left at its default defers to the sequence, as in Python).
-void CheckImpactsAgree(const CLI::App* command, int impacts, const std::optional<std::string>& sequence) {
+// An --impacts given with --sequence must agree with the sequence's length,
+// 1 too (one left at its default defers to the sequence, as in Python).
+void ImpactsGivenAgree(const CLI::App* command, int impacts, const std::optional<std::string>& sequence) {
   if (!*command || !sequence || command->count("--impacts") == 0) return;
-  const long m = static_cast<long>(ParseValues(*sequence, "--sequence").size());
-  if (impacts != m) {
-    throw InputError("--impacts", std::to_string(impacts) + " disagrees with the sequence " + *sequence + " (" +
-                                      std::to_string(m) + " impacts): give one of them");
-  }
+  CheckImpactsAgree(impacts, static_cast<int>(ParseValues(*sequence, "--sequence").size()), *sequence, "--impacts",
+                    false);
 }
 
 }  // namespace
 
 int CommandLine::Run() const {
   try {
-    CheckImpactsAgree(c_orbits, orbits.impacts, orbits.sequence);
-    CheckImpactsAgree(c_orbit, orbit.impacts, orbit.sequence);
-    CheckImpactsAgree(c_explore, explore.impacts, explore.sequence);
-    CheckImpactsAgree(c_resp, response.impacts, response.sequence);
+    ImpactsGivenAgree(c_orbits, orbits.impacts, orbits.sequence);
+    ImpactsGivenAgree(c_orbit, orbit.impacts, orbit.sequence);
+    ImpactsGivenAgree(c_explore, explore.impacts, explore.sequence);
+    ImpactsGivenAgree(c_resp, response.impacts, response.sequence);
     int status = 1;
     if (*c_orbits) status = RunOrbits(orbits);
     if (*c_orbit) status = RunOrbit(orbit);

@@ -173,6 +173,12 @@ std::vector<int> ParseSequence(const std::string& text, int contacts, const std:
   return out;
 }
 
+void CheckImpactsAgree(int impacts, int m, const std::string& text, const std::string& field, bool one_defers) {
+  if (impacts == m || (one_defers && impacts == 1)) return;
+  throw InputError(field, std::to_string(impacts) + " disagrees with the sequence " + text + " (" + std::to_string(m) +
+                              " impacts): give one of them");
+}
+
 std::pair<int, std::vector<int>> ImpactSequence(int impacts, const std::optional<std::string>& sequence, int contacts,
                                                 const FieldNames& names) {
   if (!sequence) {
@@ -180,10 +186,7 @@ std::pair<int, std::vector<int>> ImpactSequence(int impacts, const std::optional
     return {impacts, std::vector<int>(impacts, 0)};
   }
   std::vector<int> s = ParseSequence(*sequence, contacts, names("sequence"));
-  if (impacts != 1 && impacts != static_cast<int>(s.size())) {
-    throw InputError(names("impacts"), std::to_string(impacts) + " disagrees with the sequence " + *sequence + " (" +
-                                           std::to_string(s.size()) + " impacts): give one of them");
-  }
+  CheckImpactsAgree(impacts, static_cast<int>(s.size()), *sequence, names("impacts"), true);
   return {static_cast<int>(s.size()), std::move(s)};
 }
 

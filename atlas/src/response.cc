@@ -570,10 +570,7 @@ ResponseRequest MakeResponseRequest(const Model& model, ResponseParameter swept,
     r.options.sequence = ParseSequence(*sequence, static_cast<int>(model.contacts.size()), names("sequence"),
                                        kMaxResponseImpacts);
     const int m = static_cast<int>(r.options.sequence.size());
-    if (impacts != 1 && impacts != m) {
-      throw InputError(names("impacts"), std::to_string(impacts) + " disagrees with the sequence " + *sequence +
-                                             " (" + std::to_string(m) + " impacts): give one of them");
-    }
+    CheckImpactsAgree(impacts, m, *sequence, names("impacts"), true);
     r.options.impacts = m;
   }
   r.options.periods = periods;

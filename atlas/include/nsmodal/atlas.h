@@ -118,6 +118,11 @@ std::vector<OrbitRecord> OrbitsAt(const AnalysisBasis& b, double period, int imp
 // a contact's number; throws InputError naming `field` and the value otherwise.
 std::vector<int> ParseSequence(const std::string& text, int contacts, const std::string& field, int max_entries = 2);
 
+// `impacts` against the number m of impacts of the sequence `text`: an
+// InputError naming `field` unless they agree, or `one_defers` and impacts is
+// 1 (a default left as it is defers to the sequence).
+void CheckImpactsAgree(int impacts, int m, const std::string& text, const std::string& field, bool one_defers);
+
 // A face's impacts and sequence (CLI --impacts/--sequence, Python's
 // impacts=/sequence=): the sequence if given (impacts then 1, its default, or
 // its length), else `impacts` (1 or 2) on contact 1. Returns the impacts and
