@@ -227,32 +227,30 @@ int RunExplore(const ExploreArgs& a) {
 
 int RunFigures(const FiguresArgs& a) {
   const Scene scene = LoadScene(a.scene);
-  if (RigidBodyModes(scene.model.stiffness) > 0) {
-    // A free mass between walls: no 1-impact family for Figs. 2-17.
-    const AnalysisBasis b(scene.model);
-    const PeriodGrid grid = FiguresGrid(b, a.period, "--period");
-    const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"fig[01][0-9]_*"});
-    std::cout << "the model has a rigid-body mode: no 1-impact families, so the paper's Figs. 2-17 are not drawn; "
-                 "Fig. 18, the sequences of two contacts\n";
-    const report::FiguresResult r = report::DrawSequenceFigures(b, grid.Values(), dir, std::cout);
-    if (r.failed) throw report::OutputError(std::to_string(r.failed) + " figure(s) could not be drawn (see above)");
-    return 0;
-  }
+  // A free mass between walls has no 1-impact family for Figs. 2-17: Fig. 18 alone.
+  const bool rigid = RigidBodyModes(scene.model.stiffness) > 0;
   // The paper's figures draw x_c of one dof against the wall x_c = d above it.
   const Contact& first = scene.model.FirstContact();
-  if (first.form != Contact::Form::kDof || !first.upper) {
+  if (!rigid && (first.form != Contact::Form::kDof || !first.upper)) {
     throw InputError("contact", "figures draw contact 1 as the paper's stop x_c <= d on one dof; contact 1 here is " +
                                     first.Describe() + ": write that wall first, or as an upper dof stop");
   }
   const AnalysisBasis b(scene.model);
   const PeriodGrid grid = FiguresGrid(b, a.period, "--period");
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"fig[01][0-9]_*"});
-  AtlasOptions opt;
-  opt.sweep.threads = a.threads;
-  opt.sweep.progress = ProgressBar("1- and 2-ipp sweep");
-  const Atlas atlas = ComputeAtlas(b, grid, opt);
-  report::PrintAtlas(std::cout, atlas);
-  const report::FiguresResult r = report::DrawPaperFigures(b, scene.model.FirstContact().dof, atlas, dir, std::cout);
+  report::FiguresResult r;
+  if (rigid) {
+    std::cout << "the model has a rigid-body mode: no 1-impact families, so the paper's Figs. 2-17 are not drawn; "
+                 "Fig. 18, the sequences of two contacts\n";
+    r = report::DrawSequenceFigures(b, grid.Values(), dir, std::cout);
+  } else {
+    AtlasOptions opt;
+    opt.sweep.threads = a.threads;
+    opt.sweep.progress = ProgressBar("1- and 2-ipp sweep");
+    const Atlas atlas = ComputeAtlas(b, grid, opt);
+    report::PrintAtlas(std::cout, atlas);
+    r = report::DrawPaperFigures(b, first.dof, atlas, dir, std::cout);
+  }
   if (r.failed) throw report::OutputError(std::to_string(r.failed) + " figure(s) could not be drawn (see above)");
   return 0;
 }
