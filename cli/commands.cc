@@ -280,7 +280,7 @@ int RunResponse(const ResponseArgs& a) {
   const ValidateOptions vopt = ResponseValidateOptions(a.validate, a.integrators, a.threads, vnames);
   const report::OutputDir dir = report::OutputDir::Prepare(
       a.out, {"response.csv", "response_points.csv", "backbone.csv", "response_validation.csv", "response_energy*",
-              "response_max_xc*"});
+              "response_amplitude*", "response_max_xc*"});
   const ResponseLevels r = ComputeResponseLevels(
       model, request.options, request.levels,
       [frequency_grid](double level) {
@@ -300,7 +300,7 @@ int RunResponse(const ResponseArgs& a) {
     report::WriteCsvFile(dir, "backbone.csv", report::BackboneColumns(), records);
     report::PrintResponsePeaks(std::cout, r.points, match, a.periods);
   }
-  report::DrawResponseCharts(dir, r.rows, model.dofs(), frequency_grid, frequency_grid, a.periods, std::cout);
+  report::DrawResponseCharts(dir, r.rows, r.points, model.dofs(), frequency_grid, frequency_grid, a.periods, std::cout);
   if (a.validate == 0) return 0;
   const ResponseValidation v = ValidateResponse(
       model, r.rows, vopt, ProgressBar("validating " + std::to_string(r.rows.size()) + " orbits"), vnames);

@@ -19,6 +19,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import nsmodal  # noqa: E402
+from nsmodal import style  # noqa: E402
 from mesh_args import out_and_max_elements  # noqa: E402
 
 out, max_elements = out_and_max_elements(1000)
@@ -44,13 +45,14 @@ with open(os.path.join(out, "bar_convergence.csv"), "w", newline="") as f:
     w.writeheader()
     w.writerows(rows)
 
-fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(6.7, 2.8), constrained_layout=True)
+style.use("pdf")
+fig, (ax1, ax2) = plt.subplots(1, 2, figsize=style.figsize("pdf", 0.42), constrained_layout=True)
 first = [r for r in rows if r["T_over_4L_c"] == FRACTIONS[0]]
-ax1.loglog([r["elements"] for r in first], [-r["T1_error"] for r in first], "o-", color="#0072B2")
+ax1.loglog([r["elements"] for r in first], [-r["T1_error"] for r in first], **style.series("exact"))
 ax1.set_xlabel("elements n")
 ax1.set_ylabel(r"$1 - T_1^h / (4L/c)$")
 finest = {r["T_over_4L_c"]: r["energy"] for r in rows if r["elements"] == meshes[-1]}
-for frac, colour, marker in zip(FRACTIONS, ("#0072B2", "#D55E00", "#009E73"), ("o", "s", "^")):
+for frac, colour, marker in zip(FRACTIONS, style.cycle("sequences"), ("o", "s", "^")):
     sel = [r for r in rows if r["T_over_4L_c"] == frac and r["elements"] != meshes[-1]]
     ax2.loglog([r["elements"] for r in sel], [abs(r["energy"] / finest[frac] - 1.0) for r in sel],
                marker=marker, color=colour, label=f"T = {frac} (4L/c)")

@@ -23,6 +23,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 import nsmodal  # noqa: E402
+from nsmodal import style  # noqa: E402
 from dropped_bar_scene import C, CONTACT, L, T_END, V0, model, rebound_over_v0  # noqa: E402
 from mesh_args import out_and_max_elements  # noqa: E402
 
@@ -30,8 +31,6 @@ out, max_elements = out_and_max_elements(1000)
 meshes = [n for n in (10, 20, 50, 100, 200, 500, 1000, 2000) if n <= max_elements]
 INTEGRATORS = ("exact", "cvode", "moreau-jean")
 MAX_ELEMENTS = {"exact": 2000, "cvode": 200, "moreau-jean": 2000}  # CVODE's dense Newton: ~n^3 per run
-COLOURS = {"exact": "#0072B2", "cvode": "#D55E00", "moreau-jean": "#009E73"}  # Okabe-Ito
-MARKERS = {"exact": "o", "cvode": "s", "moreau-jean": "^"}
 
 rows = []
 for n in meshes:
@@ -53,14 +52,15 @@ with open(os.path.join(out, "dropped_bar.csv"), "w", newline="") as f:
     w.writeheader()
     w.writerows(rows)
 
-fig, axes = plt.subplots(1, 3, figsize=(9.0, 2.8), constrained_layout=True)
+style.use("pdf")
+fig, axes = plt.subplots(1, 3, figsize=style.figsize("png", 0.31), constrained_layout=True)
 for integrator in INTEGRATORS:
     sel = [r for r in rows if r["integrator"] == integrator]
     n = [r["elements"] for r in sel]
-    style = dict(color=COLOURS[integrator], marker=MARKERS[integrator], label=integrator, markersize=4)
-    axes[0].loglog(n, [abs(r["contact_over_2L_c"] - 1.0) for r in sel], **style)
-    axes[1].loglog(n, [abs(r["rebound_over_v0"] + 1.0) for r in sel], **style)
-    axes[2].loglog(n, [max(r["wall_time_s"], 1e-5) for r in sel], **style)
+    look = style.series(integrator) | {"label": integrator}  # each integrator as in every chart
+    axes[0].loglog(n, [abs(r["contact_over_2L_c"] - 1.0) for r in sel], **look)
+    axes[1].loglog(n, [abs(r["rebound_over_v0"] + 1.0) for r in sel], **look)
+    axes[2].loglog(n, [max(r["wall_time_s"], 1e-5) for r in sel], **look)
 axes[0].set_ylabel("|contact / (2L/c) - 1|")
 axes[1].set_ylabel("|v_rebound / v_0 + 1|")
 axes[2].set_ylabel("wall time (s)")

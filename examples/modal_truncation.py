@@ -24,6 +24,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import nsmodal  # noqa: E402
+from nsmodal import style  # noqa: E402
 from dropped_bar_scene import CONTACT, GAP, T_END, V0, model, rebound_over_v0  # noqa: E402
 from mesh_args import out_and_max_elements  # noqa: E402
 
@@ -67,14 +68,15 @@ with open(os.path.join(out, "modal_truncation.csv"), "w", newline="") as f:
 
 bar_rows = [r for r in rows if r["study"] == "dropped_bar"]
 ref = bar_rows[-1]
-fig, axes = plt.subplots(1, 3, figsize=(9.0, 2.8), constrained_layout=True)
+style.use("pdf")
+fig, axes = plt.subplots(1, 3, figsize=style.figsize("png", 0.31), constrained_layout=True)
 k = [r["modes"] for r in bar_rows[:-1]]
-style = dict(color="#0072B2", marker="o", markersize=4)
-axes[0].loglog(k, [abs(r["contact_over_2L_c"] - ref["contact_over_2L_c"]) + 1e-16 for r in bar_rows[:-1]], **style)
+look = style.series("exact")  # the exact integrator, as in every chart
+axes[0].loglog(k, [abs(r["contact_over_2L_c"] - ref["contact_over_2L_c"]) + 1e-16 for r in bar_rows[:-1]], **look)
 axes[0].set_ylabel("|contact - all modes'| / (2L/c)")
-axes[1].loglog(k, [r["bound_over_gap"] for r in bar_rows[:-1]], **style)
+axes[1].loglog(k, [r["bound_over_gap"] for r in bar_rows[:-1]], **look)
 axes[1].set_ylabel("bound on neglected x_c / d")
-axes[2].loglog([r["modes"] for r in bar_rows], [max(r["wall_time_s"], 1e-5) for r in bar_rows], **style)
+axes[2].loglog([r["modes"] for r in bar_rows], [max(r["wall_time_s"], 1e-5) for r in bar_rows], **look)
 axes[2].set_ylabel("wall time (s)")
 for ax in axes:
     ax.set_xlabel(f"modes kept (of {N})")

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "nsmodal/atlas.h"
+#include "nsmodal/style.h"
 #include "nsmodal/error.h"
 #include "nsmodal/input_checks.h"
 #include "nsmodal/json.h"
@@ -630,6 +631,9 @@ PYBIND11_MODULE(_nsmodal, mod) {
   // Every docstring states its own text signature (Signed).
   py::options options;
   options.disable_function_signatures();
+  // The visual language (report/style.toml, compiled in) for nsmodal.style.
+  mod.def("_style_json", [] { return report::style::Json(); },
+          "_style_json() -> str\n\nreport/style.toml as JSON (read by nsmodal.style).");
   mod.doc() = R"doc(nsmodal: nonsmooth modal analysis of vibro-impact oscillators.
 
 Masses and springs, one rigid obstacle x_c <= d, a Newton impact law

@@ -1,28 +1,42 @@
 #!/usr/bin/env python3
-"""Checks that the keyed series of every figure stay apart in colour, in
-greyscale and for a deuteranope.
+"""Checks charts against nsmodal's visual language (report/style.toml): every
+colour comes from it, the series a reader must tell apart stay apart in
+colour, in greyscale and for a deuteranope, and every key lists what is drawn.
 
 Usage: check_figure_colours.py DIR [--simulate OUT]
-  DIR: the output of `nsmodal figures`; with --simulate, OUT receives each
-  figNN_*.png as a deuteranope sees it (NAME.deutan.png) and printed in
-  greyscale (NAME.grey.png), to look at (needs NumPy and matplotlib).
+  DIR: the output of `nsmodal figures` (or `response`, `bench`); with
+  --simulate, OUT receives each NAME.png as a deuteranope sees it
+  (NAME.deutan.png) and printed in greyscale (NAME.grey.png), to look at
+  (needs NumPy and matplotlib).
 
-For each chart DIR/figNN_*.png.gp (the gnuplot script the figures command
-wrote and ran), every plot element with a key entry is read: its kind
-(lines, points, ...), dash type, point type and colour. Two series whose kind,
-dash type and point type are the same can only be told apart by colour; such a
-pair must differ by at least MIN_DELTA_E in CIELAB (CIE76) as printed in
-colour and as a deuteranope sees it (Machado, Oliveira and Fernandes 2009,
-severity 1), and by MIN_DELTA_L in CIE lightness when printed in greyscale.
-Series coloured by a palette (viridis, perceptually uniform and readable
-in greyscale and by colour-blind readers by design) are not compared.
-Prints one line per pair that fails, then a table per figure, and exits 1 when
-a pair fails.
+For each chart DIR/NAME.png.gp (the gnuplot script nsmodal wrote and ran):
+- every colour it names must be one of style.toml's [colours] or a stop of
+  one of its [maps] (a chart that sets its own colour fails);
+- every plot element with a key entry is read: its kind (lines, points, ...),
+  dash type and colour. Two series of the same kind and dash can only be told
+  apart by colour and marker; a marker's shape is not readable at the size of
+  the PNG's points, so such a pair must differ by at least MIN_DELTA_E in
+  CIELAB (CIE76) as printed in colour and as a deuteranope sees it (Machado,
+  Oliveira and Fernandes 2009, severity 1), and by MIN_DELTA_L in CIE
+  lightness when printed in greyscale. Series coloured by a palette (the
+  colour maps, perceptually uniform) are not compared;
+- gnuplot is run on the script with `set table`, which lists the points of
+  every plotted curve: every keyed curve must have a point inside the axes
+  (a key that names a series not drawn fails). Surfaces (pm3d), which gnuplot
+  cannot tabulate, are not counted.
+Prints one line per failure, then a table per chart, and exits 1 on a failure.
 """
 import glob
 import os
 import re
+import subprocess
 import sys
+import tempfile
+
+try:
+    import tomllib
+except ImportError:  # Python < 3.11
+    tomllib = None
 
 # CIE76 difference above which two colours read as different categories, not
 # shades of one (about ten times the just-noticeable difference of 2.3).
@@ -31,7 +45,19 @@ MIN_DELTA_E = 20.0
 # (a tenth of the L* range; a laser printer's halftone resolves about 5).
 MIN_DELTA_L = 10.0
 
-NAMED = {"black": "#000000", "white": "#FFFFFF", "gray40": "#666666", "gray50": "#7F7F7F", "grey": "#BEBEBE"}
+STYLE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "report", "style.toml")
+
+
+def style_colours(path=STYLE):
+    """The colours a chart may name: [colours] and the maps' stops (upper case)."""
+    if tomllib is None:
+        return None
+    with open(path, "rb") as f:
+        style = tomllib.load(f)
+    colours = {c.upper() for c in style["colours"].values()}
+    for m in style["maps"].values():
+        colours |= {c.upper() for _, c in m["stops"]}
+    return colours
 
 # Deuteranopia, severity 1 (Machado et al. 2009), on linear RGB.
 DEUTAN = ((0.367322, 0.860646, -0.227968), (0.280085, 0.672501, 0.047413), (-0.011820, 0.042940, 0.968881))
@@ -89,7 +115,8 @@ def split_top(text):
 
 
 def series(script):
-    """(title, kind, dash, point, colour) of each keyed element of each plot."""
+    """Each plot command's layers: (title or None, kind, dash, colour or None,
+    palette?) in order (a gnuplot plot's curves, as `set table` lists them)."""
     text = script.replace("\\\n", " ")
     plots = []
     for line in text.splitlines():
@@ -98,51 +125,110 @@ def series(script):
             continue
         items = []
         for part in split_top(m.group(1)):
-            if re.search(r"\bnotitle\b", part) or "palette" in part:
-                continue
             title = re.search(r"\btitle\s+'([^']*)'", part)
             colour = re.search(r"\b(?:lc|fillcolor|fc)\s+rgb\s+'([^']+)'", part)
             kind = re.search(r"\bwith\s+(\w+)", part)
-            if not (title and colour and kind) or not title.group(1):
-                continue
             dash = re.search(r"\bdt\s+(\d+)", part)
-            point = re.search(r"\bpt\s+(\d+)", part)
-            c = colour.group(1)
-            items.append((title.group(1), kind.group(1), dash.group(1) if dash else "1",
-                          point.group(1) if point else "-", NAMED.get(c, c)))
+            keyed = title is not None and title.group(1) and not re.search(r"\bnotitle\b", part)
+            items.append((title.group(1) if keyed else None, kind.group(1) if kind else "lines",
+                          dash.group(1) if dash else "1", colour.group(1) if colour else None, "palette" in part))
         plots.append(items)
     return plots
 
 
-def check(directory):
+def colours_named(script):
+    """Every colour a script names (rgb '...', palette stops)."""
+    return [c for c in re.findall(r"'(#[0-9A-Fa-f]{6,8}|[A-Za-z]+[0-9]*)'", " ".join(
+        re.findall(r"(?:rgb\s+'[^']+'|defined\s*\([^)]*\))", script)))]
+
+
+def tabulated(path):
+    """gnuplot's table of each curve the script plots, in order: a list (one
+    per plot command) of lists of (points inside the axes, tabulated?)."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    # The script's own first lines pick the terminal and output: replaced.
+    body = [l for l in lines if not l.startswith(("set terminal", "set output", "if (!exists('nsmodal_output'))"))]
+    with tempfile.TemporaryDirectory() as tmp:
+        table = os.path.join(tmp, "table.txt")
+        script = os.path.join(tmp, "table.gp")
+        with open(script, "w") as f:
+            f.write(f"set terminal unknown\nset table '{table}'\n" + "\n".join(body) + "\nunset table\n")
+        run = subprocess.run(["gnuplot", script], cwd=os.path.dirname(os.path.abspath(path)),
+                             capture_output=True, text=True, timeout=120)
+        if run.returncode != 0:
+            return None, run.stderr.strip().splitlines()[-1:] or ["gnuplot failed"]
+        with open(table) as f:
+            rows = f.read().splitlines()
+    plots, current = [], None
+    for row in rows:
+        m = re.match(r"# (?:Curve|Surface) (\d+) of (\d+)", row)
+        if m:
+            if m.group(1) == "0":
+                current = []
+                plots.append(current)
+            current.append([0, True])
+        elif row.startswith("#") or not row.strip() or current is None:
+            continue
+        elif row.split()[-1] == "i":
+            current[-1][0] += 1
+    return plots, None
+
+
+def check(directory, keys=True, allowed="style"):
+    """Checks every DIR/*.png.gp; `keys`: also run gnuplot on each (the key
+    check); `allowed`: the colours a chart may name (default: the style's;
+    None: any). Returns 1 on a failure, else 0."""
     failures, rows = [], []
-    scripts = sorted(glob.glob(os.path.join(directory, "fig*.png.gp")))
+    scripts = sorted(glob.glob(os.path.join(directory, "*.png.gp")))
     if not scripts:
-        sys.exit(f"check_figure_colours: no fig*.png.gp in {directory}")
+        sys.exit(f"check_figure_colours: no *.png.gp in {directory}")
+    if allowed == "style":
+        allowed = style_colours()
     for path in scripts:
         name = os.path.basename(path)[:-len(".png.gp")]
         with open(path) as f:
-            plots = series(f.read())
+            text = f.read()
+        plots = series(text)
+        if allowed is not None:
+            for c in colours_named(text):
+                if c.upper() not in allowed:
+                    failures.append(f"{name}: the colour {c} is not one of report/style.toml's: "
+                                    "a chart names a role, never a colour")
         worst = None
         for items in plots:
-            for i in range(len(items)):
-                for j in range(i + 1, len(items)):
-                    a, b = items[i], items[j]
-                    if a[1:4] != b[1:4] or a[4].lower() == b[4].lower():
-                        continue  # told apart by style, or one meaning drawn twice
-                    la, lb = linear(a[4]), linear(b[4])
+            keyed = [it for it in items if it[0] is not None and it[3] is not None and not it[4]]
+            for i in range(len(keyed)):
+                for j in range(i + 1, len(keyed)):
+                    a, b = keyed[i], keyed[j]
+                    # Points: a marker's shape is not told apart at the PNG's size.
+                    same = a[1] == b[1] and (a[1] == "points" or a[2] == b[2])
+                    if not same or a[3].upper()[-6:] == b[3].upper()[-6:]:
+                        continue  # told apart by line or dash, or one colour meaning one thing
+                    la, lb = linear(a[3]), linear(b[3])
                     e_col = delta_e(lab(la), lab(lb))
                     e_deu = delta_e(lab(deutan(la)), lab(deutan(lb)))
                     d_l = abs(lab(la)[0] - lab(lb)[0])
                     if worst is None or min(e_col, e_deu) < worst[0]:
                         worst = (min(e_col, e_deu), d_l, a[0], b[0])
                     if e_col < MIN_DELTA_E or e_deu < MIN_DELTA_E or d_l < MIN_DELTA_L:
-                        failures.append(f"{name}: '{a[0]}' {a[4]} and '{b[0]}' {b[4]} differ only in colour: "
+                        failures.append(f"{name}: '{a[0]}' {a[3]} and '{b[0]}' {b[3]} differ only in colour: "
                                         f"dE {e_col:.1f} (colour), {e_deu:.1f} (deuteranopia), dL {d_l:.1f} (greyscale)")
-        rows.append((name, sum(len(p) for p in plots), worst))
+        if keys:
+            tables, error = tabulated(path)
+            if error:
+                failures.append(f"{name}: gnuplot could not tabulate the script: {error[0]}")
+            elif len(tables) != len(plots):
+                failures.append(f"{name}: {len(plots)} plot commands but gnuplot tabulated {len(tables)}")
+            else:
+                for items, table in zip(plots, tables):
+                    for item, (inside, _) in zip(items, table):
+                        if item[0] is not None and item[1] != "pm3d" and inside == 0:
+                            failures.append(f"{name}: the key names '{item[0]}', which draws no point inside the axes")
+        rows.append((name, sum(1 for p in plots for it in p if it[0] is not None), worst))
     for f in failures:
         print("FAIL", f)
-    print(f"{'figure':<28} keyed series  closest pair told apart by colour only (min dE, dL)")
+    print(f"{'chart':<28} keyed series  closest pair told apart by colour only (min dE, dL)")
     for name, n, worst in rows:
         desc = "none" if worst is None else f"{worst[0]:.1f}, {worst[1]:.1f}: '{worst[2]}' / '{worst[3]}'"
         print(f"{name:<28} {n:>5}         {desc}")
@@ -153,7 +239,7 @@ def simulate(directory, out):
     import matplotlib.image
     import numpy as np
     os.makedirs(out, exist_ok=True)
-    for path in sorted(glob.glob(os.path.join(directory, "fig*.png"))):
+    for path in sorted(glob.glob(os.path.join(directory, "*.png"))):
         rgb = matplotlib.image.imread(path)[..., :3].astype(float)
         lin = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
         name = os.path.basename(path)[:-4]

@@ -1,8 +1,12 @@
-"""The colour check of the figures (scripts/check_figure_colours.py) must be
-able to fail: pairs told apart by colour alone that merge for a deuteranope or
-in greyscale are reported, pairs with different line or point styles are not."""
+"""The chart check (scripts/check_figure_colours.py) must be able to fail:
+pairs told apart by colour alone that merge for a deuteranope or in
+greyscale, markers that differ only in shape, colours that are not the
+style's, and keys that name a series that draws nothing are reported."""
 import importlib.util
 import os
+import shutil
+
+import pytest
 
 SRC = os.environ.get("NSMODAL_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
 spec = importlib.util.spec_from_file_location("check_figure_colours",
@@ -11,9 +15,9 @@ colours = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(colours)
 
 
-def run(tmp_path, plot):
+def run(tmp_path, plot, keys=False, allowed=None):
     (tmp_path / "fig99_test.png.gp").write_text("set grid\n" + plot + "\n")
-    return colours.check(str(tmp_path))
+    return colours.check(str(tmp_path), keys=keys, allowed=allowed)
 
 
 def test_red_and_green_lines_merge_for_a_deuteranope(tmp_path):
@@ -28,20 +32,46 @@ def test_blue_and_vermillion_points_merge_in_greyscale(tmp_path):
     assert run(tmp_path, plot) == 1
 
 
-def test_a_different_dash_or_point_keeps_them_apart(tmp_path):
-    plot = ("plot 'a.csv' using 1:2 with lines lc rgb '#E41A1C' title 'a', '' using 1:3 with lines dt 2 lc rgb '#4DAF4A' title 'b', "
-            "'' using 1:4 with points pt 7 lc rgb '#0072B2' title 'c', '' using 1:5 with points pt 6 lc rgb '#D55E00' title 'd'")
+def test_a_marker_shape_alone_does_not_keep_them_apart(tmp_path):
+    # Filled and open circles of Okabe-Ito's vermillion and orange (the 2-ipp
+    # pair of earlier versions): 18 apart for a deuteranope, and a marker's
+    # shape is not read at the PNG's point size.
+    plot = "plot 'a.csv' using 1:2 with points pt 7 lc rgb '#D55E00' title 'a', '' using 1:3 with points pt 6 lc rgb '#E69F00' title 'b'"
+    assert run(tmp_path, plot) == 1
+
+
+def test_a_different_dash_keeps_them_apart(tmp_path):
+    plot = "plot 'a.csv' using 1:2 with lines lc rgb '#E41A1C' title 'a', '' using 1:3 with lines dt 2 lc rgb '#4DAF4A' title 'b'"
     assert run(tmp_path, plot) == 0
 
 
-def test_why_the_two_impact_stability_pair_needs_a_style():
-    # The project's pairs (report/src/figures.cc), stable dark, unstable light:
-    # 1-ipp blue and sky blue stay apart by colour alone; 2-ipp vermillion and
-    # orange do not for a deuteranope (18 < 20), so the figures also draw them
-    # with different points or dashes.
+def test_a_colour_not_in_the_style_fails(tmp_path):
+    style = colours.style_colours()
+    assert "#0072B2" in style  # the style's 1-ipp blue
+    plot = "plot 'a.csv' using 1:2 with lines lc rgb '#0072B3' title 'a'"
+    assert run(tmp_path, plot, allowed=style) == 1
+    assert run(tmp_path, plot.replace("#0072B3", "#0072B2"), allowed=style) == 0
+
+
+@pytest.mark.skipif(shutil.which("gnuplot") is None, reason="the key check runs gnuplot")
+def test_a_key_that_names_nothing_drawn_fails(tmp_path):
+    (tmp_path / "a.csv").write_text("1,2,0\n2,3,0\n3,4,0\n")
+    drawn = "plot 'a.csv' using 1:2 with lines lc rgb '#0072B2' title 'drawn'"
+    assert run(tmp_path, "set datafile separator ','\n" + drawn, keys=True) == 0
+    # The third column is 0 everywhere: the layer selects no point.
+    empty = drawn + ", '' using 1:($3 == 1 ? $2 : 1/0) with lines dt 2 lc rgb '#56B4E9' title 'empty'"
+    assert run(tmp_path, "set datafile separator ','\n" + empty, keys=True) == 1
+
+
+def test_the_style_pairs_that_only_colour_tells_apart():
+    # The style's stability pairs (report/style.toml), stable dark, unstable
+    # light: 1-ipp blue and sky blue, 2-ipp vermillion (darkened) and orange,
+    # apart for a deuteranope and in greyscale; Okabe-Ito's own vermillion
+    # #D55E00 is not (18 < 20), which is why the style darkens it.
     def apart(x, y):
         a, b = colours.linear(x), colours.linear(y)
         return (abs(colours.lab(a)[0] - colours.lab(b)[0]) >= colours.MIN_DELTA_L and
                 colours.delta_e(colours.lab(colours.deutan(a)), colours.lab(colours.deutan(b))) >= colours.MIN_DELTA_E)
     assert apart("#0072B2", "#56B4E9")
+    assert apart("#B85000", "#E69F00")
     assert not apart("#D55E00", "#E69F00")

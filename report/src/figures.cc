@@ -6,12 +6,14 @@
 // transitions, so another system gets the corresponding figures.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <limits>
 #include <map>
 #include <sstream>
 #include <tuple>
+#include <array>
 
 #include "nsmodal/figures.h"
 #include "nsmodal/admissibility.h"
@@ -19,6 +21,7 @@
 #include "nsmodal/figure_subjects.h"
 #include "nsmodal/stability.h"
 #include "nsmodal/bridge.h"
+#include "nsmodal/check.h"
 #include "nsmodal/error.h"
 #include "nsmodal/flow.h"
 #include "nsmodal/one_impact.h"
@@ -29,29 +32,70 @@
 #include "nsmodal/two_impact.h"
 #include "nsmodal/gnuplot.h"
 #include "nsmodal/output.h"
+#include "nsmodal/style.h"
 
 namespace nsmodal::report {
 namespace {
 
-// One visual language for every figure (Okabe-Ito, colour-blind safe), each
-// colour with one meaning; stable is dark, unstable light (apart in greyscale
-// too), and lines also change dash where it matters:
-//   1-ipp blue (dark #0072B2 stable, sky #56B4E9 unstable); 2-ipp vermillion
-//   (#D55E00 stable, orange #E69F00 unstable); 2-ipp with t2 = T/2 (the
-//   dilated 1-ipp) bluish green; 3-ipp reddish purple; potential or not
-//   admissible grey; the limits of a family (a grazing linear mode, a grazing
-//   orbit) and the obstacle black. Continua (orbits along a branch) are
-//   shaded with viridis and a colour bar.
-constexpr const char* kOneStable = "#0072B2";
-constexpr const char* kOneUnstable = "#56B4E9";
-constexpr const char* kTwoStable = "#D55E00";
-constexpr const char* kTwoUnstable = "#E69F00";
-constexpr const char* kDilated = "#009E73";
-constexpr const char* kThree = "#CC79A7";
-constexpr const char* kPotential = "#BBBBBB";
-constexpr const char* kNotAdmissible = "#777777";
-constexpr const char* kViridis =
-    "set palette defined (0 '#440154', 0.25 '#3B528B', 0.5 '#21908C', 0.75 '#5DC863', 1 '#FDE725')\n";
+// Every series is drawn by its role in the one visual language
+// (report/style.toml, style.h); no colour is named here.
+using style::With;
+
+// A plot command built layer by layer. A layer with a key entry names how
+// many points it draws: with none it is left out, so that a key lists what
+// is drawn and nothing else (scripts/check_figure_colours.py checks the
+// scripts against gnuplot's own table of each plotted curve).
+class Plot {
+ public:
+  explicit Plot(std::string command = "plot") : command_(std::move(command)) {}
+  // `spec`: the data and its columns ("'f.csv' using 1:2"); `style`: the
+  // "with ..." clause (With(role)).
+  // A spec may start with '' (gnuplot's "the previous file"): it is
+  // resolved here, since the layer before it may have been left out.
+  Plot& Add(const std::string& spec, const std::string& style, const std::string& title, long points = 1) {
+    const std::string layer = Resolve(spec);
+    if (points > 0) layers_.push_back(layer + " " + style + " title '" + title + "'");
+    return *this;
+  }
+  // A layer with no key entry (drawn whatever its count).
+  Plot& Unkeyed(const std::string& spec, const std::string& style) {
+    layers_.push_back(Resolve(spec) + " " + style + " notitle");
+    return *this;
+  }
+  bool empty() const { return layers_.empty(); }
+  std::string str() const {
+    std::string out = command_ + " ";
+    for (std::size_t k = 0; k < layers_.size(); ++k) out += (k ? ", \\\n  " : "") + layers_[k];
+    return out + "\n";
+  }
+
+ private:
+  std::string Resolve(const std::string& spec) {
+    if (spec.rfind("''", 0) == 0) {
+      NSMODAL_CHECK(!last_source_.empty());
+      return last_source_ + spec.substr(2);
+    }
+    if (!spec.empty() && (spec.front() == '\'' || spec.front() == '$')) {
+      const std::size_t end = spec.front() == '\'' ? spec.find('\'', 1) + 1 : spec.find(' ');
+      last_source_ = spec.substr(0, end);
+    }
+    return spec;
+  }
+  std::string command_, last_source_;
+  std::vector<std::string> layers_;
+};
+
+// A datablock NAME of vertical segments x = x_k from y = lo to y = hi (one
+// per blank-line-separated block): transitions and stretch ends drawn as
+// data, so that they are counted as what they are.
+std::string VerticalLines(const std::string& name, const std::vector<double>& xs, double lo, double hi) {
+  std::ostringstream os;
+  os << "$" << name << " << EOD\n";
+  for (double x : xs) os << x << "," << lo << "\n" << x << "," << hi << "\n\n";
+  os << "EOD\n";
+  return os.str();
+}
+
 constexpr int kSamples = 200;  // per flight of a drawn trajectory
 
 struct Context {
@@ -78,7 +122,7 @@ std::string XcLabel(const Context& c) { return "contact displacement " + DofLabe
 // figures"): `note` is the caption's numbers, printed beside the name.
 void Draw(Context& c, const std::string& name, const std::string& body, const std::string& note = "") {
   // Offsets keep a curve that touches d off the frame of an autoscaled axis.
-  const std::string setup = "set datafile separator ','\nset grid\nset offsets graph 0, graph 0, graph 0.05, graph 0.05\n";
+  const std::string setup = "set datafile separator ','\nset offsets graph 0, graph 0, graph 0.05, graph 0.05\n";
   const report::ChartStatus s = report::DrawChart(c.dir, name, setup + body);
   (s.drawn ? c.drawn : c.failed) += 1;
   c.log << "  " << name << (note.empty() ? "" : ": " + note) << (s.drawn ? "" : ": not drawn: " + s.message) << "\n";
@@ -118,67 +162,81 @@ int XCol(const Context&, int dof) { return 4 + dof; }
 
 
 // Energy range of a frequency-energy plot: from half the lowest potential
-// energy up to 100 times the highest admissible one, at most four decades
-// (energies diverge at singular transitions).
+// energy up to 30 times the median admissible one (at most four decades):
+// the families fill the frame; towards a singular transition, where the
+// energy diverges, they leave it at the top.
 std::pair<double, double> EnergyRange(const Context& c) {
-  double lo = INFINITY, hi = 0.0;
+  double lo = INFINITY;
+  std::vector<double> admissible;
   for (const Sweep* sweep : {&c.atlas.one, &c.atlas.two}) {
     for (const auto& list : sweep->at) {
       for (const OrbitRecord& r : list) {
         if (r.orbit.potential) lo = std::min(lo, r.orbit.energy);
-        if (r.orbit.admissible) hi = std::max(hi, r.orbit.energy);
+        if (r.orbit.admissible) admissible.push_back(r.orbit.energy);
       }
     }
   }
-  if (!(hi > 0.0)) hi = 1.0;
+  double hi = 1.0;
+  if (!admissible.empty()) {
+    auto mid = admissible.begin() + static_cast<long>(admissible.size() / 2);
+    std::nth_element(admissible.begin(), mid, admissible.end());
+    hi = 30.0 * *mid;
+  }
   if (!std::isfinite(lo)) lo = 1e-3 * hi;
-  return {0.5 * lo, std::min(100.0 * hi, 1e4 * lo)};
+  return {0.5 * lo, std::min(hi, 1e4 * lo)};
 }
 
 std::string EnergyAxes(const Context& c) {
   const auto [lo, hi] = EnergyRange(c);
   std::ostringstream os;
   os << "set logscale y\nset format y '10^{%T}'\nset yrange [" << lo << ":" << hi << "]\n"
-     << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n";
+     << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n"
+     << "set key inside top right opaque\n";
   return os.str();
 }
 
-// A chart of x_c(t) over one period of one orbit (Figs. 2, 5, 9) in `colour`:
-// the orbit's samples to DIR/NAME.csv, the obstacle at d, the part of x_c
-// above d filled (an NC3 failure is seen, not read off a number). `setup` is
-// gnuplot set-up before the plot, `layers` more plot layers after it.
-void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const char* colour,
-                  const std::string& setup, const std::string& layers, const std::string& note) {
+// A chart of x_c(t) over one period of one orbit (Figs. 2, 5, 9) drawn as
+// `role`: the orbit's samples to DIR/NAME.csv, the obstacle at d, the part
+// of x_c above d filled (an NC3 failure is seen, not read off a number).
+// `setup` is gnuplot set-up before the plot, `marks` more layers after it.
+void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const char* role, const std::string& setup,
+                  const std::function<void(Plot&)>& marks, const std::string& note) {
   report::ResultFile out(c.dir, name + ".csv");
   WriteTrajectoryHeader(out.stream(), c);
-  WriteTrajectory(out.stream(), "x", o.period, OrbitTrajectory(c.b, o, kSamples));
+  const Eigen::MatrixXd tr = OrbitTrajectory(c.b, o, kSamples);
+  WriteTrajectory(out.stream(), "x", o.period, tr);
   out.Commit();
+  const long above = (tr.col(1 + c.contact).array() > c.b.gap).count();
   const std::string xc = std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact));
   std::ostringstream body;
   body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset xrange [0:" << o.period
-       << "]\n"
-       << setup << "plot '" << name << ".csv' using " << xc << " with filledcurves above y=" << c.b.gap
-       << " fs solid 0.5 noborder lc rgb '" << kPotential << "' title 'x_c > d', "
-       << "'' using " << xc << " with lines lw 2 lc rgb '" << colour << "' title 'x_c(t)', " << c.b.gap
-       << " with lines dt 2 lc rgb 'black' title 'obstacle d'" << (layers.empty() ? "" : ", " + layers);
-  Draw(c, name, body.str(), note);
+       << "]\n" << setup;
+  Plot plot;
+  plot.Add("'" + name + ".csv' using " + xc, "with filledcurves above y=" + std::to_string(c.b.gap) + " " + style::Look("excess"),
+           "x_c > d", above)
+      .Add("'' using " + xc, With(role), "x_c(t)")
+      .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+  if (marks) marks(plot);
+  Draw(c, name, body.str() + plot.str(), note);
 }
 
-// A plot layer circling the point (t, x); an empty title: no key entry.
-std::string CircleMark(double t, double x, const std::string& title) {
-  std::ostringstream os;
-  os << "'+' using (" << t << "):(" << x << ") every ::0::0 with points pt 6 ps 2 lw 2 lc rgb 'black' "
-     << (title.empty() ? "notitle" : "title '" + title + "'");
-  return os.str();
-}
-
-// Plot layers circling the points (t, d) where an orbit grazes the obstacle.
-std::string GrazeMarks(const Context& c, const std::vector<double>& times) {
-  std::string layers;
-  for (std::size_t k = 0; k < times.size(); ++k) {
-    layers += (k ? ", " : "") + CircleMark(times[k], c.b.gap, k ? "" : "graze: x_c = d, v_c = 0");
+// A layer circling the point (t, x) as `role` (a one-point datablock).
+void Mark(Plot& plot, double t, double x, const char* role, const std::string& title) {
+  std::ostringstream spec;
+  spec << "'+' using (" << t << "):(" << x << ") every ::0::0";
+  if (title.empty()) {
+    plot.Unkeyed(spec.str(), With(role));
+  } else {
+    plot.Add(spec.str(), With(role), title);
   }
-  return layers;
+}
+
+// Layers circling the points (t, d) where an orbit grazes the obstacle.
+std::function<void(Plot&)> GrazeMarks(const Context& c, const std::vector<double>& times) {
+  const double d = c.b.gap;
+  return [times, d](Plot& plot) {
+    for (std::size_t k = 0; k < times.size(); ++k) Mark(plot, times[k], d, "grazing", k ? "" : "graze: x_c = d, v_c = 0");
+  };
 }
 
 // Fig. 2: a motion from ker A_2 that fails NC2 and NC3 (the paper's Fig. 2):
@@ -194,19 +252,22 @@ void Figure2(Context& c) {
   Flow(c.b, t2, y);
   const double x_t2 = ContactPosition(c.b, y);
   std::ostringstream setup;
-  setup << "set arrow from " << t2 << ", graph 0 to " << t2 << ", graph 1 nohead dt 3 lc rgb 'gray50'\n"
+  setup << "set arrow from " << t2 << ", graph 0 to " << t2 << ", graph 1 nohead " << style::Look("time_mark") << "\n"
         << "set label 't_2' at " << t2 << ", graph 1 offset 0.5, -1\n";
   std::ostringstream note;
   note << "T = " << pick->period << ", t2 = " << t2 << ", x_c(t2) = " << x_t2 << ", x_c exceeds d by up to "
        << pick->max_excess;
-  DrawOneOrbit(c, "fig02_not_admissible", *pick, kNotAdmissible, setup.str(),
-               CircleMark(t2, x_t2, "x_c(t_2) {/Symbol \\271} d: NC2 fails"), note.str());
+  DrawOneOrbit(c, "fig02_not_admissible", *pick, "not_admissible", setup.str(),
+               [&](Plot& plot) { Mark(plot, t2, x_t2, "mark", "x_c(t_2) {/Symbol \\271} d: NC2 fails"); }, note.str());
 }
 
-// Fig. 3: 1-ipp energies, admissible zones coloured by stability, transitions.
+// Fig. 3: 1-ipp energies, admissible zones coloured by stability,
+// transitions: singular ones (T_S) and modal ones as vertical lines, grazing
+// ones (T_G) and the stability changes as marks on the branch.
 void Figure3(Context& c) {
   report::ResultFile out(c.dir, "fig03_one_impact.csv");
   out << "T,energy,potential,admissible,stable,max_multiplier\n";
+  long potential = 0, stable = 0, unstable = 0;
   for (const auto& list : c.atlas.one.at) {
     const Orbit& o = list.front().orbit;
     const std::optional<Stability>& stability = list.front().stability;
@@ -214,38 +275,44 @@ void Figure3(Context& c) {
         << IsStable(stability) << ",";
     if (stability) out << stability->max_modulus;
     out << "\n";
+    potential += o.potential;
+    (IsStable(stability) ? stable : unstable) += o.admissible;
   }
   report::ResultFile tr(c.dir, "fig03_transitions.csv");
   tr << "T,kind,energy\n";
-  std::ostringstream arrows;
+  std::map<TransitionKind, std::vector<double>> at;
   for (const Transition& t : c.transitions) {
     tr << t.period << "," << ToString(t.kind) << "," << t.energy << "\n";
-    if (t.kind == TransitionKind::kSingular || t.kind == TransitionKind::kModal) {
-      arrows << "set arrow from " << t.period << ", graph 0 to " << t.period << ", graph 1 nohead lw 1 "
-             << (t.kind == TransitionKind::kSingular ? "dt 2 lc rgb 'black'" : "dt 3 lc rgb '#777777'") << "\n";
+    at[t.kind].push_back(t.period);
+  }
+  const auto [lo, hi] = EnergyRange(c);
+  std::ostringstream body;
+  body << EnergyAxes(c) << VerticalLines("singular", at[TransitionKind::kSingular], lo, hi)
+       << VerticalLines("modal", at[TransitionKind::kModal], lo, hi);
+  // The paper's caption names T_S and T_G: each is labelled where it is.
+  for (double t : at[TransitionKind::kSingular]) body << "set label 'T_S' at " << t << ", graph 1 offset 0.3, -0.8 front\n";
+  for (const Transition& t : c.transitions) {
+    if (t.kind == TransitionKind::kGrazing) {
+      body << "set label 'T_G' at " << t.period << ", " << t.energy << " offset 0.8, 0.8 front\n";
     }
   }
-  std::ostringstream body;
-  body << EnergyAxes(c) << arrows.str() << "set key below\n"
-       << "plot 'fig03_one_impact.csv' using 1:($3 == 1 ? $2 : 1/0) with lines lw 1 lc rgb '" << kPotential
-       << "' title 'potential', "
-       << "'' using 1:($4 == 1 && $5 == 1 ? $2 : 1/0) with lines lw 2.5 lc rgb '" << kOneStable
-       << "' title 'admissible, stable', "
-       << "'' using 1:($4 == 1 && $5 == 0 ? $2 : 1/0) with lines lw 1.5 dt 2 lc rgb '" << kOneUnstable << "'"
-       << " title 'admissible, unstable', "
-       << "'fig03_transitions.csv' using 1:(strcol(2) eq 'grazing' ? $3 : 1/0) with points pt 6 ps 1.5 lw 2 lc rgb "
-          "'black' title 'grazing transition T_G', "
-       << "'' using 1:(strcol(2) eq 'multiplier+1' ? $3 : 1/0) with points pt 8 ps 1.5 lw 2 lc rgb 'black' "
-          "title 'multipliers through +1', "
-       << "'' using 1:(strcol(2) eq 'multiplier-1' ? $3 : 1/0) with points pt 10 ps 1.5 lw 2 lc rgb 'black' "
-          "title 'multipliers through -1 (period doubling)', "
-       << "1/0 with lines dt 2 lc rgb 'black' title 'singular transition T_S', "
-       << "1/0 with lines dt 3 lc rgb '#777777' title 'linear modal transition k T_i'";
+  Plot plot;
+  plot.Add("'fig03_one_impact.csv' using 1:($3 == 1 ? $2 : 1/0)", With("potential"), "potential", potential)
+      .Add("'' using 1:($4 == 1 && $5 == 1 ? $2 : 1/0)", With("one_stable"), "admissible, stable", stable)
+      .Add("'' using 1:($4 == 1 && $5 == 0 ? $2 : 1/0)", With("one_unstable"), "admissible, unstable", unstable)
+      .Add("$singular using 1:2", With("singular"), "singular transition T_S", static_cast<long>(at[TransitionKind::kSingular].size()))
+      .Add("$modal using 1:2", With("modal"), "linear modal transition k T_i", static_cast<long>(at[TransitionKind::kModal].size()));
+  for (const auto& [kind, role, title] :
+       {std::tuple<TransitionKind, const char*, const char*>{TransitionKind::kGrazing, "grazing", "grazing transition T_G"},
+        {TransitionKind::kMultiplierPlusOne, "multiplier_plus_one", "multipliers through +1"},
+        {TransitionKind::kMultiplierMinusOne, "multiplier_minus_one", "multipliers through -1 (period doubling)"}}) {
+    plot.Add("'fig03_transitions.csv' using 1:(strcol(2) eq '" + ToString(kind) + "' ? $3 : 1/0)", With(role), title,
+             static_cast<long>(at[kind].size()));
+  }
   out.Commit();
   tr.Commit();
-  Draw(c, "fig03_one_impact_energy", body.str());
+  Draw(c, "fig03_one_impact_energy", body.str() + plot.str());
 }
-
 
 // Fig. 4: the linear modal transition: admissible on one side, not on the
 // other, the grazing linear mode at the transition.
@@ -263,15 +330,18 @@ void Figure4(Context& c, const ModalPick& m) {
   WriteTrajectory(out.stream(), "modal", mode.period, OrbitTrajectory(c.b, mode, kSamples));
   WriteTrajectory(out.stream(), "not_admissible", beyond.period, OrbitTrajectory(c.b, beyond, kSamples));
   std::ostringstream body;
-  body << "set xlabel 'normalised time t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
-       << "plot 'fig04_modal_transition.csv' using (strcol(1) eq 'admissible' ? $3/$2 : 1/0):" << XCol(c, c.contact)
-       << " with lines lw 2 lc rgb '" << kOneStable << "' title 'T = " << in.period << " (admissible)', "
-       << "'' using (strcol(1) eq 'modal' ? $3/$2 : 1/0):" << XCol(c, c.contact)
-       << " with lines lw 2 lc rgb 'black' title 'T = " << m.period << " (grazing linear mode)', "
-       << "'' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" << XCol(c, c.contact)
-       << " with lines lw 2 dt 2 lc rgb '" << kNotAdmissible << "' title 'T = " << beyond.period
-       << " (x_c > d: not admissible)', "
-       << c.b.gap << " with lines dt 3 lc rgb 'black' title 'obstacle d'";
+  body << "set xlabel 'normalised time t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n";
+  const std::string xc = std::to_string(XCol(c, c.contact));
+  std::ostringstream in_title, mode_title, beyond_title;
+  in_title << "T = " << in.period << " (admissible)";
+  mode_title << "T = " << m.period << " (grazing linear mode)";
+  beyond_title << "T = " << beyond.period << " (x_c > d: not admissible)";
+  Plot plot;
+  plot.Add("'fig04_modal_transition.csv' using (strcol(1) eq 'admissible' ? $3/$2 : 1/0):" + xc, With("orbit"), in_title.str())
+      .Add("'' using (strcol(1) eq 'modal' ? $3/$2 : 1/0):" + xc, With("limit"), mode_title.str())
+      .Add("'' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" + xc, With("not_admissible"), beyond_title.str())
+      .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+  body << plot.str();
   out.Commit();
   std::ostringstream note;
   note << "modal transition T = " << m.period << ", admissible at " << in.period << ", not at " << beyond.period;
@@ -290,8 +360,27 @@ void Figure5(Context& c) {
   const Bridge& br = *paper;
   std::ostringstream note;
   note << "T_G = " << br.period << ", graze at t = " << br.t2;
-  DrawOneOrbit(c, "fig05_grazing_transition", OneImpactOrbit(c.b, br.period), kOneStable, "",
+  DrawOneOrbit(c, "fig05_grazing_transition", OneImpactOrbit(c.b, br.period), "orbit", "",
                GrazeMarks(c, {br.t2}), note.str());
+}
+
+// The 2-ipp sweep's roots are drawn on every k-th period of its grid, k
+// chosen so that at most kDrawnRoots are drawn: the grid's step is far
+// below a pixel of the charts (4000 periods on 900 px), and a light SVG and
+// PDF need a few thousand marks, not tens of thousands. Their CSVs hold
+// every root, with a column `drawn`.
+constexpr long kDrawnRoots = 8000;
+int DrawEvery(const Sweep& sweep) {
+  long roots = 0;
+  for (const auto& list : sweep.at) roots += static_cast<long>(list.size());
+  return static_cast<int>(std::max<long>(1, (roots + kDrawnRoots - 1) / kDrawnRoots));
+}
+
+// A datablock $half: the line t2 = T/2 over the grid.
+std::string HalfPeriodLine(const Context& c) {
+  std::ostringstream os;
+  os << "$half << EOD\n0,0\n" << c.periods.back() << "," << 0.5 * c.periods.back() << "\nEOD\n";
+  return os.str();
 }
 
 // Fig. 6: det A_2(t2, T) against t2 for T = 1..10, with its roots.
@@ -316,81 +405,91 @@ void Figure6(Context& c) {
   for (int period = 1; period <= 10; ++period) {
     body << "set title 'T = " << period << "'\nset xrange [0:" << period << "]\nset xtics " << 0.5 * period
          << "\n"
-         << "plot 'fig06_det_a2.csv' using ($1 == " << period << " ? $2 : 1/0):3 with lines lw 1.5 lc rgb '" << kOneStable << "', "
-         << "'fig06_roots.csv' using ($1 == " << period << " && $3 == 1 ? $2 : 1/0):(0) with points pt 6 ps 1.0 lw 1.5 "
-         << "lc rgb 'black', "
-         << "'' using ($1 == " << period << " && $3 == 0 ? $2 : 1/0):(0) with points pt 7 ps 0.8 lc rgb '#D55E00'\n";
+         << "plot 'fig06_det_a2.csv' using ($1 == " << period << " ? $2 : 1/0):3 " << With("function") << " notitle, "
+         << "'fig06_roots.csv' using ($1 == " << period << " && $3 == 1 ? $2 : 1/0):(0) " << With("trivial_root")
+         << " notitle, '' using ($1 == " << period << " && $3 == 0 ? $2 : 1/0):(0) " << With("root") << " notitle\n";
   }
   body << "unset multiplot";
   out.Commit();
   roots.Commit();
   Draw(c, "fig06_det_a2", body.str());
-  // The roots as curves in the (t2, T) plane, from the atlas's 2-ipp sweep:
-  // the trivial line t2 = T/2 (eq. 26) and the nontrivial curves, potential
-  // and admissible apart.
+  // The roots as curves in the (T, t2) plane, from the atlas's 2-ipp sweep:
+  // the trivial line t2 = T/2 (eq. 26, a root at every T) and the others,
+  // admissible or not; the same roots as Fig. 7's map, uncoloured.
   report::ResultFile curves(c.dir, "fig06_root_curves.csv");
-  curves << "T,t2,half_period,admissible\n";
-  for (const auto& list : c.atlas.two.at) {
-    for (const OrbitRecord& r : list) {
-      if (!r.orbit.potential) continue;
-      curves << r.orbit.period << "," << r.orbit.times[0] << "," << IsHalfPeriodRoot(r.orbit) << ","
-             << r.orbit.admissible << "\n";
+  curves << "T,t2,admissible,drawn\n";
+  const int every = DrawEvery(c.atlas.two);
+  long other = 0, admissible = 0;
+  for (std::size_t k = 0; k < c.atlas.two.at.size(); ++k) {
+    for (const OrbitRecord& r : c.atlas.two.at[k]) {
+      if (!r.orbit.potential || IsHalfPeriodRoot(r.orbit)) continue;
+      const bool drawn = k % every == 0;
+      curves << r.orbit.period << "," << r.orbit.times[0] << "," << r.orbit.admissible << "," << drawn << "\n";
+      (r.orbit.admissible ? admissible : other) += drawn;
     }
   }
   curves.Commit();
   std::ostringstream plane;
   plane << "set xlabel 'period T (s)'\nset ylabel 'time of the second impact t_2 (s)'\nset key below\n"
         << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:" << c.periods.back() << "]\n"
-        << "plot 'fig06_root_curves.csv' using 1:($3 == 1 ? $2 : 1/0) with points pt 6 ps 0.3 lc rgb '" << kDilated
-        << "' title 'trivial root t_2 = T/2 (the dilated 1-ipp)', "
-        << "'' using 1:($3 == 0 && $4 == 0 ? $2 : 1/0) with points pt 7 ps 0.2 lc rgb '" << kPotential
-        << "' title 'other root, not admissible', "
-        << "'' using 1:($3 == 0 && $4 == 1 ? $2 : 1/0) with points pt 7 ps 0.35 lc rgb '" << kTwoStable
-        << "' title 'other root, admissible'";
-  Draw(c, "fig06_root_curves", plane.str());
+        << HalfPeriodLine(c);
+  Plot plot;
+  plot.Add("$half using 1:2", With("two_half"), "trivial root t_2 = T/2 (the dilated 1-ipp)")
+      .Add("'fig06_root_curves.csv' using 1:($4 == 1 && $3 == 0 ? $2 : 1/0)", With("potential", "points"),
+           "other root, not admissible", other)
+      .Add("'' using 1:($4 == 1 && $3 == 1 ? $2 : 1/0)", With("two_stable", "points"), "other root, admissible", admissible);
+  Draw(c, "fig06_root_curves", plane.str() + plot.str());
 }
 
-// The 2-ipp sweep as CSV: every potential orbit with its stability.
-void WriteTwoImpact(const Context& c, std::ostream& out) {
-  out << "T,t2,energy,potential,admissible,stable,max_multiplier,half_period\n";
-  for (const auto& list : c.atlas.two.at) {
-    for (const OrbitRecord& r : list) {
+// Fig. 7: the 2-ipp energies as a map over (T, t2): each potential root a
+// mark, grey where the orbit is not admissible, coloured by its energy
+// (log scale, the energy map) where it is, filled stable, open unstable;
+// the line t2 = T/2 (the trivial root). The paper draws E over (T, t2) in
+// 3-D; from above, the t2 <-> T - t2 symmetry (the same orbit started at
+// the other impact) is the mirror symmetry about t2 = T/2.
+void Figure7(Context& c) {
+  report::ResultFile out(c.dir, "fig07_two_impact.csv");
+  out << "T,t2,energy,potential,admissible,stable,max_multiplier,half_period,drawn\n";
+  const int every = DrawEvery(c.atlas.two);
+  long grey = 0, stable = 0, unstable = 0;
+  double e_lo = INFINITY, e_hi = 0.0;
+  for (std::size_t k = 0; k < c.atlas.two.at.size(); ++k) {
+    for (const OrbitRecord& r : c.atlas.two.at[k]) {
       const Orbit& o = r.orbit;
       if (!o.potential) continue;
+      const bool drawn = k % every == 0;
       out << o.period << "," << o.times[0] << "," << o.energy << "," << o.potential << "," << o.admissible << ","
           << IsStable(r.stability) << ",";
       if (r.stability) out << r.stability->max_modulus;
-      out << "," << IsHalfPeriodRoot(o) << "\n";
+      out << "," << IsHalfPeriodRoot(o) << "," << drawn << "\n";
+      if (!drawn) continue;
+      if (!o.admissible) {
+        ++grey;
+      } else {
+        (IsStable(r.stability) ? stable : unstable) += 1;
+        e_lo = std::min(e_lo, o.energy);
+        e_hi = std::max(e_hi, o.energy);
+      }
     }
   }
-}
-
-// Fig. 7: 2-ipp energies over (T, t2).
-void Figure7(Context& c) {
-  report::ResultFile out(c.dir, "fig07_two_impact.csv");
-  WriteTwoImpact(c, out.stream());
-  const auto [lo, hi] = EnergyRange(c);
-  std::ostringstream body;
-  // The roots' shadows on the floor (the root curves of fig06_root_curves)
-  // and the line t2 = T/2 there: the t2 <-> T - t2 symmetry is read off the
-  // floor, the energies above it.
-  body << "set xlabel 'period T (s)'\nset ylabel 't_2 (s)'\nset zlabel 'energy E (J)' "
-          "rotate\nset logscale z\nset format z '10^{%T}'\nset zrange ["
-       << lo << ":" << hi << "]\nset xyplane at " << lo << "\nset view 60,35\nset key top left\n"
-       << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:" << c.periods.back() << "]\n"
-       << "$half << EOD\n0,0," << lo << "\n" << c.periods.back() << "," << 0.5 * c.periods.back() << "," << lo
-       << "\nEOD\n"
-       << "splot 'fig07_two_impact.csv' using 1:2:(" << lo << ") with points pt 7 ps 0.1 lc rgb '#DDDDDD' notitle, "
-       << "'' using 1:2:($5 == 1 ? " << lo << " : 1/0) with points pt 7 ps 0.15 lc rgb '#F3C9A6' notitle, "
-       << "'' using 1:2:3 with points pt 7 ps 0.15 lc rgb '" << kPotential << "' title 'potential', "
-       << "'' using 1:2:($5 == 1 && $6 == 1 ? $3 : 1/0) with points pt 7 ps 0.4 lc rgb '" << kTwoStable
-       << "' title 'admissible, stable', "
-       << "'' using 1:2:($5 == 1 && $6 == 0 ? $3 : 1/0) with points pt 6 ps 0.4 lc rgb '" << kTwoUnstable
-       << "' title 'admissible, unstable', "
-       << "$half using 1:2:3 with lines dt 2 lw 2 lc rgb '" << kDilated
-       << "' title 't_2 = T/2 (on the floor: the roots seen from above)'";
   out.Commit();
-  Draw(c, "fig07_two_impact_energy", body.str());
+  const auto [lo, hi] = EnergyRange(c);
+  e_lo = std::max(e_lo, lo);
+  e_hi = std::min(std::max(e_hi, 2 * e_lo), hi);
+  std::ostringstream body;
+  body << "set xlabel 'period T (s)'\nset ylabel 'time of the second impact t_2 (s)'\nset key below\n"
+       << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:" << c.periods.back() << "]\n"
+       << style::Palette("energy", "energy E (J) of the admissible orbits") << "set logscale cb\nset format cb '10^{%T}'\n"
+       << "set cbrange [" << e_lo << ":" << e_hi << "]\n" << HalfPeriodLine(c);
+  Plot plot;
+  plot.Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 0 ? $2 : 1/0)", With("potential", "points"),
+           "potential, not admissible", grey)
+      .Add("$half using 1:2", With("two_half"), "t_2 = T/2")
+      .Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 1 && $6 == 1 ? $2 : 1/0):3", style::WithPalette("two_stable"),
+           "admissible, stable (filled)", stable)
+      .Add("'' using 1:($9 == 1 && $5 == 1 && $6 == 0 ? $2 : 1/0):3", style::WithPalette("two_unstable"),
+           "admissible, unstable (open)", unstable);
+  Draw(c, "fig07_two_impact_energy", body.str() + plot.str());
 }
 
 void WriteBridges(std::ostream& out, const std::vector<Bridge>& bridges) {
@@ -399,28 +498,6 @@ void WriteBridges(std::ostream& out, const std::vector<Bridge>& bridges) {
     out << br.period << "," << br.t2 << "," << br.energy_min << "," << br.energy_max << "," << br.s_begin << ","
         << br.s_end << "," << (IsGrazing(br) ? "grazing" : "period-doubling") << "\n";
   }
-}
-
-// The layers of a combined frequency-energy plot from a CSV with columns
-// family,T,t2,energy,stable (FepTable) and a bridges CSV. Families with one
-// orbit per period are lines (solid stable, dashed unstable); the other
-// 2-ipp roots are points (filled stable, open unstable).
-// `index` >= 0 selects that dataset of both files (gnuplot's `index`).
-std::string FepLayers(const std::string& csv, const std::string& bridges, double point_size, int index = -1) {
-  std::ostringstream os;
-  const std::string ps = std::to_string(point_size), ix = index < 0 ? "" : " index " + std::to_string(index);
-  os << "plot '" << csv << "'" << ix << " using 2:(strcol(1) eq '2-ipp' && $5 == 1 ? $4 : 1/0) with points pt 7 ps " << ps
-     << " lc rgb '" << kTwoStable << "' title '2-ipp, stable', "
-     << "''" << ix << " using 2:(strcol(1) eq '2-ipp' && $5 == 0 ? $4 : 1/0) with points pt 6 ps " << ps << " lc rgb '"
-     << kTwoUnstable << "' title '2-ipp, unstable', "
-     << "''" << ix << " using 2:(strcol(1) eq '1-ipp' && $5 == 1 ? $4 : 1/0) with lines lw 2.5 lc rgb '" << kOneStable
-     << "' title '1-ipp, stable', "
-     << "''" << ix << " using 2:(strcol(1) eq '1-ipp' && $5 == 0 ? $4 : 1/0) with lines lw 1.5 dt 2 lc rgb '" << kOneUnstable
-     << "' title '1-ipp, unstable', "
-     << "''" << ix << " using 2:(strcol(1) eq '2-ipp-half' ? $4 : 1/0) with lines lw 1.5 dt 4 lc rgb '" << kDilated
-     << "' title '2-ipp with t_2 = T/2 (1-ipp dilated x2)', "
-     << "'" << bridges << "'" << ix << " using 1:3:(0):($4-$3) with vectors nohead lw 3 lc rgb 'black' title 'bridge'";
-  return os.str();
 }
 
 // The rows of a frequency-energy plot's CSV (family,T,t2,energy,stable) of
@@ -436,8 +513,29 @@ class FepTable {
     Family& f = one ? one_ : half ? half_ : two_;
     if ((one || half) && f.last >= 0 && step != f.last + 1) f.rows << "\n";
     f.last = step;
+    (IsStable(s) ? f.stable : f.unstable) += 1;
     f.rows << (one ? "1-ipp" : half ? "2-ipp-half" : "2-ipp") << "," << o.period << ","
            << (one ? 0.0 : o.times[0]) << "," << o.energy << "," << IsStable(s) << "\n";
+  }
+  // The plot of the CSV `csv` written by Write and of a bridges CSV with
+  // `bridges` rows (WriteBridges). Families with one orbit per period are
+  // lines (solid stable, dashed unstable); the other 2-ipp roots are points
+  // (filled stable, open unstable). `index` >= 0 selects that dataset of both
+  // files (gnuplot's `index`), where this table is the index-th written.
+  std::string Layers(const std::string& csv, const std::string& bridges, long bridge_count, int index = -1) const {
+    const std::string ix = index < 0 ? "" : " index " + std::to_string(index);
+    auto select = [&](const char* family, const char* stable) {
+      return "'" + csv + "'" + ix + " using 2:(strcol(1) eq '" + family + "'" + stable + " ? $4 : 1/0)";
+    };
+    Plot plot;
+    plot.Add(select("2-ipp", " && $5 == 1"), With("two_stable"), "2-ipp, stable", two_.stable)
+        .Add(select("2-ipp", " && $5 == 0"), With("two_unstable"), "2-ipp, unstable", two_.unstable)
+        .Add(select("1-ipp", " && $5 == 1"), With("one_stable"), "1-ipp, stable", one_.stable)
+        .Add(select("1-ipp", " && $5 == 0"), With("one_unstable"), "1-ipp, unstable", one_.unstable)
+        .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp with t_2 = T/2 (1-ipp dilated x2)",
+             half_.stable + half_.unstable)
+        .Add("'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)", With("bridge"), "bridge", bridge_count);
+    return plot.str();
   }
   void Write(std::ostream& out) const {
     // One blank line between the families (two would start a new dataset).
@@ -454,6 +552,7 @@ class FepTable {
   struct Family {
     std::ostringstream rows;
     int last = -1;
+    long stable = 0, unstable = 0;
   };
   Family one_, half_, two_;
 };
@@ -493,12 +592,12 @@ void Figure8(Context& c) {
   report::ResultFile br(c.dir, "fig08_bridges.csv");
   WriteBridges(br.stream(), c.bridges);
   std::ostringstream body;
-  body << EnergyAxes(c) << "set key below\n";
+  body << EnergyAxes(c);
   for (std::size_t k = 0; k < c.bridges.size(); ++k) {
     const Bridge& b = c.bridges[k];
     body << "set label 'B" << k + 1 << "' at " << b.period << ", " << b.energy_max << " offset -0.6, 1.1 front\n";
   }
-  body << FepLayers("fig08_fep.csv", "fig08_bridges.csv", 0.35);
+  body << table.Layers("fig08_fep.csv", "fig08_bridges.csv", static_cast<long>(c.bridges.size()));
   out.Commit();
   br.Commit();
   std::ostringstream note;
@@ -520,7 +619,7 @@ void Figure9(Context& c) {
   std::ostringstream note;
   note << "T = " << br.period << ", grazes at t = " << br.t2 << " and " << br.period - br.t2
        << ", NC2 residual as a 3-ipp orbit " << g->three.nc2_residual;
-  DrawOneOrbit(c, "fig09_two_grazes", g->one, kOneStable, "", GrazeMarks(c, {br.t2, br.period - br.t2}),
+  DrawOneOrbit(c, "fig09_two_grazes", g->one, "orbit", "", GrazeMarks(c, {br.t2, br.period - br.t2}),
                note.str());
 }
 
@@ -528,15 +627,22 @@ void Figure9(Context& c) {
 // (x_1, x_2, v_2). A one-dof system has no x_other: time takes its place.
 // A family of orbits is a surface there (a nonsmooth mode, or a bridge's
 // continuum): each orbit one scan of it, all with the same rows.
+// Each orbit's shade is the parameter that runs along the family (T, an
+// arclength); it is drawn as the position along the family, from 0 at its
+// start to 1 at its end (the one meaning of the family colour map), the
+// colour bar naming the parameter's values at both ends.
 struct SectionFamily {
-  std::string shade_label;  // what the colour bar measures
+  std::string parameter;  // what the shade is, e.g. "period T (s)"
   std::vector<std::pair<double, Eigen::MatrixXd>> orbits;  // (shade, OrbitTrajectory)
 };
 struct SectionCurve {
   std::string title;
-  std::string style;  // gnuplot "with ..." clause
+  const char* role;  // style.toml series
   std::vector<Eigen::MatrixXd> trajectories;  // OrbitTrajectory of each orbit
 };
+// Samples per flight of a surface's scans: a surface of 40 scans of 2
+// flights is 4,800 facets, a light SVG and PDF, smooth at the charts' size.
+constexpr int kSurfaceSamples = 60;
 
 // Draws NAME: left, the family as a shaded surface (viridis by shade,
 // depth-sorted, with a colour bar), the curves, the obstacle plane x_c = d
@@ -553,6 +659,11 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   const int cols[3] = {c.b.n > 1 ? 1 + c.other : 0, 1 + c.contact, 1 + c.b.n + c.contact};
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   double s_lo = INFINITY, s_hi = -INFINITY;
+  for (const auto& [shade, tr] : family.orbits) {
+    s_lo = std::min(s_lo, shade);
+    s_hi = std::max(s_hi, shade);
+  }
+  NSMODAL_CHECK(s_hi > s_lo);  // (the callers draw families of several orbits)
   auto extend = [&](const Eigen::MatrixXd& tr) {
     for (int k = 0; k < 3; ++k) {
       lo[k] = std::min(lo[k], tr.col(cols[k]).minCoeff());
@@ -562,10 +673,9 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   report::ResultFile out(c.dir, name + ".csv");
   WriteTrajectoryHeader(out.stream(), c);
   for (const auto& [shade, tr] : family.orbits) {
-    WriteTrajectory(out.stream(), "family", shade, tr, kSamples + 1);  // OrbitTrajectory's rows per flight
+    // (OrbitTrajectory's rows per flight: kSurfaceSamples + 1.)
+    WriteTrajectory(out.stream(), "family", (shade - s_lo) / (s_hi - s_lo), tr, kSurfaceSamples + 1);
     extend(tr);
-    s_lo = std::min(s_lo, shade);
-    s_hi = std::max(s_hi, shade);
   }
   for (const SectionCurve& curve : curves) {
     out << "\n";
@@ -575,34 +685,36 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
     }
   }
   out.Commit();
-  if (!(s_hi > s_lo)) s_hi = s_lo + 1.0;
+  std::ostringstream bar;
+  bar << "position along the family: " << family.parameter << " from " << std::setprecision(4) << s_lo << " (0) to "
+      << s_hi << " (1)";
   const std::string u = std::to_string(TCol() + cols[0]), w = std::to_string(TCol() + cols[1]),
                     v = std::to_string(TCol() + cols[2]);
   std::ostringstream body;
-  body << "set multiplot\nset size 0.56, 1\nset origin 0, 0\n" << kViridis << "set cbrange [" << s_lo << ":" << s_hi << "]\nset cblabel '"
-       << family.shade_label << "'\nset colorbox user origin screen 0.565, screen 0.25 size screen 0.02, screen 0.5\n"
+  body << "set multiplot\nset size 0.56, 1\nset origin 0, 0\n" << style::Palette("family", bar.str())
+       << "set cbrange [0:1]\nset colorbox user origin screen 0.565, screen 0.25 size screen 0.02, screen 0.5\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
        << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate\n"
        << "set view 62, 35\nset xyplane relative 0\nset key at screen 0.02, screen 0.99 left top\n"
-       << "set pm3d depthorder border lc rgb '#00000030' lw 0.3\n"
+       << "set pm3d depthorder noborder\n"
        << "$plane << EOD\n"
        << lo[0] << "," << c.b.gap << "," << lo[2] << "\n" << lo[0] << "," << c.b.gap << "," << hi[2] << "\n\n"
-       << hi[0] << "," << c.b.gap << "," << lo[2] << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\nEOD\n"
-       << "splot '" << name << ".csv' index 0 using " << u << ":" << w << ":" << v << ":2 with pm3d notitle, "
-       << "$plane using 1:2:3 with pm3d fillcolor rgb '#A0999999' notitle, "
-       << "NaN with lines lw 6 lc rgb '#C0C0C0' title 'obstacle x_c = d'";
+       << hi[0] << "," << c.b.gap << "," << lo[2] << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\nEOD\n";
+  Plot surface("splot");
+  surface.Unkeyed("'" + name + ".csv' index 0 using " + u + ":" + w + ":" + v + ":2", "with pm3d")
+      .Add("$plane using 1:2:3", "with pm3d fillcolor rgb '" + style::Colour("plane") + "'", "obstacle x_c = d");
+  Plot projection;
+  projection.Unkeyed("'" + name + ".csv' index 0 using " + w + ":" + v + ":2", "with lines lw 1 lc palette");
   for (std::size_t k = 0; k < curves.size(); ++k) {
-    body << ", '" << name << ".csv' index " << k + 1 << " using " << u << ":" << w << ":" << v << " " << curves[k].style << " title '"
-         << curves[k].title << "'";
+    const std::string index = "'" + name + ".csv' index " + std::to_string(k + 1) + " using ";
+    surface.Add(index + u + ":" + w + ":" + v, With(curves[k].role), curves[k].title,
+                static_cast<long>(curves[k].trajectories.size()));
+    projection.Unkeyed(index + w + ":" + v, With(curves[k].role));
   }
-  body << "\nset size 0.34, 1\nset origin 0.66, 0\nunset pm3d\nunset colorbox\nunset key\nset xlabel '" << DofLabel("x", c.contact, "m")
-       << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s") << "'\n"
-       << "set arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead dt 2 lc rgb 'black'\n"
-       << "plot '" << name << ".csv' index 0 using " << w << ":" << v << ":2 with lines lw 1 lc palette";
-  for (std::size_t k = 0; k < curves.size(); ++k) {
-    body << ", '' index " << k + 1 << " using " << w << ":" << v << " " << curves[k].style;
-  }
-  body << "\nunset multiplot";
+  body << surface.str() << "set size 0.34, 1\nset origin 0.66, 0\nunset pm3d\nunset colorbox\nunset key\nset xlabel '"
+       << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s") << "'\n"
+       << "set arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead " << style::Look("obstacle") << "\n"
+       << projection.str() << "unset multiplot";
   Draw(c, name, body.str(), note);
 }
 
@@ -615,18 +727,32 @@ void Figure10(Context& c, const ModalPick& m) {
   const Orbit mode = GrazingMode(c.b, ModeOf(c.b, m.period), m.period);
   // Orbits across the zone, stopping where the energy passes 4 times the
   // mode's (towards a singular transition it diverges).
-  SectionFamily family{"period T (s)", {}};
+  SectionFamily family{"T", {{m.period, OrbitTrajectory(c.b, mode, kSurfaceSamples)}}};
   for (int k = 1; k <= 24; ++k) {
     const Orbit o = OneImpactOrbit(c.b, m.period + m.side * m.width * k / 25.0);
     if (!o.admissible || o.energy > 4.0 * mode.energy) break;
-    family.orbits.emplace_back(o.period, OrbitTrajectory(c.b, o, kSamples));
+    family.orbits.emplace_back(o.period, OrbitTrajectory(c.b, o, kSurfaceSamples));
   }
   std::ostringstream note;
-  note << family.orbits.size() << " 1-ipp orbits, T from " << m.period << " to "
+  note << family.orbits.size() - 1 << " 1-ipp orbits, T from " << m.period << " to "
        << (family.orbits.empty() ? m.period : family.orbits.back().first);
   DrawSection(c, "fig10_one_impact_mode", family,
-              {{"grazing linear mode", "with lines lw 3 lc rgb 'black'", {OrbitTrajectory(c.b, mode, kSamples)}}},
-              note.str());
+              {{"grazing linear mode", "limit", {OrbitTrajectory(c.b, mode, kSamples)}}}, note.str());
+}
+
+// The point of the branch's run nearest to the fraction f of its arclength
+// from the start (the continuation's steps are adaptive: orbits taken at
+// equal steps of the run would bunch where the steps are short).
+const BranchPoint& AtArclength(const ModeBranch& m, double f) {
+  const double s0 = m.branch[m.run.front()].arclength, total = std::abs(m.branch[m.run.back()].arclength - s0);
+  std::size_t best = m.run.front();
+  for (std::size_t k : m.run) {
+    if (std::abs(std::abs(m.branch[k].arclength - s0) - f * total) <
+        std::abs(std::abs(m.branch[best].arclength - s0) - f * total)) {
+      best = k;
+    }
+  }
+  return m.branch[best];
 }
 
 // Figs. 11-12: the 2-ipp nonsmooth mode through the grazing linear mode of
@@ -657,13 +783,15 @@ void Figures11And12(Context& c) {
     }
     out << "\n";
   };
+  // The arclength from the branch's start, the grazing mode.
+  const double s0 = branch[run.front()].arclength, s1 = branch[run.back()].arclength;
   write(0, linear, 0.0);
   const int curves = 16;
   std::ostringstream summary;
   for (int j = 1; j <= curves; ++j) {
-    const BranchPoint& p = branch[run[(run.size() - 1) * j / curves]];
+    const BranchPoint& p = AtArclength(m, static_cast<double>(j) / curves);
     const Orbit o = TwoImpactOrbitAt(c.b, p.t2, p.period);
-    write(j, o, p.arclength);
+    write(j, o, std::abs(p.arclength - s0));
     if (j == curves) summary << "last: T = " << o.period << ", t_2 = " << o.times[0];
   }
   double tmin = INFINITY, tmax = -INFINITY;
@@ -672,10 +800,19 @@ void Figures11And12(Context& c) {
     tmax = std::max(tmax, branch[k].period);
   }
   std::ostringstream body;
+  std::ostringstream bar;
+  bar << "position along the family: arclength s of the root curve from 0 (0, the grazing mode) to " << std::setprecision(4)
+      << std::abs(s1 - s0) << " (1)";
   body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
-       << kViridis << "set cbrange [0:" << curves << "]\nset cblabel 'orbit along the branch (0: the grazing mode)'\n"
-       << "plot 'fig11_two_impact_mode.csv' using " << TCol() << ":" << XCol(c, c.contact)
-       << ":1 with lines lw 1.5 lc palette notitle, " << c.b.gap << " with lines dt 2 lc rgb 'black' title 'd'";
+       << style::Palette("family", bar.str()) << "set cbrange [0:1]\n";
+  Plot plot;
+  plot.Unkeyed("'fig11_two_impact_mode.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)) +
+                   ":($" + std::to_string(6 + 2 * c.b.n) + " / " + std::to_string(std::abs(s1 - s0)) + ")",
+               "with lines lw 1.5 lc palette")
+      .Add("'' using " + std::to_string(TCol()) + ":(strcol(1) eq '0' ? $" + std::to_string(XCol(c, c.contact)) + " : 1/0)",
+           With("limit"), "grazing linear mode")
+      .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+  body << plot.str();
   out.Commit();
   std::ostringstream note;
   note << "from the grazing mode at T = 3 T_i = " << period << " (T_i = " << c.b.Periods()[mode]
@@ -683,14 +820,15 @@ void Figures11And12(Context& c) {
        << "; T spans [" << tmin << ", " << tmax << "]";
   Draw(c, "fig11_two_impact_orbits", body.str(), note.str());
   // Fig. 12: the branch's orbits as a surface, finer than Fig. 11's curves.
-  SectionFamily family{"arclength s along the root curve (0: the grazing mode)", {}};
+  SectionFamily family{"arclength s of the root curve", {}};
   const int scans = 40;
-  for (int j = 1; j <= scans; ++j) {
-    const BranchPoint& p = branch[run[(run.size() - 1) * j / scans]];
-    family.orbits.emplace_back(std::abs(p.arclength), OrbitTrajectory(c.b, TwoImpactOrbitAt(c.b, p.t2, p.period), kSamples));
+  for (int j = 0; j <= scans; ++j) {
+    const BranchPoint& p = AtArclength(m, static_cast<double>(j) / scans);
+    family.orbits.emplace_back(std::abs(p.arclength - branch[run.front()].arclength),
+                               OrbitTrajectory(c.b, TwoImpactOrbitAt(c.b, p.t2, p.period), kSurfaceSamples));
   }
   DrawSection(c, "fig12_two_impact_mode", family,
-              {{"grazing linear mode", "with lines lw 3 lc rgb 'black'", {OrbitTrajectory(c.b, linear, kSamples)}}}, "");
+              {{"grazing linear mode", "limit", {OrbitTrajectory(c.b, linear, kSamples)}}}, "");
 }
 
 // Figs. 13-15: the bridge.
@@ -715,17 +853,26 @@ void Figures13To15(Context& c) {
     std::ostringstream body;
     // The ends of the bridge (the grazing orbit and its shift) black, as in
     // Fig. 14; the 2-ipp orbits between shaded by s / s_end on its colour bar.
-    body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n" << kViridis
-         << "set cbrange [0:1]\nset cblabel 's / s_{end} along the bridge (2-ipp, T = T_G)'\n"
-         << "plot 'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" << XCol(c, c.contact)
-         << " with lines lw 3 lc rgb 'black' title 'grazing 1-ipp orbit (s = 0)', "
-         << "'' using (strcol(1) eq 'one_shifted' ? $3 : 1/0):" << XCol(c, c.contact)
-         << " with lines lw 3 dt 2 lc rgb 'black' title 'the same, shifted (s = s_{end})'";
+    const std::string xc = std::to_string(XCol(c, c.contact));
+    body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
+         << style::Palette("family", "position along the family: s / s_{end} along the bridge (2-ipp, T = T_G)")
+         << "set cbrange [0:1]\n";
+    Plot plot;
+    plot.Add("'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" + xc, With("limit"),
+             "grazing 1-ipp orbit (s = 0)")
+        .Add("'' using (strcol(1) eq 'one_shifted' ? $3 : 1/0):" + xc, With("limit_shifted"),
+             "the same, shifted (s = s_{end})");
     for (int pct : {20, 50, 80}) {
-      body << ", '' using (strcol(1) eq 's" << pct << "' ? $3 : 1/0):" << XCol(c, c.contact) << ":(" << pct / 100.0
-           << ") with lines lw 1.5 lc palette " << (pct == 20 ? "title '2-ipp, s = 0.2, 0.5, 0.8 s_{end}'" : "notitle");
+      const std::string spec = "'' using (strcol(1) eq 's" + std::to_string(pct) + "' ? $3 : 1/0):" + xc + ":(" +
+                               std::to_string(pct / 100.0) + ")";
+      if (pct == 20) {
+        plot.Add(spec, "with lines lw 1.5 lc palette", "2-ipp, s = 0.2, 0.5, 0.8 s_{end}");
+      } else {
+        plot.Unkeyed(spec, "with lines lw 1.5 lc palette");
+      }
     }
-    body << ", " << c.b.gap << " with lines dt 3 lc rgb 'black' title 'd'";
+    plot.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+    body << plot.str();
     out.Commit();
     std::ostringstream note;
     note << "T_G = " << t << ", the shift " << t - br->t2;
@@ -733,7 +880,7 @@ void Figures13To15(Context& c) {
   }
   // Fig. 14: the same in the phase section, with neighbouring 1-ipp orbits.
   {
-    SectionCurve one{"1-ipp orbits, T near T_G", "with lines lw 1 lc rgb '" + std::string(kOneStable) + "'", {}};
+    SectionCurve one{"1-ipp orbits, T near T_G", "orbit_thin", {}};
     const double eps = 1e-4 * t;
     const int side = OneImpactOrbit(c.b, t - eps).admissible ? -1 : 1;
     for (int k = 1; k <= 8; ++k) {
@@ -743,11 +890,11 @@ void Figures13To15(Context& c) {
     }
     SectionFamily family{"s / s_{end} along the bridge (2-ipp, T = T_G)", {}};
     for (int k = 0; k <= 20; ++k) {
-      family.orbits.emplace_back(k / 20.0, OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, br->s_end * k / 20.0), kSamples));
+      family.orbits.emplace_back(k / 20.0,
+                                 OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, br->s_end * k / 20.0), kSurfaceSamples));
     }
     DrawSection(c, "fig14_bridge_section", family,
-                {one, {"grazing 1-ipp orbit (s = 0)", "with lines lw 3 lc rgb 'black'",
-                       {OrbitTrajectory(c.b, OneImpactOrbit(c.b, t), kSamples)}}},
+                {one, {"grazing 1-ipp orbit (s = 0)", "limit", {OrbitTrajectory(c.b, OneImpactOrbit(c.b, t), kSamples)}}},
                 "");
   }
   // Fig. 15: zoom of the frequency-energy plot on the bridge.
@@ -762,9 +909,9 @@ void Figures13To15(Context& c) {
     const double e_lo = std::min(lo, br->energy_min), e_hi = std::max(hi, br->energy_max);
     const double pad = 0.1 * (e_hi - e_lo);
     std::ostringstream body;
-    body << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key below\n"
+    body << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key inside top left opaque\n"
          << "set xrange [" << t - w << ":" << t + w << "]\nset yrange [" << e_lo - pad << ":" << e_hi + pad << "]\n"
-         << FepLayers("fig15_bridge_fep.csv", "fig15_bridge.csv", 0.6);
+         << table.Layers("fig15_bridge_fep.csv", "fig15_bridge.csv", 1);
     out.Commit();
     bo.Commit();
     std::ostringstream note;
@@ -788,7 +935,9 @@ void Figure17(Context& c) {
   const int n = static_cast<int>(c.bridges.size());
   const int cols = n <= 2 ? n : 2, rows = (n + cols - 1) / cols;
   std::ostringstream body;
-  body << "set multiplot layout " << rows << "," << cols << "\nunset key\nset xlabel 'period T (s)'\nset ylabel 'energy E (J)'\n";
+  // Each panel keys what it draws, inside its frame.
+  body << "set multiplot layout " << rows << "," << cols << "\nset key below samplen 1 spacing 0.9\n"
+       << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\n";
   for (int k = 0; k < n; ++k) {
     const Bridge& br = c.bridges[k];
     const double w = 0.01 * br.period, height = br.energy_max - br.energy_min;
@@ -802,7 +951,7 @@ void Figure17(Context& c) {
          << br.energy_min - 0.5 * height << ":" << br.energy_max + 0.5 * height << "]\n"
          << "set label 1 'B" << k + 1 << ": " << (IsGrazing(br) ? "grazing" : "period doubling") << ", T = "
          << std::setprecision(6) << br.period << "' at graph 0.03, graph 0.93 front\n"
-         << FepLayers("fig17_bridges_fep.csv", "fig17_bridges.csv", 0.5, k) << "\n";
+         << table.Layers("fig17_bridges_fep.csv", "fig17_bridges.csv", 1, k);
   }
   body << "unset multiplot";
   out.Commit();
@@ -825,13 +974,16 @@ void Figure16(Context& c) {
   }
   report::ResultFile out(c.dir, "fig16_three_impact_family.csv");
   out << "T,t2,t3,energy,admissible,stable,max_multiplier\n";
+  long three[3] = {0, 0, 0};  // not admissible, unstable, stable
   for (const Orbit& o : pick.family) {
     out << o.period << "," << o.times[0] << "," << o.times[1] << "," << o.energy << "," << o.admissible << ",";
     if (o.admissible) {
       const Stability s = OrbitStability(c.b, o);
       out << (s.defined && s.stable) << "," << s.max_modulus;
+      ++three[s.defined && s.stable ? 2 : 1];
     } else {
       out << "0,";
+      ++three[0];
     }
     out << "\n";
   }
@@ -839,11 +991,13 @@ void Figure16(Context& c) {
   one << "T,energy,admissible,stable\n";
   const double width = pick.admissible_to - pick.admissible_from;
   const double t_lo = pick.admissible_from - 0.5 * width, t_hi = pick.admissible_to + 0.5 * width;
+  long one_stable = 0, one_unstable = 0;
   for (const auto& list : c.atlas.one.at) {
     const OrbitRecord& r = list.front();
     if (r.orbit.period >= t_lo && r.orbit.period <= t_hi) {
       one << r.orbit.period << "," << r.orbit.energy << "," << r.orbit.admissible << "," << IsStable(r.stability)
           << "\n";
+      (IsStable(r.stability) ? one_stable : one_unstable) += r.orbit.admissible;
     }
   }
   report::ResultFile orbit(c.dir, "fig16_orbit.csv");
@@ -855,27 +1009,23 @@ void Figure16(Context& c) {
   }
   std::ostringstream body, period_label;
   period_label << std::setprecision(4) << pick.start.period;
-  body << "set multiplot layout 1,2\n";
-  // The ends of the admissible stretch, dotted.
-  for (double t : {pick.admissible_from, pick.admissible_to}) {
-    body << "set arrow from " << t << ", graph 0 to " << t << ", graph 1 nohead dt 3 lc rgb 'black'\n";
-  }
-  body
+  body << "set multiplot layout 1,2\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key below\n"
        << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [0:" << 1.5 * e_hi << "]\n"
-       << "plot 'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0) with lines lw 1.5 dt 3 lc rgb '" << kNotAdmissible
-       << "' title '3-ipp, not admissible', "
-       << "'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0) with lines lw 2 dt 5 lc rgb '" << kThree << "' title '3-ipp, unstable', "
-       << "'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0) with lines lw 3 lc rgb '" << kThree << "' title '3-ipp, stable', "
-       << "'fig16_one_impact.csv' using 1:($3 == 1 && $4 == 1 ? $2 : 1/0) with lines lw 2.5 lc rgb '" << kOneStable
-       << "' title '1-ipp, stable', "
-       << "'' using 1:($3 == 1 && $4 == 0 ? $2 : 1/0) with lines lw 1.5 dt 2 lc rgb '" << kOneUnstable
-       << "' title '1-ipp, unstable'\n"
-       << "unset arrow\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
-       << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n"
-       << "plot 'fig16_orbit.csv' using " << TCol() << ":" << XCol(c, c.contact)
-       << " with lines lw 2 lc rgb '" << kThree << "' title 'x_c(t), T = " << period_label.str() << "', " << c.b.gap << " with lines dt 2 lc rgb 'black' title 'obstacle d'\n"
-       << "unset multiplot";
+       << VerticalLines("ends", {pick.admissible_from, pick.admissible_to}, 0.0, 1.5 * e_hi);
+  Plot energies;
+  energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)", With("not_admissible"), "3-ipp, not admissible", three[0])
+      .Add("'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0)", With("three_unstable"), "3-ipp, unstable", three[1])
+      .Add("'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0)", With("three_stable"), "3-ipp, stable", three[2])
+      .Add("'fig16_one_impact.csv' using 1:($3 == 1 && $4 == 1 ? $2 : 1/0)", With("one_stable"), "1-ipp, stable", one_stable)
+      .Add("'' using 1:($3 == 1 && $4 == 0 ? $2 : 1/0)", With("one_unstable"), "1-ipp, unstable", one_unstable)
+      .Add("$ends using 1:2", With("range_end"), "ends of the admissible 3-ipp stretch");
+  Plot orbit_plot;
+  orbit_plot.Add("'fig16_orbit.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)),
+                 With("three_stable", "lines"), "x_c(t), T = " + period_label.str())
+      .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+  body << energies.str() << "set autoscale y\nset xrange [0:" << pick.start.period << "]\n"
+       << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << "unset multiplot";
   out.Commit();
   one.Commit();
   orbit.Commit();
@@ -921,6 +1071,7 @@ void Figure18(Context& c) {
   SweepOptions opt;
   opt.stability = StabilityPolicy::kAdmissible;
   double lo = INFINITY, hi = -INFINITY;
+  std::vector<std::array<long, 2>> counts(sequences.size(), {0, 0});  // unstable, stable
   for (std::size_t s = 0; s < sequences.size(); ++s) {
     const std::vector<int>& seq = sequences[s];
     // (A stream: GCC 12 warns falsely (-Wrestrict) on chains of string + literal.)
@@ -943,6 +1094,7 @@ void Figure18(Context& c) {
         last = static_cast<int>(i);
         os << labels.back() << "," << s << "," << r.orbit.period << "," << (seq.size() == 1 ? 0.0 : r.orbit.times[0]) << ","
            << r.orbit.energy << "," << IsStable(r.stability) << "\n";
+        ++counts[s][IsStable(r.stability)];
         lo = std::min(lo, r.orbit.energy);
         hi = std::max(hi, r.orbit.energy);
       }
@@ -953,28 +1105,26 @@ void Figure18(Context& c) {
     c.log << "  fig18_sequences_fep: no admissible orbit of any sequence on the grid: not drawn\n";
     return;
   }
-  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d", "#666666"};
   std::ostringstream body;
   body << "set logscale y\nset format y '10^{%T}'\nset yrange [" << 0.5 * lo << ":" << 2.0 * hi << "]\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n"
-       << "set key outside right\nplot ";
+       << "set key below\n";
+  // One colour per sequence (the sequences cycle); stability as everywhere:
+  // a 1-impact family solid / dashed, a 2-impact one filled / open points.
+  Plot plot;
   for (std::size_t s = 0; s < sequences.size(); ++s) {
-    const std::string colour = colours[s % 8], &title = titles[s];
-    std::ostringstream select;
-    select << "(strcol(1) eq '" << labels[s] << "' && $6 == ";
-    const std::string sel = select.str();
-    if (s > 0) body << ", ";
-    if (sequences[s].size() == 1) {
-      body << "'fig18_sequences_fep.csv' using 3:" << sel << "1 ? $5 : 1/0) with lines lw 2.5 lc rgb '" << colour
-           << "' title '" << title << " stable', '' using 3:" << sel << "0 ? $5 : 1/0) with lines lw 1.5 dt 2 lc rgb '"
-           << colour << "' title '" << title << " unstable'";
-    } else {
-      body << "'fig18_sequences_fep.csv' using 3:" << sel << "1 ? $5 : 1/0) with points pt 7 ps 0.35 lc rgb '" << colour
-           << "' title '" << title << " stable', '' using 3:" << sel << "0 ? $5 : 1/0) with points pt 6 ps 0.35 lc rgb '"
-           << colour << "' title '" << title << " unstable'";
+    const bool one = sequences[s].size() == 1;
+    for (int stable : {1, 0}) {
+      std::ostringstream spec;
+      spec << "'fig18_sequences_fep.csv' using 3:(strcol(1) eq '" << labels[s] << "' && $6 == " << stable
+           << " ? $5 : 1/0)";
+      // The role gives the line or point; the sequence the colour.
+      const std::string role = one ? (stable ? "one_stable" : "one_unstable") : (stable ? "two_stable" : "two_unstable");
+      plot.Add(spec.str(), With(role, "", style::CycleColour("sequences", s)), titles[s] + (stable ? " stable" : " unstable"),
+               counts[s][stable]);
     }
   }
-  body << "\n";
+  body << plot.str();
   Draw(c, "fig18_sequences_fep", body.str(), std::to_string(sequences.size()) + " impact sequences");
 }
 
@@ -1030,8 +1180,6 @@ int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisio
       integrators.push_back(r.integrator);
     }
   }
-  std::string integrator_list;
-  for (const std::string& i : integrators) integrator_list += (integrator_list.empty() ? "" : " ") + i;
   int failed = 0;
   for (const std::string& name : case_names) {
     double smallest = std::numeric_limits<double>::infinity();
@@ -1041,21 +1189,30 @@ int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisio
     const double floor = std::isfinite(smallest) ? 0.1 * smallest : 1e-16;
     std::ostringstream body;
     // work_precision.csv: case 1, integrator 2, setting 3, error 4, cpu_s 5,
-    // impacts 6, steps 7, expected_impacts 8.
+    // impacts 6, steps 7, expected_impacts 8. Each integrator in its own
+    // style (style.toml: the same in every chart).
     body << "set datafile separator ','\nset logscale xy\nset format y '10^{%T}'\nset format x '10^{%T}'\n"
          << "set xlabel 'CPU time per run (s)'\nset ylabel 'relative error of the final state (vs exact, root\\_tol 1e-14)'\n"
-         << "set key outside right\nset grid\n"
+         << "set key below\n"
          << "floor = " << floor << "\n"
-         << "set arrow from graph 0, first floor to graph 1, first floor nohead dt 3 lc rgb '#999999'\n"
-         << "set label 'error 0 (drawn at this floor)' at graph 0.02, first floor offset 0, 0.7 font ',8'\n"
-         << "plot for [i in '" << integrator_list << "'] 'work_precision.csv' "
-         << "using (strcol(1) eq '" << name << "' && strcol(2) eq i && $4 > 0 ? $5 : 1/0):4 "
-         << "with linespoints lw 2 pt 7 title i, \\\n"
-         << "  for [i in '" << integrator_list << "'] '' "
-         << "using (strcol(1) eq '" << name << "' && strcol(2) eq i && $4 == 0 ? $5 : 1/0):(floor) "
-         << "with points pt 6 ps 1.5 lw 2 lc rgb '#555555' notitle, \\\n"
-         << "  '' using (strcol(1) eq '" << name << "' && $6 != $8 ? $5 : 1/0):($4 > 0 ? $4 : floor) "
-         << "with points pt 2 ps 2.5 lw 2 lc rgb 'black' title 'wrong impact count'\n";
+         << "set arrow from graph 0, first floor to graph 1, first floor nohead " << style::Look("floor") << "\n"
+         << "set label 'error 0 (drawn at this floor)' at graph 0.02, first floor offset 0, 0.7\n";
+    Plot plot;
+    long wrong = 0;
+    for (const std::string& integrator : integrators) {
+      long drawn = 0;
+      for (const WorkPrecisionRow& r : rows) {
+        if (r.case_name != name || r.integrator != integrator) continue;
+        drawn += r.error > 0.0;
+        wrong += r.impacts != r.expected_impacts;
+      }
+      const std::string select = "(strcol(1) eq '" + name + "' && strcol(2) eq '" + integrator + "'";
+      plot.Add("'work_precision.csv' using " + select + " && $4 > 0 ? $5 : 1/0):4", With(integrator), integrator, drawn);
+      plot.Unkeyed("'work_precision.csv' using " + select + " && $4 == 0 ? $5 : 1/0):(floor)", With(integrator, "points"));
+    }
+    plot.Add("'work_precision.csv' using (strcol(1) eq '" + name + "' && $6 != $8 ? $5 : 1/0):($4 > 0 ? $4 : floor)",
+             With("wrong_count"), "wrong impact count", wrong);
+    body << plot.str();
     const ChartStatus chart = DrawChart(dir, "work_precision_" + name, body.str());
     if (!chart.drawn) {
       log << "work_precision_" << name << " not drawn: " << chart.message << "\n";
@@ -1065,48 +1222,100 @@ int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisio
   return failed;
 }
 
-int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& rows, int dofs, bool backbone,
-                       bool frequency, int periods, std::ostream& log) {
-  double e_min = std::numeric_limits<double>::infinity(), e_max = 0.0, x_max = 0.0;
+int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& rows,
+                       const std::vector<SpecialPoint>& points, int dofs, bool backbone, bool frequency, int periods,
+                       std::ostream& log) {
+  double e_min = std::numeric_limits<double>::infinity(), e_max = 0.0;
+  // The levels of the held parameter (the amplitude beside a frequency grid),
+  // in order, and the branches of each with their counts of admissible
+  // stable and unstable orbits.
+  std::vector<double> levels;
+  std::map<int, std::size_t> level_of;
   for (const ResponseRow& r : rows) {
     if (r.orbit.energy > 0.0) e_min = std::min(e_min, r.orbit.energy);
     e_max = std::max(e_max, r.orbit.energy);
-    x_max = std::max(x_max, r.orbit.max_xc);
+    const double held = frequency ? r.orbit.amplitude : r.orbit.frequency;
+    if (std::find(levels.begin(), levels.end(), held) == levels.end()) levels.push_back(held);
+    level_of[r.branch] = static_cast<std::size_t>(std::find(levels.begin(), levels.end(), held) - levels.begin());
   }
   if (rows.empty() || !(e_max > 0.0)) return 0;
   // response.csv columns (1-based, tables.h): w 1, amplitude 2, energy 5,
-  // max_xc 6, admissible 8, stable 9, branch 12 + 2N.
-  const int branch_col = 12 + 2 * dofs;
-  const int x = frequency ? 1 : 2;
+  // max_xc 6, impact_velocity 7, admissible 8, stable 9, branch 12 + 2N.
+  const std::string branch_col = std::to_string(12 + 2 * dofs), x = frequency ? "1" : "2";
   int failed = 0;
-  for (const auto& [name, col, label] : {std::tuple<std::string, int, std::string>{"response_energy", 5, "mean energy (J)"},
-                                         {"response_max_xc", 6, "max x_c (m)"}}) {
+  for (const auto& [name, col, label] :
+       {std::tuple<std::string, int, std::string>{"response_energy", 5, "mean energy (J)"},
+        {"response_amplitude", 7, "impact velocity |v_c^-| (m/s)"}}) {
     std::ostringstream body;
-    body << "set datafile separator ','\nset grid\nset key outside right top\n"
+    body << "set datafile separator ','\nset key below\n"
          << "set xlabel '" << (frequency ? "forcing frequency w (rad/s)" : "forcing amplitude a (N)") << "'\n"
          << "set ylabel '" << label << "'\n"
          << (col == 5 ? "set logscale y\nset yrange [" + std::to_string(0.5 * e_min) + ":" + std::to_string(3.0 * e_max) + "]\n"
-                      : "set yrange [0:" + std::to_string(1.1 * x_max) + "]\n")
-         << "okabe = '#E69F00 #56B4E9 #009E73 #0072B2 #D55E00 #CC79A7 #F0E442'\n"
-         << "stats 'response.csv' using " << branch_col << " nooutput\n"
-         << "nb = int(STATS_max)\n"
-         << "plot for [b=1:nb] 'response.csv' using ($" << branch_col << "==b && $8==0 ? $" << x << " : 1/0):" << col
-         << " with lines lw 0.8 lc rgb '#BBBBBB' title (b==1 ? 'not admissible' : ''), \\\n"
-         << "  for [b=1:nb] '' using ($" << branch_col << "==b && $8==1 && $9==1 ? $" << x << " : 1/0):" << col
-         << " with lines lw 2.5 lc rgb word(okabe, (b-1)%7+1) title (b==1 ? 'admissible, stable' : ''), \\\n"
-         << "  for [b=1:nb] '' using ($" << branch_col << "==b && $8==1 && $9==0 ? $" << x << " : 1/0):" << col
-         << " with lines lw 1.5 dt 2 lc rgb word(okabe, (b-1)%7+1) title (b==1 ? 'admissible, unstable' : '')";
-    if (backbone && col == 5) {
-      body << ", \\\n  'backbone.csv' using ($4==1 && $5==1 ? " << periods << "*$1 : 1/0):3 with lines lw 2 lc rgb 'black' "
-              "title 'nonsmooth mode (stable)', \\\n"
-           << "  'backbone.csv' using ($4==1 && $5==0 ? " << periods << "*$1 : 1/0):3 with lines lw 1.5 dt 3 lc rgb 'black' "
-              "title 'nonsmooth mode (unstable)'";
+                      : "set yrange [0:*]\n");
+    // What each branch draws on this chart: an orbit without impact has no
+    // impact velocity, one not admissible may have a negative one (below
+    // the axis).
+    std::map<int, std::array<long, 3>> count;  // branch -> not admissible, unstable, stable
+    for (const ResponseRow& r : rows) {
+      if (col == 7 ? r.orbit.impacts > 0 && r.orbit.min_impact_velocity >= 0.0 : r.orbit.energy > 0.0) {
+        ++count[r.branch][r.orbit.admissible ? 1 + r.orbit.stable : 0];
+      }
     }
-    // response_points.csv: w 1, amplitude 2, kind 3, energy 4, max_xc 6.
-    const int pcol = col == 5 ? 4 : 6;
-    body << ", \\\n  for [k in 'fold period-doubling grazing zero-velocity peak'] 'response_points.csv' using "
-         << "(strcol(3) eq k ? $" << x << " : 1/0):" << pcol << " with points pt (k eq 'peak' ? 7 : (k eq 'fold' ? 5 : "
-         << "(k eq 'grazing' ? 9 : (k eq 'period-doubling' ? 13 : 3)))) ps 1.2 lc rgb 'black' title k\n";
+    Plot plot;
+    const std::string y = std::to_string(col);
+    bool grey_keyed = false;
+    std::vector<std::array<bool, 2>> level_keyed(levels.size(), {false, false});
+    for (const auto& [branch, n] : count) {
+      const std::string select = "'response.csv' using ($" + branch_col + " == " + std::to_string(branch) + " && $8 == ";
+      if (n[0] > 0) {
+        const std::string spec = select + "0 ? $" + x + " : 1/0):" + y;
+        if (grey_keyed) {
+          plot.Unkeyed(spec, With("not_admissible"));
+        } else {
+          plot.Add(spec, With("not_admissible"), "not admissible");
+          grey_keyed = true;
+        }
+      }
+      // Each level its colour, sampled on the level map (dark: the lowest).
+      const std::size_t k = level_of[branch];
+      const std::string colour = style::MapColour("level", levels.size() < 2 ? 0.0 : k / (levels.size() - 1.0));
+      std::ostringstream level;
+      level << (frequency ? "a = " : "w = ") << levels[k];
+      for (int stable : {1, 0}) {
+        if (n[1 + stable] == 0) continue;
+        const std::string spec = select + "1 && $9 == " + std::to_string(stable) + " ? $" + x + " : 1/0):" + y;
+        const std::string look = With(stable ? "response_stable" : "response_unstable", "", colour);
+        // A level's first branch keys it; its other branches are the same.
+        if (!level_keyed[k][stable]) {
+          plot.Add(spec, look, level.str() + (stable ? ", stable" : ", unstable"));
+          level_keyed[k][stable] = true;
+        } else {
+          plot.Unkeyed(spec, look);
+        }
+      }
+    }
+    if (backbone && col == 5) {
+      plot.Add("'backbone.csv' using ($4 == 1 && $5 == 1 ? " + std::to_string(periods) + " * $1 : 1/0):3",
+               With("backbone"), "nonsmooth mode (backbone)")
+          .Add("'backbone.csv' using ($4 == 1 && $5 == 0 ? " + std::to_string(periods) + " * $1 : 1/0):3",
+               With("backbone_unstable"), "nonsmooth mode, unstable");
+    }
+    // The special points of the admissible parts (response_points.csv: w 1,
+    // amplitude 2, kind 3, energy 4, impact_velocity 7, admissible 8).
+    const int pcol = col == 5 ? 4 : 7;
+    for (const auto& [kind, role] : {std::pair<const char*, const char*>{"fold", "fold"},
+                                     {"period-doubling", "multiplier_minus_one"},
+                                     {"grazing", "grazing"},
+                                     {"zero-velocity", "zero_velocity"},
+                                     {"peak", "peak"}}) {
+      const long n = std::count_if(points.begin(), points.end(), [&](const SpecialPoint& p) {
+        return ToString(p.kind) == kind && p.orbit.admissible;
+      });
+      plot.Add("'response_points.csv' using (strcol(3) eq '" + std::string(kind) + "' && $8 == 1 ? $" + x +
+                   " : 1/0):" + std::to_string(pcol),
+               With(role), kind, n);
+    }
+    body << plot.str();
     const ChartStatus chart = DrawChart(dir, name, body.str());
     if (!chart.drawn) {
       log << name << " not drawn: " << chart.message << "\n";

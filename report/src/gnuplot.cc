@@ -14,6 +14,7 @@
 
 #include "nsmodal/check.h"
 #include "nsmodal/stop.h"
+#include "nsmodal/style.h"
 
 extern char** environ;
 
@@ -94,18 +95,16 @@ ChartStatus DrawChart(const OutputDir& dir, const std::string& name, const std::
   NSMODAL_CHECK(IsPlainName(name));
   ThrowIfStopRequested();  // between charts: a signal ends the set here (stop.h)
   // PNG and SVG for the screen; PDF for print, vector, at the final size
-  // (the PNG's aspect) of a 17 cm page width with 9 pt text and of an 8.5 cm
-  // journal column with 7 pt text (NAME.column.pdf).
-  for (const auto& [ext, terminal] : {std::pair<std::string, std::string>{"png", "pngcairo size 900,650 font ',11'"},
-                                      {"svg", "svg size 900,650 dynamic font ',11'"},
-                                      {"pdf", "pdfcairo size 17cm,12.3cm font ',9'"},
-                                      {"column.pdf", "pdfcairo size 8.5cm,6.15cm font ',7' linewidth 0.7"}}) {
+  // (the PNG's aspect) of a 17 cm page width and of an 8.5 cm journal column
+  // (NAME.column.pdf), each sized and scaled by report/style.toml.
+  for (const style::Format& f : style::Formats()) {
+    const std::string& ext = f.extension;
     const std::string image = name + "." + ext, script = image + ".gp", temp = "." + image + ".partial";
     // The image name is a variable so that the run below can draw under a
     // temporary name while the script, rerun by hand, draws NAME.EXT.
     WriteResult(dir, script,
-                "set terminal " + terminal + "\nif (!exists('nsmodal_output')) nsmodal_output = '" + image +
-                    "'\nset output nsmodal_output\n" + body + "\n");
+                "set terminal " + f.terminal + "\nif (!exists('nsmodal_output')) nsmodal_output = '" + image +
+                    "'\nset output nsmodal_output\n" + style::ChartSetup() + body + "\n");
     const std::string log = script + ".log";
     std::string error = Run({"gnuplot", "-e", "nsmodal_output='" + temp + "'", script}, dir.path(), log);
     // A signal that reached gnuplot too (Ctrl-C reaches the whole process

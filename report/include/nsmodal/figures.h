@@ -37,19 +37,17 @@ FiguresResult DrawSequenceFigures(const AnalysisBasis& b, const std::vector<doub
 // could not draw, each named in `log`.
 int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisionRow>& rows, std::ostream& log);
 
-// The response charts from DIR/response.csv, DIR/response_points.csv and (if
-// `backbone`) DIR/backbone.csv, written before: DIR/response_energy.{png,svg}
-// (mean energy) and DIR/response_max_xc.{png,svg} against w (or the forcing
-// amplitude when `frequency` is false). Okabe-Ito colours, one per branch
-// (cycled); admissible and stable: solid; admissible and unstable: dashed;
-// not admissible: thin grey; the backbone black (dotted where unstable);
-// special points as symbols. Returns the number of charts not drawn, each
-// named in `log`.
-// The energy axis is logarithmic, up to 3 times the largest response energy
-// (the backbone's singular transitions go to infinity).
-// An (m, n) response meets the mode of frequency w / n: the backbone is drawn
-// at n times its own frequency (`periods` = n).
-int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& rows, int dofs, bool backbone,
-                       bool frequency, int periods, std::ostream& log);
+// The response charts from DIR/response.csv, DIR/response_points.csv (the
+// `points`) and (if `backbone`) DIR/backbone.csv, written before:
+// DIR/response_energy (mean energy) and DIR/response_amplitude (the impact
+// velocity) against w (or the forcing amplitude when `frequency` is false).
+// One colour per level of the held parameter (the level map of style.toml,
+// dark for the lowest); admissible and stable: solid; admissible and
+// unstable: dashed; not admissible: thin grey; the backbone black (dotted
+// where unstable); the special points of the admissible parts as symbols.
+// Returns the number of charts not drawn, each named in `log`.
+int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& rows,
+                       const std::vector<SpecialPoint>& points, int dofs, bool backbone, bool frequency, int periods,
+                       std::ostream& log);
 
 }  // namespace nsmodal::report
