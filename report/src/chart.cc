@@ -1,0 +1,126 @@
+#include "chart.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "nsmodal/figure_subjects.h"
+#include "nsmodal/gnuplot.h"
+#include "nsmodal/trajectory.h"
+
+namespace nsmodal::report {
+
+std::string VerticalLines(const std::string& name, const std::vector<double>& xs, double lo, double hi) {
+  std::ostringstream os;
+  os << "$" << name << " << EOD\n";
+  for (double x : xs) os << x << "," << lo << "\n" << x << "," << hi << "\n\n";
+  os << "EOD\n";
+  return os.str();
+}
+
+
+std::string DofLabel(const char* symbol, int dof, const char* unit) {
+  return std::string(symbol) + "_{" + std::to_string(dof + 1) + "} (" + unit + ")";
+}
+std::string XcLabel(const Context& c) { return "contact displacement " + DofLabel("x", c.contact, "m"); }
+
+void Draw(Context& c, const std::string& name, const std::string& body, const std::string& note) {
+  // Offsets keep a curve that touches d off the frame of an autoscaled axis.
+  const std::string setup = "set datafile separator ','\nset offsets graph 0, graph 0, graph 0.05, graph 0.05\n";
+  const report::ChartStatus s = report::DrawChart(c.dir, name, setup + body);
+  (s.drawn ? c.drawn : c.failed) += 1;
+  c.log << "  " << name << (note.empty() ? "" : ": " + note) << (s.drawn ? "" : ": not drawn: " + s.message) << "\n";
+}
+
+bool IsStable(const std::optional<Stability>& s) { return s && s->stable; }
+
+
+void WriteTrajectoryHeader(std::ostream& os, const Context& c) {
+  os << "curve,T,t";
+  for (int i = 1; i <= c.b.n; ++i) os << ",x" << i;
+  for (int i = 1; i <= c.b.n; ++i) os << ",v" << i;
+  os << "\n";
+}
+// `flight_rows` > 0: a row of NaN after every flight of that many rows but
+// the last (the two rows of an impact are then not joined: a surface drawn
+// from such scans does not bridge the jump of v_c inside the obstacle plane).
+void WriteTrajectory(std::ostream& os, const std::string& label, double period, const Eigen::MatrixXd& tr,
+                     long flight_rows) {
+  for (long r = 0; r < tr.rows(); ++r) {
+    os << label << "," << period;
+    for (long k = 0; k < tr.cols(); ++k) os << "," << tr(r, k);
+    os << "\n";
+    if (flight_rows > 0 && (r + 1) % flight_rows == 0 && r + 1 < tr.rows()) {
+      os << label << "," << period;
+      for (long k = 0; k < tr.cols(); ++k) os << ",NaN";
+      os << "\n";
+    }
+  }
+  os << "\n";
+}
+
+int TCol() { return 3; }
+int XCol(const Context&, int dof) { return 4 + dof; }
+
+
+// Energy range of a frequency-energy plot: from half the lowest potential
+// energy up to 30 times the median admissible one (at most four decades):
+// the families fill the frame; towards a singular transition, where the
+// energy diverges, they leave it at the top.
+std::pair<double, double> EnergyRange(const Context& c) {
+  double lo = INFINITY;
+  std::vector<double> admissible;
+  for (const Sweep* sweep : {&c.atlas.one, &c.atlas.two}) {
+    for (const auto& list : sweep->at) {
+      for (const OrbitRecord& r : list) {
+        if (r.orbit.potential) lo = std::min(lo, r.orbit.energy);
+        if (r.orbit.admissible) admissible.push_back(r.orbit.energy);
+      }
+    }
+  }
+  double hi = 1.0;
+  if (!admissible.empty()) {
+    auto mid = admissible.begin() + static_cast<long>(admissible.size() / 2);
+    std::nth_element(admissible.begin(), mid, admissible.end());
+    hi = 30.0 * *mid;
+  }
+  if (!std::isfinite(lo)) lo = 1e-3 * hi;
+  return {0.5 * lo, std::min(hi, 1e4 * lo)};
+}
+
+std::string EnergyAxes(const Context& c) {
+  const auto [lo, hi] = EnergyRange(c);
+  std::ostringstream os;
+  os << "set logscale y\nset format y '10^{%T}'\nset yrange [" << lo << ":" << hi << "]\n"
+     << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n"
+     << "set key inside top right opaque\n";
+  return os.str();
+}
+
+void WriteBridges(std::ostream& out, const std::vector<Bridge>& bridges) {
+  out << "T,t2,energy_min,energy_max,s_begin,s_end,kind\n";
+  for (const Bridge& br : bridges) {
+    out << br.period << "," << br.t2 << "," << br.energy_min << "," << br.energy_max << "," << br.s_begin << ","
+        << br.s_end << "," << (IsGrazing(br) ? "grazing" : "period-doubling") << "\n";
+  }
+}
+
+
+std::pair<double, double> AddOrbitsNear(const Context& c, double t, double w, FepTable& table) {
+  double lo = INFINITY, hi = -INFINITY;
+  SweepOptions admissible_only;
+  admissible_only.stability = StabilityPolicy::kAdmissible;
+  for (int j = 0; j <= 400; ++j) {
+    const double p = t - w + 2 * w * j / 400.0;
+    for (int impacts : {1, 2}) {
+      for (const OrbitRecord& r : OrbitsAt(c.b, p, impacts, admissible_only)) {
+        if (!r.orbit.admissible) continue;
+        table.Add(j, r.orbit, r.stability);
+        lo = std::min(lo, r.orbit.energy);
+        hi = std::max(hi, r.orbit.energy);
+      }
+    }
+  }
+  return {lo, hi};
+}
+
+}  // namespace nsmodal::report

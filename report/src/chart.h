@@ -1,0 +1,179 @@
+#pragma once
+// The pieces every chart of the figures is made of (internal to the report
+// library): a plot command built layer by layer with keys only for what is
+// drawn, the context of a figure set, trajectories as CSV blocks, the energy
+// axis, the frequency-energy table. Every series is drawn by its role in the
+// one visual language (report/style.toml, style.h); no colour is named here.
+#include <Eigen/Dense>
+#include <optional>
+#include <ostream>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "nsmodal/atlas.h"
+#include "nsmodal/check.h"
+#include "nsmodal/figure_subjects.h"
+#include "nsmodal/output.h"
+#include "nsmodal/stability.h"
+#include "nsmodal/style.h"
+
+namespace nsmodal::report {
+
+using style::With;
+
+// A plot command built layer by layer. A layer with a key entry names how
+// many points it draws: with none it is left out, so that a key lists what
+// is drawn and nothing else (scripts/check_figure_colours.py checks the
+// scripts against gnuplot's own table of each plotted curve).
+class Plot {
+ public:
+  explicit Plot(std::string command = "plot") : command_(std::move(command)) {}
+  // `spec`: the data and its columns ("'f.csv' using 1:2"); `style`: the
+  // "with ..." clause (With(role)).
+  // A spec may start with '' (gnuplot's "the previous file"): it is
+  // resolved here, since the layer before it may have been left out.
+  Plot& Add(const std::string& spec, const std::string& style, const std::string& title, long points = 1) {
+    const std::string layer = Resolve(spec);
+    if (points > 0) layers_.push_back(layer + " " + style + " title '" + title + "'");
+    return *this;
+  }
+  // A layer with no key entry (drawn whatever its count).
+  Plot& Unkeyed(const std::string& spec, const std::string& style) {
+    layers_.push_back(Resolve(spec) + " " + style + " notitle");
+    return *this;
+  }
+  bool empty() const { return layers_.empty(); }
+  std::string str() const {
+    std::string out = command_ + " ";
+    for (std::size_t k = 0; k < layers_.size(); ++k) out += (k ? ", \\\n  " : "") + layers_[k];
+    return out + "\n";
+  }
+
+ private:
+  std::string Resolve(const std::string& spec) {
+    if (spec.rfind("''", 0) == 0) {
+      NSMODAL_CHECK(!last_source_.empty());
+      return last_source_ + spec.substr(2);
+    }
+    if (!spec.empty() && (spec.front() == '\'' || spec.front() == '$')) {
+      const std::size_t end = spec.front() == '\'' ? spec.find('\'', 1) + 1 : spec.find(' ');
+      last_source_ = spec.substr(0, end);
+    }
+    return spec;
+  }
+  std::string command_, last_source_;
+  std::vector<std::string> layers_;
+};
+
+// A datablock NAME of vertical segments x = x_k from y = lo to y = hi (one
+// per blank-line-separated block): transitions and stretch ends drawn as
+// data, so that they are counted as what they are.
+std::string VerticalLines(const std::string& name, const std::vector<double>& xs, double lo, double hi);
+
+constexpr int kSamples = 200;  // per flight of a drawn trajectory
+
+struct Context {
+  const AnalysisBasis& b;
+  int contact = 0;  // physical index of the contact dof
+  int other = 0;    // the dof on the first axis of the phase sections (paper: x_1)
+  const OutputDir& dir;
+  const Atlas& atlas;
+  std::ostream& log;
+  const std::vector<double>& periods = atlas.one.periods;
+  const std::vector<Transition>& transitions = atlas.transitions;
+  const std::vector<Bridge>& bridges = atlas.bridges;
+  int drawn = 0, failed = 0;
+};
+
+// Axis labels, in the paper's SI units (gnuplot enhanced text).
+std::string DofLabel(const char* symbol, int dof, const char* unit);
+std::string XcLabel(const Context& c);
+
+// Draws NAME from `body` (report::DrawChart) and logs it. The data files
+// must be closed (flushed) before. Figures carry no titles (captions go with
+// the figure, docs/source/figures.md): `note` is the caption's numbers,
+// printed beside the name.
+void Draw(Context& c, const std::string& name, const std::string& body, const std::string& note = "");
+
+bool IsStable(const std::optional<Stability>& s);
+
+// Trajectory rows of one orbit: label, T, then OrbitTrajectory's columns.
+void WriteTrajectoryHeader(std::ostream& os, const Context& c);
+// `flight_rows` > 0: a row of NaN after every flight of that many rows but
+// the last (the two rows of an impact are then not joined).
+void WriteTrajectory(std::ostream& os, const std::string& label, double period, const Eigen::MatrixXd& tr,
+                     long flight_rows = 0);
+// Columns of a trajectory CSV (1-based for gnuplot): t, x_i, v_i.
+int TCol();
+int XCol(const Context&, int dof);
+
+// Energy range and axes of a frequency-energy plot.
+std::pair<double, double> EnergyRange(const Context& c);
+std::string EnergyAxes(const Context& c);
+
+void WriteBridges(std::ostream& out, const std::vector<Bridge>& bridges);
+
+// The rows of a frequency-energy plot's CSV (family,T,t2,energy,stable) of
+// admissible orbits, grouped by family, so that a family with one orbit per
+// period (1-ipp; the 2-ipp root t2 = T/2) is drawn as a line, broken (a
+// blank line) wherever a period of the grid has no admissible orbit of it.
+class FepTable {
+ public:
+  // `step`: the index of the orbit's period on its grid.
+  void Add(int step, const Orbit& o, const std::optional<Stability>& s) {
+    if (!o.admissible) return;
+    const bool one = o.times.empty(), half = !one && o.impacts == 2 && IsHalfPeriodRoot(o);
+    Family& f = one ? one_ : half ? half_ : two_;
+    if ((one || half) && f.last >= 0 && step != f.last + 1) f.rows << "\n";
+    f.last = step;
+    (IsStable(s) ? f.stable : f.unstable) += 1;
+    f.rows << (one ? "1-ipp" : half ? "2-ipp-half" : "2-ipp") << "," << o.period << ","
+           << (one ? 0.0 : o.times[0]) << "," << o.energy << "," << IsStable(s) << "\n";
+  }
+  // The plot of the CSV `csv` written by Write and of a bridges CSV with
+  // `bridges` rows (WriteBridges). Families with one orbit per period are
+  // lines (solid stable, dashed unstable); the other 2-ipp roots are points
+  // (filled stable, open unstable). `index` >= 0 selects that dataset of both
+  // files (gnuplot's `index`), where this table is the index-th written.
+  std::string Layers(const std::string& csv, const std::string& bridges, long bridge_count, int index = -1) const {
+    const std::string ix = index < 0 ? "" : " index " + std::to_string(index);
+    auto select = [&](const char* family, const char* stable) {
+      return "'" + csv + "'" + ix + " using 2:(strcol(1) eq '" + family + "'" + stable + " ? $4 : 1/0)";
+    };
+    Plot plot;
+    plot.Add(select("2-ipp", " && $5 == 1"), With("two_stable"), "2-ipp, stable", two_.stable)
+        .Add(select("2-ipp", " && $5 == 0"), With("two_unstable"), "2-ipp, unstable", two_.unstable)
+        .Add(select("1-ipp", " && $5 == 1"), With("one_stable"), "1-ipp, stable", one_.stable)
+        .Add(select("1-ipp", " && $5 == 0"), With("one_unstable"), "1-ipp, unstable", one_.unstable)
+        .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp with t_2 = T/2 (1-ipp dilated x2)",
+             half_.stable + half_.unstable)
+        .Add("'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)", With("bridge"), "bridge", bridge_count);
+    return plot.str();
+  }
+  void Write(std::ostream& out) const {
+    // One blank line between the families (two would start a new dataset).
+    out << "family,T,t2,energy,stable\n";
+    bool first = true;
+    for (const Family* f : {&one_, &half_, &two_}) {
+      if (f->last < 0) continue;
+      out << (first ? "" : "\n") << f->rows.str();
+      first = false;
+    }
+  }
+
+ private:
+  struct Family {
+    std::ostringstream rows;
+    int last = -1;
+    long stable = 0, unstable = 0;
+  };
+  Family one_, half_, two_;
+};
+
+// The admissible 1- and 2-ipp orbits of 401 periods over [t - w, t + w]
+// into `table`; returns the range of their energies.
+std::pair<double, double> AddOrbitsNear(const Context& c, double t, double w, FepTable& table);
+
+}  // namespace nsmodal::report
