@@ -227,6 +227,15 @@ int RunExplore(const ExploreArgs& a) {
 
 int RunFigures(const FiguresArgs& a) {
   const Scene scene = LoadScene(a.scene);
+  if (scene.bar) {
+    // A bar: its contact in space and time (the paper's figures are of a
+    // system of a few masses).
+    if (a.period) throw InputError("--period", "the figures of a bar ([system] bar) take no period grid");
+    const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"bar_spacetime*"});
+    const report::FiguresResult r = report::DrawBarFigures(scene.model, *scene.bar, dir, std::cout);
+    if (r.failed) throw report::OutputError("bar_spacetime could not be drawn (see above)");
+    return 0;
+  }
   // A free mass between walls has no 1-impact family for Figs. 2-17: Fig. 18 alone.
   const bool rigid = RigidBodyModes(scene.model.stiffness) > 0;
   // The paper's figures draw x_c of one dof against the wall x_c = d above it.
@@ -237,7 +246,9 @@ int RunFigures(const FiguresArgs& a) {
   }
   const AnalysisBasis b(scene.model);
   const PeriodGrid grid = FiguresGrid(b, a.period, "--period");
-  const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"fig[01][0-9]_*"});
+  const report::OutputDir dir = report::OutputDir::Prepare(
+      a.out, {"fig[01][0-9]_*", "multipliers_one_impact*", "time_history*", "validation_orbits*", "validation_deviation*",
+              "fep_all_families*"});
   report::FiguresResult r;
   if (rigid) {
     std::cout << "the model has a rigid-body mode: no 1-impact families, so the paper's Figs. 2-17 are not drawn; "
@@ -249,7 +260,7 @@ int RunFigures(const FiguresArgs& a) {
     opt.sweep.progress = ProgressBar("1- and 2-ipp sweep");
     const Atlas atlas = ComputeAtlas(b, grid, opt);
     report::PrintAtlas(std::cout, atlas);
-    r = report::DrawPaperFigures(b, first.dof, atlas, dir, std::cout);
+    r = report::DrawPaperFigures(scene.model, b, first.dof, atlas, dir, std::cout);
   }
   if (r.failed) throw report::OutputError(std::to_string(r.failed) + " figure(s) could not be drawn (see above)");
   return 0;
@@ -293,14 +304,15 @@ int RunResponse(const ResponseArgs& a) {
             << "/response.csv, " << r.points.size() << " special points to " << a.out << "/response_points.csv\n";
   const std::optional<std::string> no_backbone = NoBackbone(model, request.options);
   if (frequency_grid && no_backbone) std::cout << "no backbone: " << *no_backbone << "\n";
+  std::vector<OrbitRecord> records;  // the backbone's
   if (frequency_grid && !no_backbone) {
     const BackboneMatch match = MatchBackbone(model, request.options, r.points, ProgressBar("backbone"));
-    std::vector<OrbitRecord> records;
     for (const auto& list : match.backbone.at) records.insert(records.end(), list.begin(), list.end());
-    report::WriteCsvFile(dir, "backbone.csv", report::BackboneColumns(), records);
+    report::WriteCsvFile(dir, "backbone.csv", report::BackboneColumns(MakeModalBasis(model)), records);
     report::PrintResponsePeaks(std::cout, r.points, match, a.periods);
   }
-  report::DrawResponseCharts(dir, r.rows, r.points, model.dofs(), frequency_grid, frequency_grid, a.periods, std::cout);
+  report::DrawResponseCharts(dir, r.rows, r.points, model.dofs(), frequency_grid && !no_backbone ? &records : nullptr,
+                             frequency_grid, a.periods, std::cout);
   if (a.validate == 0) return 0;
   const ResponseValidation v = ValidateResponse(
       model, r.rows, vopt, ProgressBar("validating " + std::to_string(r.rows.size()) + " orbits"), vnames);

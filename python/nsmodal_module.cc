@@ -1273,7 +1273,7 @@ dicts: simulate(model, **load_settings(path)["simulate"]).)doc"));
           for (const auto& list : match->backbone.at) {
             for (const OrbitRecord& rec : list) records.push_back(&rec);
           }
-          d["backbone"] = TableDict(report::BackboneColumns(), records);
+          d["backbone"] = TableDict(report::BackboneColumns(MakeModalBasis(model)), records);
           // The nonsmooth mode's frequency at each peak's energy (NaN: none).
           std::vector<double> mode_w;
           for (const std::optional<double>& w : match->mode_frequency) mode_w.push_back(w ? *w : kNaN);

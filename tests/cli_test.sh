@@ -217,6 +217,28 @@ expect_error "^error: --periods" "$bin" validate "$paper" --out "$tmp/v" --perio
 expect_error "^error: --step" "$bin" validate "$paper" --out "$tmp/v" --period 5:6:1 --step -1
 expect_error "^error: --root-tol" "$bin" validate "$paper" --out "$tmp/v" --period 5:6:1 --root-tol 1
 
+# figures of a bar: its contact in space and time (bar_spacetime), every
+# node's displacement at every sample, the impacts at its end.
+if "$bin" figures "$src/configs/bar.toml" --out "$tmp/figbar" >"$tmp/figbar.txt" 2>&1; then
+  python3 -c "
+import csv
+rows = list(csv.DictReader(open('$tmp/figbar/bar_spacetime.csv')))
+hits = list(csv.DictReader(open('$tmp/figbar/bar_spacetime_impacts.csv')))
+times = sorted({r['t_ms'] for r in rows})
+assert len(rows) == 101 * len(times) and len(times) > 400, (len(rows), len(times))
+assert hits and all(float(h['x']) == 1.0 for h in hits), hits[:3]
+# The end never passes the wall (u / d <= 1 up to the root tolerance).
+assert max(float(r['u_over_d']) for r in rows if float(r['x']) == 1.0) <= 1 + 1e-9
+" && ok || bad "figures of a bar: bar_spacetime.csv"
+  if command -v gnuplot >/dev/null; then
+    grep -q "^1 figures drawn" "$tmp/figbar.txt" && [ -s "$tmp/figbar/bar_spacetime.column.pdf" ] && ok || bad "figures of a bar: chart"
+    python3 "$src/scripts/check_figure_colours.py" "$tmp/figbar" >/dev/null && ok || bad "figures of a bar: chart check"
+  fi
+else
+  bad "figures of a bar failed: $(tail -3 "$tmp/figbar.txt")"
+fi
+expect_error "\\-\\-period: the figures of a bar" "$bin" figures "$src/configs/bar.toml" --period 1:2:0.5 --out "$tmp/o"
+
 # bench: the work-precision contract (quick mode), charts, and its scene check.
 if "$bin" bench "$paper" --out "$tmp/bench" --quick >"$tmp/bench.txt" 2>/dev/null; then
   [ "$(head -1 "$tmp/bench/work_precision.csv")" = "case,integrator,setting,error,cpu_s,impacts,steps,expected_impacts" ] && ok ||
@@ -230,6 +252,10 @@ if "$bin" bench "$paper" --out "$tmp/bench" --quick >"$tmp/bench.txt" 2>/dev/nul
     fi
   done
   grep -q "^moreau-jean  step=1e-02" "$tmp/bench.txt" && ok || bad "bench grazing table"
+  if command -v gnuplot >/dev/null; then
+    python3 "$src/scripts/check_figure_colours.py" "$tmp/bench" >"$tmp/bench_colours.txt" && ok \
+      || bad "bench: chart check: $(grep FAIL "$tmp/bench_colours.txt" | head -3)"
+  fi
 else
   bad "bench --quick failed"
 fi
@@ -241,18 +267,24 @@ if "$bin" figures "$paper" --out "$tmp/fig" --period 0.05:20:0.05 >"$tmp/fig.txt
   for f in fig02_not_admissible fig03_one_impact fig03_transitions fig04_modal_transition fig05_grazing_transition \
     fig06_det_a2 fig06_roots fig07_two_impact fig08_fep fig08_bridges fig09_two_grazes fig10_one_impact_mode \
     fig11_two_impact_mode fig12_two_impact_mode fig13_bridge_orbits fig14_bridge_section fig15_bridge_fep fig15_bridge \
-    fig17_bridges_fep fig17_bridges; do
+    fig17_bridges_fep fig17_bridges fig01_model multipliers_one_impact time_history time_history_impacts \
+    validation_orbits validation_deviation fep_all_families; do
     [ -s "$tmp/fig/$f.csv" ] && ok || bad "figures: $f.csv missing"
   done
   if command -v gnuplot >/dev/null; then
-    grep -q "^16 figures drawn" "$tmp/fig.txt" && ok || bad "figures: not all drawn: $(tail -1 "$tmp/fig.txt")"
-    for f in fig02_not_admissible fig03_one_impact_energy fig06_det_a2 fig08_fep fig12_two_impact_mode fig15_bridge_fep fig17_bridges; do
+    grep -q "^21 figures drawn" "$tmp/fig.txt" && ok || bad "figures: not all drawn: $(tail -1 "$tmp/fig.txt")"
+    for f in fig01_model fig02_not_admissible fig03_one_impact_energy fig06_det_a2 fig08_fep fig12_two_impact_mode \
+      fig15_bridge_fep fig17_bridges multipliers_one_impact time_history validation_orbits fep_all_families; do
       [ -s "$tmp/fig/$f.png" ] && [ -s "$tmp/fig/$f.svg" ] && [ -s "$tmp/fig/$f.pdf" ] && [ -s "$tmp/fig/$f.column.pdf" ] \
         && ok || bad "figures: $f chart"
     done
-    # Series told apart by colour alone stay apart in greyscale and for a deuteranope.
+    # Every colour from the style; series told apart by colour alone stay
+    # apart in greyscale and for a deuteranope; every key names what is drawn.
     python3 "$src/scripts/check_figure_colours.py" "$tmp/fig" >"$tmp/colours.txt" && ok \
-      || bad "figures: colour check: $(grep FAIL "$tmp/colours.txt" | head -3)"
+      || bad "figures: chart check: $(grep FAIL "$tmp/colours.txt" | head -3)"
+    # Every SVG under 1.5 MB and every PDF under 1 MB (issue 28's targets).
+    heavy=$(find "$tmp/fig" \( -name '*.svg' -size +1536k \) -o \( -name '*.pdf' -size +1024k \))
+    [ -z "$heavy" ] && ok || bad "figures: too heavy: $heavy"
   fi
   # Paper Fig. 6: roots t2 != T/2 exactly for T in {3, 4, 5, 6, 9}.
   away=$(awk -F, 'NR > 1 && $3 == 0 { print $1 }' "$tmp/fig/fig06_roots.csv" | sort -nu | tr '\n' ' ')
@@ -293,7 +325,16 @@ assert len(rows) > 60
 assert all(float(r['residual']) < 1e-12 for r in rows), max(float(r['residual']) for r in rows)
 assert any(r['admissible'] == '1' and r['stable'] == '1' for r in rows)
 " && ok || bad "response.csv rows"
-  head -1 "$tmp/resp/backbone.csv" | grep -qx 'w,T,energy,admissible,stable,max_multiplier' && ok || bad "backbone.csv header"
+  head -1 "$tmp/resp/backbone.csv" | grep -qx 'w,T,energy,admissible,stable,max_multiplier,impact_velocity' && ok ||
+    bad "backbone.csv header"
+  if command -v gnuplot >/dev/null; then
+    for f in response_energy response_amplitude; do
+      [ -s "$tmp/resp/$f.png" ] && [ -s "$tmp/resp/$f.svg" ] && [ -s "$tmp/resp/$f.pdf" ] && [ -s "$tmp/resp/$f.column.pdf" ] &&
+        ok || bad "response: $f chart"
+    done
+    python3 "$src/scripts/check_figure_colours.py" "$tmp/resp" >"$tmp/resp_colours.txt" && ok \
+      || bad "response: chart check: $(grep FAIL "$tmp/resp_colours.txt" | head -3)"
+  fi
   grep -q "the nonsmooth mode at that energy" "$tmp/resp.log" && ok || bad "response: no peak-to-mode distance printed"
 else
   bad "response failed: $(cat "$tmp/resp.log")"

@@ -45,7 +45,8 @@ def series(role, colour_override=None):
     marker = _STYLE["markers"][s["marker"]]
     kw = {"color": c, "linewidth": s["width"]}
     if s["kind"] in ("lines", "vectors", "linespoints"):
-        kw["linestyle"] = _STYLE["dashes"][s["dash"]]["matplotlib"]
+        dash = _STYLE["dashes"][s["dash"]]["matplotlib"]
+        kw["linestyle"] = dash if isinstance(dash, str) else (dash[0], tuple(dash[1]))
     else:
         kw["linestyle"] = "none"
     if s["kind"] in ("points", "linespoints") and marker["matplotlib"]:

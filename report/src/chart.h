@@ -84,6 +84,7 @@ struct Context {
   const std::vector<double>& periods = atlas.one.periods;
   const std::vector<Transition>& transitions = atlas.transitions;
   const std::vector<Bridge>& bridges = atlas.bridges;
+  const Model* model = nullptr;  // for the pictures that draw or simulate the system
   int drawn = 0, failed = 0;
 };
 
@@ -124,12 +125,14 @@ class FepTable {
   // `step`: the index of the orbit's period on its grid.
   void Add(int step, const Orbit& o, const std::optional<Stability>& s) {
     if (!o.admissible) return;
-    const bool one = o.times.empty(), half = !one && o.impacts == 2 && IsHalfPeriodRoot(o);
-    Family& f = one ? one_ : half ? half_ : two_;
-    if ((one || half) && f.last >= 0 && step != f.last + 1) f.rows << "\n";
+    // A family with one orbit per period (1-ipp, 2-ipp with t2 = T/2, the
+    // one 3-ipp family drawn) is a line, broken where a period is missing.
+    const bool one = o.times.empty(), half = !one && o.impacts == 2 && IsHalfPeriodRoot(o), three = o.impacts == 3;
+    Family& f = one ? one_ : half ? half_ : three ? three_ : two_;
+    if ((one || half || three) && f.last >= 0 && step != f.last + 1) f.rows << "\n";
     f.last = step;
     (IsStable(s) ? f.stable : f.unstable) += 1;
-    f.rows << (one ? "1-ipp" : half ? "2-ipp-half" : "2-ipp") << "," << o.period << ","
+    f.rows << (one ? "1-ipp" : half ? "2-ipp-half" : three ? "3-ipp" : "2-ipp") << "," << o.period << ","
            << (one ? 0.0 : o.times[0]) << "," << o.energy << "," << IsStable(s) << "\n";
   }
   // The plot of the CSV `csv` written by Write and of a bridges CSV with
@@ -149,6 +152,8 @@ class FepTable {
         .Add(select("1-ipp", " && $5 == 0"), With("one_unstable"), "1-ipp, unstable", one_.unstable)
         .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp with t_2 = T/2 (1-ipp dilated x2)",
              half_.stable + half_.unstable)
+        .Add(select("3-ipp", " && $5 == 1"), With("three_stable"), "3-ipp, stable", three_.stable)
+        .Add(select("3-ipp", " && $5 == 0"), With("three_unstable"), "3-ipp, unstable", three_.unstable)
         .Add("'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)", With("bridge"), "bridge", bridge_count);
     return plot.str();
   }
@@ -156,7 +161,7 @@ class FepTable {
     // One blank line between the families (two would start a new dataset).
     out << "family,T,t2,energy,stable\n";
     bool first = true;
-    for (const Family* f : {&one_, &half_, &two_}) {
+    for (const Family* f : {&one_, &half_, &two_, &three_}) {
       if (f->last < 0) continue;
       out << (first ? "" : "\n") << f->rows.str();
       first = false;
@@ -169,8 +174,17 @@ class FepTable {
     int last = -1;
     long stable = 0, unstable = 0;
   };
-  Family one_, half_, two_;
+  Family one_, half_, two_, three_;
 };
+
+// The pictures the dynamics needs, beside the paper's (dynamics_figures.cc):
+// fig01_model, multipliers_one_impact, time_history, validation_orbits,
+// fep_all_families. `three`: the 3-ipp family of Fig. 16.
+void FigureModel(Context& c);
+void FigureMultipliers(Context& c);
+void FigureTimeHistory(Context& c);
+void FigureValidation(Context& c, const ThreeImpactPick& three);
+void FigureAllFamilies(Context& c, const ThreeImpactPick& three);
 
 // The admissible 1- and 2-ipp orbits of 401 periods over [t - w, t + w]
 // into `table`; returns the range of their energies.

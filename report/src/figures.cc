@@ -725,8 +725,7 @@ void Figure17(Context& c) {
 // solid where stable and dashed where unstable, the rest thin grey, the ends
 // of the admissible stretch circled. Right: x_c(t) of the orbit the search
 // found, one period, its three impacts at d.
-void Figure16(Context& c) {
-  const ThreeImpactPick pick = ThreeImpactFamilyExample(c.b, c.atlas);
+void Figure16(Context& c, const ThreeImpactPick& pick) {
   if (pick.family.empty()) {
     c.log << "  fig16: " << pick.why_not << "; skipped\n";
     return;
@@ -887,14 +886,15 @@ void Figure18(Context& c) {
   Draw(c, "fig18_sequences_fep", body.str(), std::to_string(sequences.size()) + " impact sequences");
 }
 
-FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas& atlas, const OutputDir& dir,
-                               std::ostream& log) {
+FiguresResult DrawPaperFigures(const Model& model, const AnalysisBasis& b, int contact, const Atlas& atlas,
+                               const OutputDir& dir, std::ostream& log) {
   Context c{.b = b,
             .contact = contact,
             .other = contact == 0 ? (b.n > 1 ? 1 : 0) : 0,
             .dir = dir,
             .atlas = atlas,
-            .log = log};
+            .log = log,
+            .model = &model};
   c.log << "figures in " << c.dir.path().string() << ":\n";
   const ModalPick modal = PickModalTransition(c.b, c.atlas);
   Figure2(c);
@@ -908,9 +908,16 @@ FiguresResult DrawPaperFigures(const AnalysisBasis& b, int contact, const Atlas&
   Figure10(c, modal);
   Figures11And12(c);
   Figures13To15(c);
-  Figure16(c);
+  const ThreeImpactPick three = ThreeImpactFamilyExample(c.b, c.atlas);
+  Figure16(c, three);
   Figure17(c);
   Figure18(c);
+  // The pictures the dynamics needs, beside the paper's.
+  FigureModel(c);
+  FigureMultipliers(c);
+  FigureTimeHistory(c);
+  FigureValidation(c, three);
+  FigureAllFamilies(c, three);
   c.log << c.drawn << " figures drawn" << (c.failed ? ", " + std::to_string(c.failed) + " failed" : "") << "\n";
   return {c.drawn, c.failed};
 }
@@ -982,9 +989,10 @@ int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisio
 }
 
 int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& rows,
-                       const std::vector<SpecialPoint>& points, int dofs, bool backbone, bool frequency, int periods,
-                       std::ostream& log) {
-  double e_min = std::numeric_limits<double>::infinity(), e_max = 0.0;
+                       const std::vector<SpecialPoint>& points, int dofs, const std::vector<OrbitRecord>* backbone,
+                       bool frequency, int periods, std::ostream& log) {
+  double e_min = std::numeric_limits<double>::infinity(), e_max = 0.0, v_max = 0.0;
+  double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo;
   // The levels of the held parameter (the amplitude beside a frequency grid),
   // in order, and the branches of each with their counts of admissible
   // stable and unstable orbits.
@@ -993,11 +1001,25 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
   for (const ResponseRow& r : rows) {
     if (r.orbit.energy > 0.0) e_min = std::min(e_min, r.orbit.energy);
     e_max = std::max(e_max, r.orbit.energy);
+    if (r.orbit.impacts > 0 && r.orbit.admissible) v_max = std::max(v_max, r.orbit.min_impact_velocity);
+    const double x = frequency ? r.orbit.frequency : r.orbit.amplitude;
+    x_lo = std::min(x_lo, x);
+    x_hi = std::max(x_hi, x);
     const double held = frequency ? r.orbit.amplitude : r.orbit.frequency;
     if (std::find(levels.begin(), levels.end(), held) == levels.end()) levels.push_back(held);
     level_of[r.branch] = static_cast<std::size_t>(std::find(levels.begin(), levels.end(), held) - levels.begin());
   }
   if (rows.empty() || !(e_max > 0.0)) return 0;
+  // The special points (located between grid points) inside the frame too.
+  for (const SpecialPoint& p : points) {
+    if (!p.orbit.admissible) continue;
+    const double x = frequency ? p.orbit.frequency : p.orbit.amplitude;
+    x_lo = std::min(x_lo, x);
+    x_hi = std::max(x_hi, x);
+    if (p.orbit.energy > 0.0) e_min = std::min(e_min, p.orbit.energy);
+    e_max = std::max(e_max, p.orbit.energy);
+    if (p.orbit.impacts > 0) v_max = std::max(v_max, p.orbit.min_impact_velocity);
+  }
   // response.csv columns (1-based, tables.h): w 1, amplitude 2, energy 5,
   // max_xc 6, impact_velocity 7, admissible 8, stable 9, branch 12 + 2N.
   const std::string branch_col = std::to_string(12 + 2 * dofs), x = frequency ? "1" : "2";
@@ -1006,11 +1028,14 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
        {std::tuple<std::string, int, std::string>{"response_energy", 5, "mean energy (J)"},
         {"response_amplitude", 7, "impact velocity |v_c^-| (m/s)"}}) {
     std::ostringstream body;
-    body << "set datafile separator ','\nset key below\n"
+    body << std::setprecision(17) << "set datafile separator ','\nset key below\n"
          << "set xlabel '" << (frequency ? "forcing frequency w (rad/s)" : "forcing amplitude a (N)") << "'\n"
          << "set ylabel '" << label << "'\n"
+         << "set xrange [" << x_lo << ":" << x_hi << "]\n"
+         // The responses fill the frame; the backbone leaves it where it
+         // diverges (towards its singular transitions).
          << (col == 5 ? "set logscale y\nset yrange [" + std::to_string(0.5 * e_min) + ":" + std::to_string(3.0 * e_max) + "]\n"
-                      : "set yrange [0:*]\n");
+                      : "set yrange [0:" + std::to_string(v_max > 0.0 ? 1.3 * v_max : 1.0) + "]\n");
     // What each branch draws on this chart: an orbit without impact has no
     // impact velocity, one not admissible may have a negative one (below
     // the axis).
@@ -1053,11 +1078,15 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
         }
       }
     }
-    if (backbone && col == 5) {
-      plot.Add("'backbone.csv' using ($4 == 1 && $5 == 1 ? " + std::to_string(periods) + " * $1 : 1/0):3",
-               With("backbone"), "nonsmooth mode (backbone)")
-          .Add("'backbone.csv' using ($4 == 1 && $5 == 0 ? " + std::to_string(periods) + " * $1 : 1/0):3",
-               With("backbone_unstable"), "nonsmooth mode, unstable");
+    if (backbone) {
+      // backbone.csv: w 1, T 2, energy 3, admissible 4, stable 5, impact_velocity 7.
+      const std::string by = col == 5 ? "3" : "7";
+      long drawn[2] = {0, 0};  // unstable, stable admissible orbits of the backbone
+      for (const OrbitRecord& r : *backbone) drawn[IsStable(r.stability)] += r.orbit.admissible;
+      plot.Add("'backbone.csv' using ($4 == 1 && $5 == 1 ? " + std::to_string(periods) + " * $1 : 1/0):" + by,
+               With("backbone"), "nonsmooth mode (backbone)", drawn[1])
+          .Add("'backbone.csv' using ($4 == 1 && $5 == 0 ? " + std::to_string(periods) + " * $1 : 1/0):" + by,
+               With("backbone_unstable"), "nonsmooth mode, unstable", drawn[0]);
     }
     // The special points of the admissible parts (response_points.csv: w 1,
     // amplitude 2, kind 3, energy 4, impact_velocity 7, admissible 8).

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "nsmodal/flow.h"
+
 namespace nsmodal::report {
 namespace {
 
@@ -141,15 +143,22 @@ Columns<ForcedValidationRow> ForcedValidationColumns() {
   };
 }
 
-Columns<OrbitRecord> BackboneColumns() {
+Columns<OrbitRecord> BackboneColumns(const ModalBasis& b) {
   using R = OrbitRecord;
+  // |v_c| just after the impact at t = 0, on the contact struck: the impact
+  // velocity (e = 1: the same before), as the response's.
+  auto impact_velocity = [&b](const R& r) -> Cell {
+    const int j = r.orbit.sequence.empty() ? 0 : r.orbit.sequence.front();
+    return std::abs(ContactVelocity(b, b.contacts[static_cast<std::size_t>(j)], r.orbit.y0));
+  };
   return {{"w", K::kReal, [](const R& r) -> Cell { return 2.0 * M_PI / r.orbit.period; }},
           {"T", K::kReal, [](const R& r) -> Cell { return r.orbit.period; }},
           {"energy", K::kReal, [](const R& r) -> Cell { return r.orbit.energy; }},
           {"admissible", K::kBool, [](const R& r) -> Cell { return r.orbit.admissible; }},
           {"stable", K::kBool, [](const R& r) { return r.stability ? Cell(r.stability->stable) : Cell(); }},
           {"max_multiplier", K::kReal,
-           [](const R& r) { return OrMissing(r.stability.has_value(), r.stability ? r.stability->max_modulus : 0.0); }}};
+           [](const R& r) { return OrMissing(r.stability.has_value(), r.stability ? r.stability->max_modulus : 0.0); }},
+          {"impact_velocity", K::kReal, impact_velocity}};
 }
 
 Columns<Transition> TransitionColumns() {

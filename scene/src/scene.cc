@@ -262,7 +262,7 @@ Scene ParseScene(const std::string& toml_text, const std::string& source) {
                                               .Set("damping", "system")
                                               .Set("forcing.amplitude", "forcing.amplitude")
                                               .Set("forcing.frequency", "forcing.frequency"));
-  Scene scene{source, model, {}, {}};
+  Scene scene{source, model, {}, {}, spec.bar};
   if (const toml::node* node = root.get("simulate")) scene.simulate = ReadSettings(*node, SimulateSettings());
   if (const toml::node* node = root.get("validate")) scene.validate = ReadSettings(*node, ValidateSettings());
   for (auto&& [key, value] : root) {

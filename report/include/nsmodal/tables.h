@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 
 #include "nsmodal/atlas.h"
+#include "nsmodal/modal_basis.h"
 #include "nsmodal/response.h"
 #include "nsmodal/simulate.h"
 #include "nsmodal/hdf5.h"
@@ -68,8 +69,9 @@ Columns<SpecialPoint> ResponsePointColumns();
 Columns<ForcedValidationRow> ForcedValidationColumns();
 
 // backbone.csv: the conservative twin's 1-ipp mode beside a response,
-// w,T,energy,admissible,stable,max_multiplier (w = 2 pi / T).
-Columns<OrbitRecord> BackboneColumns();
+// w,T,energy,admissible,stable,max_multiplier,impact_velocity (w = 2 pi / T;
+// the impact velocity |v_c| at the impact at t = 0, on `b`'s contacts).
+Columns<OrbitRecord> BackboneColumns(const ModalBasis& b);
 
 // A trajectory sample of a simulation: t, x1..xN, v1..vN, energy.
 struct Sample {

@@ -43,6 +43,7 @@ struct Scene {
   Model model;
   SettingPatch simulate;
   SettingPatch validate;
+  std::optional<BarSpec> bar;  // [system] bar: the model is this bar's (figures draw it in space and time)
 };
 
 // The largest scene file read: 16 MiB. A chain or a bar of kMaxDofs dofs is

@@ -1,0 +1,469 @@
+// The pictures the dynamics needs, beside the paper's figures (issue 28):
+// the model drawn (the paper's Fig. 1), the Floquet multipliers along the
+// 1-impact branch, a time history with its velocity jumps, analytic orbits
+// against their simulations, the frequency-energy plot with the 3-impact
+// family, and a bar's contact in space and time. Each is DIR/NAME.{csv,png,
+// svg,pdf,column.pdf} (+ scripts), drawn by role (report/style.toml).
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <numbers>
+#include <sstream>
+
+#include "chart.h"
+#include "nsmodal/figure_subjects.h"
+#include "nsmodal/flow.h"
+#include "nsmodal/figures.h"
+#include "nsmodal/gnuplot.h"
+#include "nsmodal/one_impact.h"
+#include "nsmodal/simulate.h"
+#include "nsmodal/trajectory.h"
+#include "nsmodal/validate.h"
+
+namespace nsmodal::report {
+namespace {
+
+std::string Num(double x, int digits = 4) {
+  std::ostringstream os;
+  os << std::setprecision(digits) << x;
+  return os.str();
+}
+
+// The spring of a drawing: a zigzag from (x0, y) to (x1, y), flat ends, to
+// the datablock `os` (one block).
+void Zigzag(std::ostream& os, double x0, double x1, double y) {
+  const int teeth = 6;
+  const double lead = 0.15 * (x1 - x0), w = (x1 - x0 - 2 * lead) / (2 * teeth), h = 0.18;
+  os << x0 << "," << y << "\n" << x0 + lead << "," << y << "\n";
+  for (int k = 0; k < 2 * teeth; ++k) os << x0 + lead + (k + 0.5) * w << "," << y + (k % 2 ? -h : h) << "\n";
+  os << x1 - lead << "," << y << "\n" << x1 << "," << y << "\n\n";
+}
+
+// A rigid wall at x from y0 to y1, hatched on the side `side` (-1 left, +1 right).
+void Wall(std::ostream& os, double x, double y0, double y1, int side) {
+  os << x << "," << y0 << "\n" << x << "," << y1 << "\n\n";
+  for (double y = y0; y < y1 - 1e-9; y += 0.2) os << x << "," << y << "\n" << x + side * 0.2 << "," << y + 0.2 << "\n\n";
+}
+
+// The first stable admissible 1-ipp orbit of the sweep, at the middle of its
+// stable stretch (the orbit of the time history and of the validation).
+std::optional<Orbit> StableOneImpact(const Context& c) {
+  const auto& at = c.atlas.one.at;
+  for (std::size_t k = 0; k < at.size(); ++k) {
+    if (!at[k].front().orbit.admissible || !IsStable(at[k].front().stability)) continue;
+    std::size_t end = k;
+    while (end + 1 < at.size() && at[end + 1].front().orbit.admissible && IsStable(at[end + 1].front().stability)) ++end;
+    return at[(k + end) / 2].front().orbit;
+  }
+  return std::nullopt;
+}
+
+// The stable admissible 2-ipp orbit off t2 = T/2 of the sweep with the
+// lowest energy (an orbit the 1-ipp family does not hold, of the size of
+// the obstacle's distance rather than near a singular transition).
+std::optional<Orbit> StableTwoImpact(const Context& c) {
+  std::optional<Orbit> best;
+  for (const auto& list : c.atlas.two.at) {
+    for (const OrbitRecord& r : list) {
+      if (r.orbit.admissible && IsStable(r.stability) && !IsHalfPeriodRoot(r.orbit) &&
+          (!best || r.orbit.energy < best->energy)) {
+        best = r.orbit;
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+// fig01_model: the paper's Fig. 1 for any chain of masses and springs (M
+// diagonal, K tridiagonal): a wall, the springs to the ground and between
+// the masses, the masses with their displacements, the stop at distance d.
+void FigureModel(Context& c) {
+  if (!c.model) return;
+  const Model& m = *c.model;
+  const int n = m.dofs();
+  bool chain = m.mass.isDiagonal();
+  for (int i = 0; i < n && chain; ++i) {
+    for (int j = i + 2; j < n; ++j) chain = chain && m.stiffness(i, j) == 0.0;
+  }
+  const Contact& stop = m.FirstContact();
+  if (!chain || n > 8 || stop.form != Contact::Form::kDof || !stop.upper || stop.dof != n - 1) {
+    c.log << "  fig01_model: drawn for chains of up to 8 masses with the stop beyond the last one; skipped\n";
+    return;
+  }
+  // Spring to the ground of dof i: the row sum of K; between i and i + 1: -K(i, i+1).
+  std::ostringstream lines, body;
+  const double pitch = 3.0, size = 1.0;
+  auto left = [&](int i) { return 2.0 + pitch * i; };
+  lines << "$drawing << EOD\n";
+  Wall(lines, 0.0, -0.3, 1.3, -1);
+  for (int i = 0; i < n; ++i) {
+    const double ground = m.stiffness.row(i).sum();
+    const std::string mass = "m_{" + std::to_string(i + 1) + "} = " + Num(m.mass(i, i));
+    body << "set object " << i + 1 << " rect from " << left(i) << ",0 to " << left(i) + size << "," << size
+         << " fc rgb '" << style::Colour("fill") << "' fs solid 1 border lc rgb '" << style::Colour("black") << "' lw 1.5\n"
+         << "set label '" << mass << "' at " << left(i) + 0.5 * size << ", -0.35 center\n"
+         << "set arrow from " << left(i) + 0.5 * size << ", 1.35 to " << left(i) + 0.5 * size + 0.8 << ", 1.35 head size 0.12,25 "
+         << style::Look("function") << "\nset label 'x_{" << i + 1 << "}' at " << left(i) + 0.5 * size + 0.4 << ", 1.6 center\n";
+    if (i == 0) {
+      if (!(ground > 1e-12 * m.stiffness.norm())) {
+        c.log << "  fig01_model: mass 1 has no spring to the wall: drawn for chains fixed at the left; skipped\n";
+        return;
+      }
+      Zigzag(lines, 0.0, left(0), 0.5);
+      body << "set label 'k_{1} = " << Num(ground) << "' at " << 0.5 * left(0) << ", 0.95 center\n";
+    } else if (ground > 1e-12 * m.stiffness.norm()) {
+      c.log << "  fig01_model: dof " << i + 1 << " has a spring to the ground: drawn for chains fixed at the left; skipped\n";
+      return;
+    }
+    if (i + 1 < n) {
+      Zigzag(lines, left(i) + size, left(i + 1), 0.5);
+      body << "set label 'k_{" << i + 2 << "} = " << Num(-m.stiffness(i, i + 1)) << "' at "
+           << 0.5 * (left(i) + size + left(i + 1)) << ", 0.95 center\n";
+    }
+  }
+  const double wall = left(n - 1) + size + 1.0;
+  Wall(lines, wall, -0.3, 1.3, 1);
+  lines << "EOD\n";
+  body << "set arrow from " << left(n - 1) + size << ", -0.15 to " << wall << ", -0.15 heads size 0.1,25 "
+       << style::Look("function") << "\nset label 'd = " << Num(m.FirstContact().gap) << "' at "
+       << 0.5 * (left(n - 1) + size + wall) << ", -0.45 center\n"
+       << "set label 'e = " << Num(stop.restitution) << "' at " << wall + 0.35 << ", 0.5 left\n";
+  std::ostringstream chart;
+  chart << "unset border\nunset tics\nunset grid\nunset key\nset size ratio -1\nset xrange [-0.6:" << wall + 1.6
+        << "]\nset yrange [-0.8:2.0]\n" << lines.str() << body.str();
+  Plot plot;
+  plot.Unkeyed("$drawing using 1:2", With("function"));
+  report::ResultFile out(c.dir, "fig01_model.csv");
+  out << "dof,mass,spring_to_left\n";
+  for (int i = 0; i < n; ++i) {
+    out << i + 1 << "," << m.mass(i, i) << "," << (i == 0 ? m.stiffness.row(0).sum() : -m.stiffness(i - 1, i)) << "\n";
+  }
+  out.Commit();
+  Draw(c, "fig01_model", chart.str() + plot.str(), std::to_string(n) + " masses, the stop beyond mass " + std::to_string(n));
+}
+
+// multipliers_one_impact: the Floquet multipliers of the admissible 1-ipp
+// orbits along the branch. Left: the largest modulus against T (solid where
+// the orbit is stable, dashed where not), |mu| = 1 and the stability changes
+// marked. Right: every multiplier in the complex plane with the unit circle,
+// shaded by the orbit's position along the branch.
+void FigureMultipliers(Context& c) {
+  report::ResultFile out(c.dir, "multipliers_one_impact.csv");
+  out << "T,stable,max_modulus,k,re,im\n";
+  long stable = 0, unstable = 0, points = 0;
+  double t_lo = INFINITY, t_hi = -INFINITY, m_hi = 1.0;
+  int last = -2;
+  for (std::size_t k = 0; k < c.atlas.one.at.size(); ++k) {
+    const OrbitRecord& r = c.atlas.one.at[k].front();
+    if (!r.orbit.admissible || !r.stability || r.stability->multipliers.size() == 0) continue;
+    if (last >= 0 && static_cast<int>(k) != last + 1) out << "\n";  // a gap in the branch breaks its line
+    last = static_cast<int>(k);
+    const Stability& s = *r.stability;
+    (s.stable ? stable : unstable) += 1;
+    t_lo = std::min(t_lo, r.orbit.period);
+    t_hi = std::max(t_hi, r.orbit.period);
+    m_hi = std::max(m_hi, s.max_modulus);
+    for (long j = 0; j < s.multipliers.size(); ++j) {
+      out << r.orbit.period << "," << s.stable << "," << s.max_modulus << "," << j << "," << s.multipliers[j].real() << ","
+          << s.multipliers[j].imag() << "\n";
+      ++points;
+    }
+  }
+  out.Commit();
+  if (points == 0) {
+    c.log << "  multipliers_one_impact: no admissible 1-ipp orbit with its multipliers; skipped\n";
+    return;
+  }
+  std::vector<double> plus, minus;
+  for (const Transition& t : c.transitions) {
+    if (t.kind == TransitionKind::kMultiplierPlusOne) plus.push_back(t.period);
+    if (t.kind == TransitionKind::kMultiplierMinusOne) minus.push_back(t.period);
+  }
+  std::ostringstream marks;
+  marks << "$plus << EOD\n";
+  for (double t : plus) marks << t << ",1\n";
+  marks << "EOD\n$minus << EOD\n";
+  for (double t : minus) marks << t << ",1\n";
+  marks << "EOD\n$circle << EOD\n";
+  for (int k = 0; k <= 180; ++k) marks << std::cos(k * std::numbers::pi / 90) << "," << std::sin(k * std::numbers::pi / 90) << "\n";
+  marks << "EOD\n";
+  const double m_top = std::min(m_hi, 1e3) * 1.5;
+  std::ostringstream body;
+  body << marks.str() << "set multiplot layout 1,2\nset key below\nset xlabel 'period T (s)'\n"
+       << "set ylabel 'largest modulus max |{/Symbol m}|'\nset logscale y\nset yrange [0.9:" << m_top << "]\n"
+       << "set xrange [" << t_lo << ":" << t_hi << "]\n";
+  Plot left;
+  left.Add("'multipliers_one_impact.csv' using ($4 == 0 && $2 == 1 ? $1 : 1/0):3", With("one_stable", "points"),
+           "stable orbit", stable)
+      .Add("'' using ($4 == 0 && $2 == 0 ? $1 : 1/0):3", With("one_unstable", "points"), "unstable orbit", unstable)
+      .Add("1", With("unit_circle"), "|{/Symbol m}| = 1")
+      .Add("$plus using 1:2", With("multiplier_plus_one"), "multipliers through +1", static_cast<long>(plus.size()))
+      .Add("$minus using 1:2", With("multiplier_minus_one"), "multipliers through -1", static_cast<long>(minus.size()));
+  // The complex plane: the multipliers within 2.5 of 0 (the larger real ones
+  // of the unstable orbits are on the left panel).
+  body << left.str() << "unset logscale y\nset size ratio -1\nset xrange [-2.5:2.5]\nset yrange [-2.5:2.5]\n"
+       << "set xlabel 'Re {/Symbol m}'\nset ylabel 'Im {/Symbol m}'\n"
+       << style::Palette("family", "position along the 1-ipp branch: T from " + Num(t_lo) + " (0) to " + Num(t_hi) + " (1)")
+       << "set cbrange [0:1]\n";
+  Plot right;
+  right.Unkeyed("'multipliers_one_impact.csv' using 5:6:(($1 - " + std::to_string(t_lo) + ") / " +
+                    std::to_string(std::max(t_hi - t_lo, 1e-300)) + ")",
+                style::WithPalette("one_stable"))
+      .Add("$circle using 1:2", With("unit_circle"), "unit circle");
+  body << right.str() << "unset multiplot";
+  Draw(c, "multipliers_one_impact", body.str(),
+       std::to_string(stable + unstable) + " admissible orbits, T from " + Num(t_lo) + " to " + Num(t_hi) +
+           ", largest |mu| " + Num(m_hi));
+}
+
+// time_history: x and v of the contact dof (and x of the others) over three
+// periods of the stable 1-ipp orbit, simulated by the exact integrator from
+// the orbit's state at T/2, the velocity jumps at the impacts drawn as
+// segments.
+void FigureTimeHistory(Context& c) {
+  const std::optional<Orbit> o = StableOneImpact(c);
+  if (!c.model || !o) {
+    c.log << "  time_history: no stable admissible 1-ipp orbit in the sweep; skipped\n";
+    return;
+  }
+  const int n = c.b.n, periods = 3;
+  SimulateOptions opt;
+  opt.t_end = periods * o->period;
+  opt.sample_dt = o->period / kSamples;
+  Model model = *c.model;
+  report::ResultFile out(c.dir, "time_history.csv");
+  report::ResultFile jumps(c.dir, "time_history_impacts.csv");
+  out << "t";
+  for (int i = 1; i <= n; ++i) out << ",x" << i;
+  for (int i = 1; i <= n; ++i) out << ",v" << i;
+  out << "\n";
+  jumps << "t,x_c,v_before,v_after\n";
+  auto row = [&](double t, const Eigen::VectorXd& z) {
+    out << t;
+    for (long k = 0; k < z.size(); ++k) out << "," << z[k];
+    out << "\n";
+  };
+  SimulationObserver observer;
+  observer.on_sample = row;
+  // The state just before and just after each impact, a line break between:
+  // the jump is a segment of its own, not a slope of the samples.
+  observer.on_impact = [&](const ContactEvent& e) {
+    row(e.t, e.before);
+    out << "\n";
+    row(e.t, e.after);
+    jumps << e.t << "," << e.before[c.contact] << "," << e.before[n + c.contact] << "," << e.after[n + c.contact] << "\n";
+  };
+  // Started half a period after an impact: the three impacts fall inside.
+  Eigen::VectorXd y = o->y0;
+  Flow(c.b, 0.5 * o->period, y);
+  const Eigen::VectorXd z = PhysicalOf(c.b, y);
+  const SimulationSummary s = Simulate(model, z.head(n), z.tail(n), opt, observer);
+  out.Commit();
+  jumps.Commit();
+  std::ostringstream body;
+  const std::string t = "1", xc = std::to_string(2 + c.contact), vc = std::to_string(2 + n + c.contact);
+  body << "set multiplot layout 2,1\nset key below\nset xrange [0:" << opt.t_end << "]\nset format x ''\n"
+       << "set ylabel 'displacement (m)'\nset lmargin 10\n";
+  Plot top;
+  top.Add("'time_history.csv' using " + t + ":" + xc, With("dof_contact"), "contact dof x_{" + std::to_string(c.contact + 1) + "}");
+  for (int i = 0; i < n; ++i) {
+    if (i == c.contact) continue;
+    if (i == (c.contact == 0 ? 1 : 0)) {
+      top.Add("'time_history.csv' using 1:" + std::to_string(2 + i), With("dof_other"), "other dofs");
+    } else {
+      top.Unkeyed("'time_history.csv' using 1:" + std::to_string(2 + i), With("dof_other"));
+    }
+  }
+  top.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d")
+      .Add("'time_history_impacts.csv' using 1:2", With("mark"), "impacts", s.impacts);
+  Plot bottom;
+  bottom.Add("'time_history.csv' using 1:" + vc, With("dof_contact"), "v_{" + std::to_string(c.contact + 1) + "}")
+      .Add("'time_history_impacts.csv' using 1:3:(0):($4 - $3)", With("velocity_jump"), "velocity jump v^- to v^+ = -e v^-",
+           s.impacts);
+  body << top.str() << "set format x '% g'\nset xlabel 'time t (s)'\nset ylabel 'contact velocity (m/s)'\n" << bottom.str()
+       << "unset multiplot";
+  Draw(c, "time_history", body.str(),
+       "the stable 1-ipp orbit T = " + Num(o->period, 6) + ", " + std::to_string(periods) + " periods simulated (exact), " +
+           std::to_string(s.impacts) + " impacts");
+}
+
+// validation_orbits: analytic orbits against their simulations. Top row:
+// x_c over one period of each orbit (line) and the exact integrator's
+// samples over its 100th period (points, shifted back by 99 T). Bottom row:
+// the deviation from the analytic state after each of 1,000 periods.
+void FigureValidation(Context& c, const ThreeImpactPick& three) {
+  if (!c.model) return;
+  std::vector<std::pair<std::string, Orbit>> orbits;
+  if (const auto o = StableOneImpact(c)) orbits.emplace_back("1-ipp", *o);
+  if (const auto o = StableTwoImpact(c)) orbits.emplace_back("2-ipp", *o);
+  for (const Orbit& o : three.family) {
+    if (o.admissible && OrbitStability(c.b, o).stable) {
+      orbits.emplace_back("3-ipp", o);
+      break;
+    }
+  }
+  if (orbits.empty()) {
+    c.log << "  validation_orbits: no stable admissible orbit in the sweep; skipped\n";
+    return;
+  }
+  const int n = c.b.n, shown = 100;
+  ValidateOptions vopt;
+  vopt.periods = 1000;
+  report::ResultFile out(c.dir, "validation_orbits.csv");
+  report::ResultFile dev(c.dir, "validation_deviation.csv");
+  out << "orbit,source,phase,x_c\n";
+  dev << "orbit,period,deviation\n";
+  std::ostringstream note, body;
+  for (std::size_t k = 0; k < orbits.size(); ++k) {
+    const auto& [label, o] = orbits[k];
+    const Eigen::MatrixXd tr = OrbitTrajectory(c.b, o, kSamples);
+    for (long r = 0; r < tr.rows(); ++r) out << k << ",analytic," << tr(r, 0) / o.period << "," << tr(r, 1 + c.contact) << "\n";
+    SimulateOptions sopt;
+    sopt.t_end = shown * o.period;
+    for (int j = 0; j <= 40; ++j) sopt.sample_times.push_back((shown - 1 + j / 40.0) * o.period);
+    SimulationObserver observer;
+    observer.on_sample = [&](double t, const Eigen::VectorXd& z) {
+      out << k << ",simulated," << t / o.period - (shown - 1) << "," << z[c.contact] << "\n";
+    };
+    Simulate(*c.model, o.z0.head(n), o.z0.tail(n), sopt, observer);
+    const OrbitValidation v = ValidateOrbit(*c.model, o, Integrator::kExact, vopt);
+    double worst = 0.0;
+    for (std::size_t p = 0; p < v.deviation.size(); ++p) {
+      dev << k << "," << p + 1 << "," << v.deviation[p] << "\n";
+      worst = std::max(worst, v.deviation[p]);
+    }
+    dev << "\n\n";
+    note << (k ? "; " : "") << label << " T = " << Num(o.period, 6) << ": max deviation " << Num(worst, 2) << " over "
+         << v.deviation.size() << " periods";
+  }
+  out.Commit();
+  dev.Commit();
+  const int cols = static_cast<int>(orbits.size());
+  // One key, below the first panel: the panels draw the same series.
+  body << "set multiplot layout 2," << cols << "\nset key below\n";
+  for (int k = 0; k < cols; ++k) {
+    if (k == 1) body << "unset key\n";
+    const Orbit& o = orbits[k].second;
+    body << "set title '" << orbits[k].first << ", T = " << Num(o.period) << "'\nset xlabel 't / T'\nset ylabel '"
+         << (k == 0 ? XcLabel(c) : std::string()) << "'\nset xrange [0:1]\n";
+    Plot p;
+    p.Add("'validation_orbits.csv' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'analytic' ? $3 : 1/0):4",
+          With("analytic"), "analytic")
+        .Add("'' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'simulated' ? $3 : 1/0):4", With("simulated"),
+             "simulated, period " + std::to_string(shown))
+        .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+    body << p.str();
+  }
+  body << "unset title\nset logscale y\nset format y '10^{%T}'\nset xrange [0:" << vopt.periods << "]\nset xtics "
+       << vopt.periods / 4 << "\nset xlabel 'periods k'\n";
+  for (int k = 0; k < cols; ++k) {
+    body << "set ylabel '" << (k == 0 ? "deviation |z(kT) - z_0| / |z_0|" : "") << "'\n";
+    Plot p;
+    p.Unkeyed("'validation_deviation.csv' index " + std::to_string(k) + " using 2:($3 > 0 ? $3 : 1/0)", With("function"));
+    body << p.str();
+  }
+  body << "unset multiplot";
+  Draw(c, "validation_orbits", body.str(), note.str());
+}
+
+// fep_all_families: the frequency-energy plot of Fig. 8 with the 3-ipp
+// family of Fig. 16 (its admissible orbits), the bridges and transitions.
+void FigureAllFamilies(Context& c, const ThreeImpactPick& three) {
+  FepTable table;
+  for (std::size_t k = 0; k < c.atlas.one.at.size(); ++k) {
+    const OrbitRecord& r = c.atlas.one.at[k].front();
+    table.Add(static_cast<int>(k), r.orbit, r.stability);
+  }
+  for (std::size_t k = 0; k < c.atlas.two.at.size(); ++k) {
+    for (const OrbitRecord& r : c.atlas.two.at[k]) table.Add(static_cast<int>(k), r.orbit, r.stability);
+  }
+  for (std::size_t k = 0; k < three.family.size(); ++k) {
+    const Orbit& o = three.family[k];
+    if (o.admissible) table.Add(static_cast<int>(k), o, OrbitStability(c.b, o));
+  }
+  report::ResultFile out(c.dir, "fep_all_families.csv");
+  table.Write(out.stream());
+  out.Commit();
+  report::ResultFile br(c.dir, "fep_all_families_bridges.csv");
+  WriteBridges(br.stream(), c.bridges);
+  br.Commit();
+  std::ostringstream body;
+  body << EnergyAxes(c) << table.Layers("fep_all_families.csv", "fep_all_families_bridges.csv",
+                                        static_cast<long>(c.bridges.size()));
+  Draw(c, "fep_all_families", body.str(),
+       three.family.empty() ? "no 3-ipp family found" :
+                              "the 3-ipp family admissible for T in [" + Num(three.admissible_from, 6) + ", " +
+                                  Num(three.admissible_to, 6) + "]");
+}
+
+FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const OutputDir& dir, std::ostream& log) {
+  // The bar's contact in space and time: the fixed-free bar starts from
+  // rest in its place with the velocity of its first mode, the free end
+  // moving towards the wall at 2 d w_1 (it would swing to 2 d: it strikes);
+  // the exact integrator over three periods T_1. The map shows u(x, t) / d
+  // along the bar, the impacts at its end marked; below, the end's u / d.
+  const ModalBasis b = MakeModalBasis(model);
+  const int n = model.dofs(), c = model.FirstContact().dof;
+  const double w1 = b.omega[b.rigid], t1 = 2 * std::numbers::pi / w1, d = model.FirstContact().gap;
+  Eigen::VectorXd shape = b.phi.col(b.rigid);
+  shape *= 2.0 * d * w1 / shape[c];
+  SimulateOptions opt;
+  opt.t_end = 3.0 * t1;
+  opt.sample_dt = t1 / 150.0;
+  const double h = bar.length / bar.elements;
+  const int first_node = bar.boundary == BarSpec::Boundary::kFixedFree ? 1 : 0;
+  report::ResultFile out(dir, "bar_spacetime.csv");
+  report::ResultFile tip(dir, "bar_spacetime_end.csv");
+  report::ResultFile hits(dir, "bar_spacetime_impacts.csv");
+  out << "t_ms,x,u_over_d\n";
+  tip << "t_ms,u_over_d\n";
+  hits << "t_ms,x\n";
+  double u_max = 0.0;
+  SimulationObserver observer;
+  observer.on_sample = [&](double t, const Eigen::VectorXd& z) {
+    if (first_node == 1) out << 1e3 * t << ",0,0\n";
+    for (int i = 0; i < n; ++i) {
+      out << 1e3 * t << "," << (i + first_node) * h << "," << z[i] / d << "\n";
+      u_max = std::max(u_max, std::abs(z[i]) / d);
+    }
+    out << "\n";
+    tip << 1e3 * t << "," << z[c] / d << "\n";
+  };
+  long impacts = 0;
+  observer.on_impact = [&](const ContactEvent& e) {
+    hits << 1e3 * e.t << "," << (c + first_node) * h << "\n";
+    ++impacts;
+  };
+  const SimulationSummary s = Simulate(model, Eigen::VectorXd::Zero(n), shape, opt, observer);
+  out.Commit();
+  tip.Commit();
+  hits.Commit();
+  std::ostringstream body;
+  const double m = std::max(1.0, std::ceil(u_max * 10) / 10);
+  body << "set datafile separator ','\nset multiplot\nset lmargin at screen 0.12\nset rmargin at screen 0.82\n"
+       << "set origin 0, 0.36\nset size 1, 0.64\nset bmargin 0.5\nset format x ''\nset ylabel 'position along the bar x (m)'\n"
+       << "set xrange [0:" << 1e3 * opt.t_end << "]\nset yrange [0:" << bar.length << "]\n"
+       << style::Palette("displacement", "displacement u / d (the wall at u / d = 1)") << "set cbrange [" << -m << ":" << m
+       << "]\nunset key\n";
+  Plot map;
+  map.Unkeyed("'bar_spacetime.csv' using 1:2:3", "with image")
+      .Unkeyed("'bar_spacetime_impacts.csv' using 1:2", With("impact"));
+  body << map.str() << "set origin 0, 0\nset size 1, 0.36\nset tmargin 0.5\nset bmargin 3.5\nunset colorbox\n"
+       << "set format x '% g'\nset xlabel 'time t (ms)'\nset ylabel 'u(L) / d'\nset yrange [" << -m << ":" << 1.3
+       << "]\nset key inside bottom right opaque horizontal\n";
+  Plot end;
+  end.Add("'bar_spacetime_end.csv' using 1:2", With("dof_contact"), "u(L) / d")
+      .Add("1", With("obstacle"), "the wall")
+      .Add("'bar_spacetime_impacts.csv' using 1:(1)", With("impact"), "impacts (on the map: at x = L)", impacts);
+  body << end.str() << "unset multiplot";
+  log << "figures in " << dir.path().string() << ":\n";
+  const ChartStatus chart = DrawChart(dir, "bar_spacetime", body.str());
+  log << "  bar_spacetime: " << n << " dofs, 3 T_1 = " << Num(1e3 * opt.t_end, 4) << " ms, " << impacts
+      << " impacts (simulation " << ToString(s.status) << ")" << (chart.drawn ? "" : ": not drawn: " + chart.message)
+      << "\n" << (chart.drawn ? 1 : 0) << " figures drawn" << (chart.drawn ? "" : ", 1 failed") << "\n";
+  return {chart.drawn ? 1 : 0, chart.drawn ? 0 : 1};
+}
+
+}  // namespace nsmodal::report
