@@ -243,7 +243,7 @@ expect_error "\\-\\-period: the figures of a bar" "$bin" figures "$src/configs/b
 if "$bin" bench "$paper" --out "$tmp/bench" --quick >"$tmp/bench.txt" 2>/dev/null; then
   [ "$(head -1 "$tmp/bench/work_precision.csv")" = "case,integrator,setting,error,cpu_s,impacts,steps,expected_impacts" ] && ok ||
     bad "work_precision.csv header"
-  for c in smooth near-grazing high-energy long zeno; do
+  for c in smooth near-grazing high-energy long-100 zeno; do
     grep -q "^$c,exact," "$tmp/bench/work_precision.csv" && grep -q "^$c,moreau-jean," "$tmp/bench/work_precision.csv" &&
       grep -q "^$c,cvode-adams," "$tmp/bench/work_precision.csv" && ok || bad "work_precision.csv lacks case $c"
     if command -v gnuplot >/dev/null; then

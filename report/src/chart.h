@@ -141,11 +141,16 @@ class FepTable {
   // (filled stable, open unstable). `index` >= 0 selects that dataset of both
   // files (gnuplot's `index`), where this table is the index-th written.
   std::string Layers(const std::string& csv, const std::string& bridges, long bridge_count, int index = -1) const {
+    Plot plot;
+    AddLayers(plot, csv, bridges, bridge_count, index);
+    return plot.str();
+  }
+  // The same layers added to `plot` (a chart with more layers).
+  void AddLayers(Plot& plot, const std::string& csv, const std::string& bridges, long bridge_count, int index = -1) const {
     const std::string ix = index < 0 ? "" : " index " + std::to_string(index);
     auto select = [&](const char* family, const char* stable) {
       return "'" + csv + "'" + ix + " using 2:(strcol(1) eq '" + family + "'" + stable + " ? $4 : 1/0)";
     };
-    Plot plot;
     plot.Add(select("2-ipp", " && $5 == 1"), With("two_stable"), "2-ipp, stable", two_.stable)
         .Add(select("2-ipp", " && $5 == 0"), With("two_unstable"), "2-ipp, unstable", two_.unstable)
         .Add(select("1-ipp", " && $5 == 1"), With("one_stable"), "1-ipp, stable", one_.stable)
@@ -155,7 +160,6 @@ class FepTable {
         .Add(select("3-ipp", " && $5 == 1"), With("three_stable"), "3-ipp, stable", three_.stable)
         .Add(select("3-ipp", " && $5 == 0"), With("three_unstable"), "3-ipp, unstable", three_.unstable)
         .Add("'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)", With("bridge"), "bridge", bridge_count);
-    return plot.str();
   }
   void Write(std::ostream& out) const {
     // One blank line between the families (two would start a new dataset).
