@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <tuple>
 
 #include "nsmodal/figure_subjects.h"
 #include "nsmodal/gnuplot.h"
@@ -121,6 +123,41 @@ std::pair<double, double> AddOrbitsNear(const Context& c, double t, double w, Fe
     }
   }
   return {lo, hi};
+}
+
+void TransitionLayers(Context& c, const std::string& name, bool all, std::ostream& body, Plot& plot) {
+  report::ResultFile tr(c.dir, name);
+  tr << "T,kind,energy\n";
+  std::map<TransitionKind, std::vector<double>> at;
+  for (const Transition& t : c.transitions) {
+    tr << t.period << "," << ToString(t.kind) << "," << t.energy << "\n";
+    at[t.kind].push_back(t.period);
+  }
+  tr.Commit();
+  const auto [lo, hi] = EnergyRange(c);
+  const std::string block = name.substr(0, name.find('.'));
+  body << VerticalLines(block + "_singular", at[TransitionKind::kSingular], lo, hi)
+       << VerticalLines(block + "_modal", all ? at[TransitionKind::kModal] : std::vector<double>{}, lo, hi);
+  for (double t : at[TransitionKind::kSingular]) body << "set label 'T_S' at " << t << ", graph 1 offset 0.3, -0.8 front\n";
+  for (const Transition& t : c.transitions) {
+    if (t.kind == TransitionKind::kGrazing && t.energy < hi) {
+      body << "set label 'T_G' at " << t.period << ", " << t.energy << " offset 0.8, -0.9 front\n";
+    }
+  }
+  plot.Add("$" + block + "_singular using 1:2", With("singular"), "singular transition T_S",
+           static_cast<long>(at[TransitionKind::kSingular].size()));
+  if (all) {
+    plot.Add("$" + block + "_modal using 1:2", With("modal"), "linear modal transition k T_i",
+             static_cast<long>(at[TransitionKind::kModal].size()));
+  }
+  for (const auto& [kind, role, title] :
+       {std::tuple<TransitionKind, const char*, const char*>{TransitionKind::kGrazing, "grazing", "grazing transition T_G"},
+        {TransitionKind::kMultiplierPlusOne, "multiplier_plus_one", "multipliers through +1"},
+        {TransitionKind::kMultiplierMinusOne, "multiplier_minus_one", "multipliers through -1 (period doubling)"}}) {
+    if (!all && kind != TransitionKind::kGrazing) continue;
+    plot.Add("'" + name + "' using 1:(strcol(2) eq '" + ToString(kind) + "' ? $3 : 1/0)", With(role), title,
+             static_cast<long>(at[kind].size()));
+  }
 }
 
 }  // namespace nsmodal::report

@@ -122,6 +122,16 @@ void WriteBridges(std::ostream& out, const std::vector<Bridge>& bridges);
 // blank line) wherever a period of the grid has no admissible orbit of it.
 class FepTable {
  public:
+  // The admissible orbits of an atlas's 1- and 2-ipp sweeps.
+  void AddAtlas(const Atlas& atlas) {
+    for (std::size_t k = 0; k < atlas.one.at.size(); ++k) {
+      const OrbitRecord& r = atlas.one.at[k].front();
+      Add(static_cast<int>(k), r.orbit, r.stability);
+    }
+    for (std::size_t k = 0; k < atlas.two.at.size(); ++k) {
+      for (const OrbitRecord& r : atlas.two.at[k]) Add(static_cast<int>(k), r.orbit, r.stability);
+    }
+  }
   // `step`: the index of the orbit's period on its grid.
   void Add(int step, const Orbit& o, const std::optional<Stability>& s) {
     if (!o.admissible) return;
@@ -180,6 +190,13 @@ class FepTable {
   };
   Family one_, half_, two_, three_;
 };
+
+// The transitions of the 1-ipp family on a frequency-energy plot, written
+// to CSV `name` (T,kind,energy): singular ones (T_S) and, if `all`, modal
+// ones as vertical lines, grazing ones (T_G) and, if `all`, the stability
+// changes as marks on the branch; T_S and T_G labelled where they are (the
+// paper's captions name them).
+void TransitionLayers(Context& c, const std::string& name, bool all, std::ostream& body, Plot& plot);
 
 // The pictures the dynamics needs, beside the paper's (dynamics_figures.cc):
 // fig01_model, multipliers_one_impact, time_history, validation_orbits,

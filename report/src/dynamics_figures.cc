@@ -372,13 +372,7 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
 // family of Fig. 16 (its admissible orbits), the bridges and transitions.
 void FigureAllFamilies(Context& c, const ThreeImpactPick& three) {
   FepTable table;
-  for (std::size_t k = 0; k < c.atlas.one.at.size(); ++k) {
-    const OrbitRecord& r = c.atlas.one.at[k].front();
-    table.Add(static_cast<int>(k), r.orbit, r.stability);
-  }
-  for (std::size_t k = 0; k < c.atlas.two.at.size(); ++k) {
-    for (const OrbitRecord& r : c.atlas.two.at[k]) table.Add(static_cast<int>(k), r.orbit, r.stability);
-  }
+  table.AddAtlas(c.atlas);
   for (std::size_t k = 0; k < three.family.size(); ++k) {
     const Orbit& o = three.family[k];
     if (o.admissible) table.Add(static_cast<int>(k), o, OrbitStability(c.b, o));
@@ -390,8 +384,11 @@ void FigureAllFamilies(Context& c, const ThreeImpactPick& three) {
   WriteBridges(br.stream(), c.bridges);
   br.Commit();
   std::ostringstream body;
-  body << EnergyAxes(c) << table.Layers("fep_all_families.csv", "fep_all_families_bridges.csv",
-                                        static_cast<long>(c.bridges.size()));
+  body << EnergyAxes(c);
+  Plot plot;
+  table.AddLayers(plot, "fep_all_families.csv", "fep_all_families_bridges.csv", static_cast<long>(c.bridges.size()));
+  TransitionLayers(c, "fep_all_families_transitions.csv", false, body, plot);
+  body << plot.str();
   Draw(c, "fep_all_families", body.str(),
        three.family.empty() ? "no 3-ipp family found" :
                               "the 3-ipp family admissible for T in [" + Num(three.admissible_from, 6) + ", " +

@@ -105,46 +105,6 @@ void Figure2(Context& c) {
                [&](Plot& plot) { Mark(plot, t2, x_t2, "mark", "x_c(t_2) {/Symbol \\271} d: NC2 fails"); }, note.str());
 }
 
-// The transitions of the 1-ipp family on a frequency-energy plot, written
-// to CSV `name` (T,kind,energy): singular ones (T_S) and, if `all`, modal
-// ones as vertical lines, grazing ones (T_G) and, if `all`, the stability
-// changes as marks on the branch; T_S and T_G labelled where they are (the
-// paper's captions name them).
-void TransitionLayers(Context& c, const std::string& name, bool all, std::ostream& body, Plot& plot) {
-  report::ResultFile tr(c.dir, name);
-  tr << "T,kind,energy\n";
-  std::map<TransitionKind, std::vector<double>> at;
-  for (const Transition& t : c.transitions) {
-    tr << t.period << "," << ToString(t.kind) << "," << t.energy << "\n";
-    at[t.kind].push_back(t.period);
-  }
-  tr.Commit();
-  const auto [lo, hi] = EnergyRange(c);
-  const std::string block = name.substr(0, name.find('.'));
-  body << VerticalLines(block + "_singular", at[TransitionKind::kSingular], lo, hi)
-       << VerticalLines(block + "_modal", all ? at[TransitionKind::kModal] : std::vector<double>{}, lo, hi);
-  for (double t : at[TransitionKind::kSingular]) body << "set label 'T_S' at " << t << ", graph 1 offset 0.3, -0.8 front\n";
-  for (const Transition& t : c.transitions) {
-    if (t.kind == TransitionKind::kGrazing && t.energy < hi) {
-      body << "set label 'T_G' at " << t.period << ", " << t.energy << " offset 0.8, -0.9 front\n";
-    }
-  }
-  plot.Add("$" + block + "_singular using 1:2", With("singular"), "singular transition T_S",
-           static_cast<long>(at[TransitionKind::kSingular].size()));
-  if (all) {
-    plot.Add("$" + block + "_modal using 1:2", With("modal"), "linear modal transition k T_i",
-             static_cast<long>(at[TransitionKind::kModal].size()));
-  }
-  for (const auto& [kind, role, title] :
-       {std::tuple<TransitionKind, const char*, const char*>{TransitionKind::kGrazing, "grazing", "grazing transition T_G"},
-        {TransitionKind::kMultiplierPlusOne, "multiplier_plus_one", "multipliers through +1"},
-        {TransitionKind::kMultiplierMinusOne, "multiplier_minus_one", "multipliers through -1 (period doubling)"}}) {
-    if (!all && kind != TransitionKind::kGrazing) continue;
-    plot.Add("'" + name + "' using 1:(strcol(2) eq '" + ToString(kind) + "' ? $3 : 1/0)", With(role), title,
-             static_cast<long>(at[kind].size()));
-  }
-}
-
 // Fig. 3: 1-ipp energies, admissible zones coloured by stability,
 // transitions: singular ones (T_S) and modal ones as vertical lines, grazing
 // ones (T_G) and the stability changes as marks on the branch.
@@ -355,13 +315,7 @@ void Figure7(Context& c) {
 void Figure8(Context& c) {
   report::ResultFile out(c.dir, "fig08_fep.csv");
   FepTable table;
-  for (std::size_t k = 0; k < c.atlas.one.at.size(); ++k) {
-    const OrbitRecord& r = c.atlas.one.at[k].front();
-    table.Add(static_cast<int>(k), r.orbit, r.stability);
-  }
-  for (std::size_t k = 0; k < c.atlas.two.at.size(); ++k) {
-    for (const OrbitRecord& r : c.atlas.two.at[k]) table.Add(static_cast<int>(k), r.orbit, r.stability);
-  }
+  table.AddAtlas(c.atlas);
   table.Write(out.stream());
   report::ResultFile br(c.dir, "fig08_bridges.csv");
   WriteBridges(br.stream(), c.bridges);
