@@ -89,12 +89,21 @@ std::pair<double, double> EnergyRange(const Context& c) {
   return {0.5 * lo, std::min(hi, 1e4 * lo)};
 }
 
+double NiceStep(double lo, double hi, int ticks) {
+  const double raw = std::max(hi - lo, 1e-300) / std::max(ticks, 1);
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double m : {1.0, 2.0, 5.0}) {
+    if (m * decade >= raw) return m * decade;
+  }
+  return 10.0 * decade;
+}
+
 std::string EnergyAxes(const Context& c) {
   const auto [lo, hi] = EnergyRange(c);
   std::ostringstream os;
   os << "set logscale y\nset format y '10^{%T}'\nset yrange [" << lo << ":" << hi << "]\n"
      << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n"
-     << "set key inside top right opaque\n";
+     << "set key below\n";
   return os.str();
 }
 
@@ -138,7 +147,14 @@ void TransitionLayers(Context& c, const std::string& name, bool all, std::ostrea
   const std::string block = name.substr(0, name.find('.'));
   body << VerticalLines(block + "_singular", at[TransitionKind::kSingular], lo, hi)
        << VerticalLines(block + "_modal", all ? at[TransitionKind::kModal] : std::vector<double>{}, lo, hi);
-  for (double t : at[TransitionKind::kSingular]) body << "set label 'T_S' at " << t << ", graph 1 offset 0.3, -0.8 front\n";
+  // A label per singular transition, but not on top of the previous one
+  // (4 % of the axis apart at least).
+  double last_label = -INFINITY;
+  for (double t : at[TransitionKind::kSingular]) {
+    if (t - last_label < 0.04 * c.periods.back()) continue;
+    body << "set label 'T_S' at " << t << ", graph 1 offset 0.3, -0.8 front\n";
+    last_label = t;
+  }
   for (const Transition& t : c.transitions) {
     if (t.kind == TransitionKind::kGrazing && t.energy < hi) {
       body << "set label 'T_G' at " << t.period << ", " << t.energy << " offset 0.8, -0.9 front\n";

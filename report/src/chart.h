@@ -112,6 +112,9 @@ int XCol(const Context&, int dof);
 
 // Energy range and axes of a frequency-energy plot.
 std::pair<double, double> EnergyRange(const Context& c);
+// A tick step of 1, 2 or 5 times a power of 10 giving about `ticks` ticks on
+// [lo, hi] (small panels, 3-D axes and column PDFs need few).
+double NiceStep(double lo, double hi, int ticks);
 std::string EnergyAxes(const Context& c);
 
 void WriteBridges(std::ostream& out, const std::vector<Bridge>& bridges);
@@ -165,7 +168,7 @@ class FepTable {
         .Add(select("2-ipp", " && $5 == 0"), With("two_unstable"), "2-ipp, unstable", two_.unstable)
         .Add(select("1-ipp", " && $5 == 1"), With("one_stable"), "1-ipp, stable", one_.stable)
         .Add(select("1-ipp", " && $5 == 0"), With("one_unstable"), "1-ipp, unstable", one_.unstable)
-        .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp with t_2 = T/2 (1-ipp dilated x2)",
+        .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp, t2 = T/2 (1-ipp dilated)",
              half_.stable + half_.unstable)
         .Add(select("3-ipp", " && $5 == 1"), With("three_stable"), "3-ipp, stable", three_.stable)
         .Add(select("3-ipp", " && $5 == 0"), With("three_unstable"), "3-ipp, unstable", three_.unstable)

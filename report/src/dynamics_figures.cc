@@ -194,24 +194,26 @@ void FigureMultipliers(Context& c) {
   body << marks.str() << "set multiplot layout 1,2\nset key below\nset xlabel 'period T (s)'\n"
        << "set ylabel 'largest modulus max |{/Symbol m}|'\nset logscale y\nset yrange [0.9:" << m_top << "]\n"
        << "set xrange [" << t_lo << ":" << t_hi << "]\n";
+  // |mu| = 1 first: the stable orbits' points sit on it, drawn over it.
   Plot left;
-  left.Add("'multipliers_one_impact.csv' using ($4 == 0 && $2 == 1 ? $1 : 1/0):3", With("one_stable", "points"),
+  left.Add("1", With("unit_circle"), "|{/Symbol m}| = 1")
+      .Add("'multipliers_one_impact.csv' using ($4 == 0 && $2 == 1 ? $1 : 1/0):3", With("one_stable", "points"),
            "stable orbit", stable)
       .Add("'' using ($4 == 0 && $2 == 0 ? $1 : 1/0):3", With("one_unstable", "points"), "unstable orbit", unstable)
-      .Add("1", With("unit_circle"), "|{/Symbol m}| = 1")
       .Add("$plus using 1:2", With("multiplier_plus_one"), "multipliers through +1", static_cast<long>(plus.size()))
       .Add("$minus using 1:2", With("multiplier_minus_one"), "multipliers through -1", static_cast<long>(minus.size()));
   // The complex plane: the multipliers within 2.5 of 0 (the larger real ones
   // of the unstable orbits are on the left panel).
   body << left.str() << "unset logscale y\nset size ratio -1\nset xrange [-2.5:2.5]\nset yrange [-2.5:2.5]\n"
        << "set xlabel 'Re {/Symbol m}'\nset ylabel 'Im {/Symbol m}'\n"
-       << style::Palette("family", "position along the 1-ipp branch: T from " + Num(t_lo) + " (0) to " + Num(t_hi) + " (1)")
-       << "set cbrange [0:1]\n";
+       << style::Palette("family", "position along the 1-ipp branch") << "set cbtics ('T = " << Num(t_lo) << "' 0, '"
+       << Num(t_hi) << "' 1, '' 0.5)\nset cbrange [0:1]\nunset key\n";
+  // The unit circle over the points (the line |mu| = 1 of the left panel).
   Plot right;
   right.Unkeyed("'multipliers_one_impact.csv' using 5:6:(($1 - " + std::to_string(t_lo) + ") / " +
                     std::to_string(std::max(t_hi - t_lo, 1e-300)) + ")",
                 style::WithPalette("one_stable"))
-      .Add("$circle using 1:2", With("unit_circle"), "unit circle");
+      .Unkeyed("$circle using 1:2", With("unit_circle"));
   body << right.str() << "unset multiplot";
   Draw(c, "multipliers_one_impact", body.str(),
        std::to_string(stable + unstable) + " admissible orbits, T from " + Num(t_lo) + " to " + Num(t_hi) +
@@ -271,7 +273,8 @@ void FigureTimeHistory(Context& c) {
   for (int i = 0; i < n; ++i) {
     if (i == c.contact) continue;
     if (i == (c.contact == 0 ? 1 : 0)) {
-      top.Add("'time_history.csv' using 1:" + std::to_string(2 + i), With("dof_other"), "other dofs");
+      top.Add("'time_history.csv' using 1:" + std::to_string(2 + i), With("dof_other"),
+              n == 2 ? "x_{" + std::to_string(i + 1) + "}" : std::string("the other dofs"));
     } else {
       top.Unkeyed("'time_history.csv' using 1:" + std::to_string(2 + i), With("dof_other"));
     }
@@ -316,9 +319,12 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
   out << "orbit,source,phase,x_c\n";
   dev << "orbit,period,deviation\n";
   std::ostringstream note, body;
+  double dev_lo = INFINITY, dev_hi = 0.0;
+  std::vector<std::pair<double, double>> x_range;
   for (std::size_t k = 0; k < orbits.size(); ++k) {
     const auto& [label, o] = orbits[k];
     const Eigen::MatrixXd tr = OrbitTrajectory(c.b, o, kSamples);
+    x_range.emplace_back(tr.col(1 + c.contact).minCoeff(), tr.col(1 + c.contact).maxCoeff());
     for (long r = 0; r < tr.rows(); ++r) out << k << ",analytic," << tr(r, 0) / o.period << "," << tr(r, 1 + c.contact) << "\n";
     SimulateOptions sopt;
     sopt.t_end = shown * o.period;
@@ -333,21 +339,26 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
     for (std::size_t p = 0; p < v.deviation.size(); ++p) {
       dev << k << "," << p + 1 << "," << v.deviation[p] << "\n";
       worst = std::max(worst, v.deviation[p]);
+      if (v.deviation[p] > 0.0) dev_lo = std::min(dev_lo, v.deviation[p]);
     }
     dev << "\n\n";
+    dev_hi = std::max(dev_hi, worst);
     note << (k ? "; " : "") << label << " T = " << Num(o.period, 6) << ": max deviation " << Num(worst, 2) << " over "
          << v.deviation.size() << " periods";
   }
   out.Commit();
   dev.Commit();
   const int cols = static_cast<int>(orbits.size());
-  // One key, below the first panel: the panels draw the same series.
-  body << "set multiplot layout 2," << cols << "\nset key below\n";
+  // One key, across the top: the panels draw the same series.
+  body << "set multiplot layout 2," << cols << " margins 0.11, 0.98, 0.09, 0.86 spacing 0.07, 0.13\n"
+       << "set key at screen 0.5, screen 0.995 center top horizontal\n";
   for (int k = 0; k < cols; ++k) {
     if (k == 1) body << "unset key\n";
     const Orbit& o = orbits[k].second;
+    const auto [x_lo, x_hi] = x_range[k];
     body << "set title '" << orbits[k].first << ", T = " << Num(o.period) << "'\nset xlabel 't / T'\nset ylabel '"
-         << (k == 0 ? XcLabel(c) : std::string()) << "'\nset xrange [0:1]\n";
+         << (k == 0 ? XcLabel(c) : std::string()) << "'\nset xrange [0:1]\nset xtics 0.5\nset ytics "
+         << NiceStep(x_lo, std::max(x_hi, c.b.gap), 4) << "\n";
     Plot p;
     p.Add("'validation_orbits.csv' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'analytic' ? $3 : 1/0):4",
           With("analytic"), "analytic")
@@ -356,8 +367,12 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
         .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
     body << p.str();
   }
-  body << "unset title\nset logscale y\nset format y '10^{%T}'\nset xrange [0:" << vopt.periods << "]\nset xtics "
-       << vopt.periods / 4 << "\nset xlabel 'periods k'\n";
+  // The deviations on one scale, the panels compared at a glance.
+  const double decade_lo = std::floor(std::log10(std::isfinite(dev_lo) ? dev_lo : 1e-16));
+  const double decade_hi = std::ceil(std::log10(dev_hi > 0.0 ? dev_hi : 1e-15));
+  body << "unset title\nset logscale y\nset format y '10^{%T}'\nset yrange [1e" << decade_lo << ":1e" << decade_hi
+       << "]\nset ytics " << std::pow(10.0, std::max(1.0, std::ceil((decade_hi - decade_lo) / 4))) << "\nset xrange [0:"
+       << vopt.periods << "]\nset xtics " << vopt.periods / 2 << "\nset mxtics 2\nset xlabel 'periods k'\n";
   for (int k = 0; k < cols; ++k) {
     body << "set ylabel '" << (k == 0 ? "deviation |z(kT) - z_0| / |z_0|" : "") << "'\n";
     Plot p;
@@ -417,7 +432,7 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
   out << "t_ms,x,u_over_d\n";
   tip << "t_ms,u_over_d\n";
   hits << "t_ms,x\n";
-  double u_max = 0.0;
+  double u_max = 0.0, end_min = 0.0;
   SimulationObserver observer;
   observer.on_sample = [&](double t, const Eigen::VectorXd& z) {
     if (first_node == 1) out << 1e3 * t << ",0,0\n";
@@ -427,6 +442,7 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
     }
     out << "\n";
     tip << 1e3 * t << "," << z[c] / d << "\n";
+    end_min = std::min(end_min, z[c] / d);
   };
   long impacts = 0;
   observer.on_impact = [&](const ContactEvent& e) {
@@ -441,19 +457,24 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
   const double m = std::max(1.0, std::ceil(u_max * 10) / 10);
   body << "set datafile separator ','\nset multiplot\nset lmargin at screen 0.12\nset rmargin at screen 0.82\n"
        << "set origin 0, 0.36\nset size 1, 0.64\nset bmargin 0.5\nset format x ''\nset ylabel 'position along the bar x (m)'\n"
-       << "set xrange [0:" << 1e3 * opt.t_end << "]\nset yrange [0:" << bar.length << "]\n"
+       // (a strip above x = L: the impacts marked there are not cut.)
+       << "set xrange [0:" << 1e3 * opt.t_end << "]\nset yrange [0:" << 1.04 * bar.length << "]\nset ytics "
+       << NiceStep(0.0, bar.length, 4) << "\n"
        << style::Palette("displacement", "displacement u / d (the wall at u / d = 1)") << "set cbrange [" << -m << ":" << m
        << "]\nunset key\n";
   Plot map;
   map.Unkeyed("'bar_spacetime.csv' using 1:2:3", "with image")
       .Unkeyed("'bar_spacetime_impacts.csv' using 1:2", With("impact"));
   body << map.str() << "set origin 0, 0\nset size 1, 0.36\nset tmargin 0.5\nset bmargin 3.5\nunset colorbox\n"
-       << "set format x '% g'\nset xlabel 'time t (ms)'\nset ylabel 'u(L) / d'\nset yrange [" << -m << ":" << 1.3
-       << "]\nset key inside bottom right opaque horizontal\n";
+       << "set format x '% g'\nset xlabel 'time t (ms)'\nset ylabel 'u(L) / d'\nset yrange ["
+       << end_min - 0.15 * (1.0 - end_min) << ":" << 1.0 + 0.2 * (1.0 - end_min) << "]\nset ytics "
+       << NiceStep(end_min, 1.0, 3) << "\n"
+       // The key beside the panel, under the colour bar: nothing of the curve under it.
+       << "set key at screen 0.995, screen 0.33 right top vertical\n";
   Plot end;
-  end.Add("'bar_spacetime_end.csv' using 1:2", With("dof_contact"), "u(L) / d")
-      .Add("1", With("obstacle"), "the wall")
-      .Add("'bar_spacetime_impacts.csv' using 1:(1)", With("impact"), "impacts (on the map: at x = L)", impacts);
+  end.Add("'bar_spacetime_end.csv' using 1:2", With("dof_contact"), "u(L)/d")
+      .Add("1", With("obstacle"), "wall")
+      .Add("'bar_spacetime_impacts.csv' using 1:(1)", With("impact"), "impacts", impacts);
   body << end.str() << "unset multiplot";
   log << "figures in " << dir.path().string() << ":\n";
   const ChartStatus chart = DrawChart(dir, "bar_spacetime", body.str());

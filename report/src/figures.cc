@@ -50,7 +50,8 @@ void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const cha
   const Eigen::MatrixXd tr = OrbitTrajectory(c.b, o, kSamples);
   WriteTrajectory(out.stream(), "x", o.period, tr);
   out.Commit();
-  const long above = (tr.col(1 + c.contact).array() > c.b.gap).count();
+  // Above d by more than 1e-6 d: a graze's round-off is not an excess.
+  const long above = (tr.col(1 + c.contact).array() > c.b.gap + 1e-6 * std::abs(c.b.gap)).count();
   const std::string xc = std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact));
   std::ostringstream body;
   body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset xrange [0:" << o.period
@@ -101,7 +102,7 @@ void Figure2(Context& c) {
   std::ostringstream note;
   note << "T = " << pick->period << ", t2 = " << t2 << ", x_c(t2) = " << x_t2 << ", x_c exceeds d by up to "
        << pick->max_excess;
-  DrawOneOrbit(c, "fig02_not_admissible", *pick, "not_admissible", setup.str(),
+  DrawOneOrbit(c, "fig02_not_admissible", *pick, "orbit_not_admissible", setup.str(),
                [&](Plot& plot) { Mark(plot, t2, x_t2, "mark", "x_c(t_2) {/Symbol \\271} d: NC2 fails"); }, note.str());
 }
 
@@ -219,11 +220,16 @@ void Figure6(Context& c) {
     }
   }
   std::ostringstream body;
-  body << "set multiplot layout 2,5\n"
-       << "unset key\nset xlabel 't_2 (s)'\nset ylabel 'det A_2'\n";
+  // Ten small panels: labels shared (y on the left column, x on the bottom
+  // row), ticks at 0 and T only, the markers named once below the panels.
+  body << "set multiplot layout 2,5 margins 0.08, 0.98, 0.16, 0.94 spacing 0.035, 0.12\nunset key\n"
+       << "set label 1 'open green: the trivial root t_2 = T/2;   filled vermillion: the roots t_2 {/Symbol \\271} T/2' "
+          "at screen 0.5, screen 0.03 center\n"
+       << "set format y '%g'\nset ytics scale 0.5\n";
   for (int period = 1; period <= 10; ++period) {
-    body << "set title 'T = " << period << "'\nset xrange [0:" << period << "]\nset xtics " << 0.5 * period
-         << "\n"
+    body << "set title 'T = " << period << "'\nset xrange [0:" << period << "]\nset xtics (0, " << period << ")\n"
+         << "set xlabel '" << (period > 5 ? "t_2 (s)" : "") << "'\nset ylabel '" << (period % 5 == 1 ? "det A_2" : "")
+         << "'\n"
          << "plot 'fig06_det_a2.csv' using ($1 == " << period << " ? $2 : 1/0):3 " << With("function") << " notitle, "
          << "'fig06_roots.csv' using ($1 == " << period << " && $3 == 1 ? $2 : 1/0):(0) " << With("trivial_root")
          << " notitle, '' using ($1 == " << period << " && $3 == 0 ? $2 : 1/0):(0) " << With("root") << " notitle\n";
@@ -304,9 +310,9 @@ void Figure7(Context& c) {
   plot.Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 0 ? $2 : 1/0)", With("potential", "points"),
            "potential, not admissible", grey)
       .Add("$half using 1:2", With("two_half"), "t_2 = T/2")
-      .Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 1 && $6 == 1 ? $2 : 1/0):3", style::WithPalette("two_stable"),
+      .Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 1 && $6 == 1 ? $2 : 1/0):3", style::WithPalette("map_stable"),
            "admissible, stable (filled)", stable)
-      .Add("'' using 1:($9 == 1 && $5 == 1 && $6 == 0 ? $2 : 1/0):3", style::WithPalette("two_unstable"),
+      .Add("'' using 1:($9 == 1 && $5 == 1 && $6 == 0 ? $2 : 1/0):3", style::WithPalette("map_unstable"),
            "admissible, unstable (open)", unstable);
   Draw(c, "fig07_two_impact_energy", body.str() + plot.str());
 }
@@ -416,34 +422,49 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
     }
   }
   out.Commit();
+  // The colour bar: the position along the family, its ends named by the
+  // parameter's values (short: a long bar label is cut in the column PDF).
   std::ostringstream bar;
-  bar << "position along the family: " << family.parameter << " from " << std::setprecision(4) << s_lo << " (0) to "
-      << s_hi << " (1)";
+  bar << std::setprecision(4) << "set cbtics ('" << family.parameter << " = " << s_lo << "' 0, '" << s_hi << "' 1, '' 0.5)\n";
   const std::string u = std::to_string(TCol() + cols[0]), w = std::to_string(TCol() + cols[1]),
                     v = std::to_string(TCol() + cols[2]);
   std::ostringstream body;
-  body << "set multiplot\nset size 0.56, 1\nset origin 0, 0\n" << style::Palette("family", bar.str())
-       << "set cbrange [0:1]\nset colorbox user origin screen 0.565, screen 0.25 size screen 0.02, screen 0.5\n"
+  // (No bar label: it would run into the projection's; the map's one
+  // meaning, the position along the family, is said above the bar.)
+  body << "set multiplot\nset size 0.56, 1\nset origin 0, 0\n" << style::Palette("family", "")
+       << bar.str() << "set cbrange [0:1]\nset colorbox user origin screen 0.565, screen 0.25 size screen 0.02, screen 0.5\n"
+       << "set label 1 'along the family' at screen 0.575, screen 0.78 center\n"
+       // About four ticks per 3-D axis: more collide at the column PDF's size.
+       << "set xtics " << NiceStep(lo[0], hi[0], 3) << "\nset ytics " << NiceStep(lo[1], hi[1], 3) << "\nset ztics "
+       << NiceStep(lo[2], hi[2], 4) << "\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
        << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate\n"
        << "set view 62, 35\nset xyplane relative 0\nset key at screen 0.02, screen 0.99 left top\n"
        << "set pm3d depthorder noborder\n"
        << "$plane << EOD\n"
        << lo[0] << "," << c.b.gap << "," << lo[2] << "\n" << lo[0] << "," << c.b.gap << "," << hi[2] << "\n\n"
-       << hi[0] << "," << c.b.gap << "," << lo[2] << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\nEOD\n";
+       << hi[0] << "," << c.b.gap << "," << lo[2] << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\nEOD\n"
+       // The plane's outline, keyed (a surface has no key sample).
+       << "$edge << EOD\n" << lo[0] << "," << c.b.gap << "," << lo[2] << "\n" << lo[0] << "," << c.b.gap << "," << hi[2]
+       << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\n" << hi[0] << "," << c.b.gap << "," << lo[2] << "\n"
+       << lo[0] << "," << c.b.gap << "," << lo[2] << "\nEOD\n";
   Plot surface("splot");
   surface.Unkeyed("'" + name + ".csv' index 0 using " + u + ":" + w + ":" + v + ":2", "with pm3d")
-      .Add("$plane using 1:2:3", "with pm3d fillcolor rgb '" + style::Colour("plane") + "'", "obstacle x_c = d");
+      .Unkeyed("$plane using 1:2:3", "with pm3d fillcolor rgb '" + style::Colour("plane") + "'")
+      .Add("$edge using 1:2:3", With("obstacle"), "obstacle x_c = d (the plane)");
+  // The projection: every other orbit of a dense family (the curves overlap).
+  const std::string every = family.orbits.size() > 25 ? " every :2" : "";
   Plot projection;
-  projection.Unkeyed("'" + name + ".csv' index 0 using " + w + ":" + v + ":2", "with lines lw 1 lc palette");
+  projection.Unkeyed("'" + name + ".csv' index 0" + every + " using " + w + ":" + v + ":2", "with lines lw 1 lc palette");
   for (std::size_t k = 0; k < curves.size(); ++k) {
     const std::string index = "'" + name + ".csv' index " + std::to_string(k + 1) + " using ";
     surface.Add(index + u + ":" + w + ":" + v, With(curves[k].role), curves[k].title,
                 static_cast<long>(curves[k].trajectories.size()));
     projection.Unkeyed(index + w + ":" + v, With(curves[k].role));
   }
-  body << surface.str() << "set size 0.34, 1\nset origin 0.66, 0\nunset pm3d\nunset colorbox\nunset key\nset xlabel '"
+  body << surface.str() << "unset label 1\nset size 0.32, 1\nset origin 0.68, 0\nunset pm3d\nunset colorbox\nunset key\nset xlabel '"
        << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s") << "'\n"
+       << "set xtics " << NiceStep(lo[1], hi[1], 2) << "\nset ytics " << NiceStep(lo[2], hi[2], 5) << "\n"
        << "set arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead " << style::Look("obstacle") << "\n"
        << projection.str() << "unset multiplot";
   Draw(c, name, body.str(), note);
@@ -531,11 +552,13 @@ void Figures11And12(Context& c) {
     tmax = std::max(tmax, branch[k].period);
   }
   std::ostringstream body;
+  // The colour bar: the position along the family, its ends named by the
+  // arclength from the grazing mode (short: a long label is cut in print).
   std::ostringstream bar;
-  bar << "position along the family: arclength s of the root curve from 0 (0, the grazing mode) to " << std::setprecision(4)
-      << std::abs(s1 - s0) << " (1)";
+  bar << std::setprecision(4) << "set cbtics ('s = 0' 0, '" << std::abs(s1 - s0) << "' 1, '' 0.5)\n";
   body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
-       << style::Palette("family", bar.str()) << "set cbrange [0:1]\n";
+       << style::Palette("family", "position along the family") << bar.str() << "set cbrange [0:1]\n"
+       << "set xrange [0:" << tmax << "]\n";
   Plot plot;
   plot.Unkeyed("'fig11_two_impact_mode.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)) +
                    ":($" + std::to_string(6 + 2 * c.b.n) + " / " + std::to_string(std::abs(s1 - s0)) + ")",
@@ -551,7 +574,7 @@ void Figures11And12(Context& c) {
        << "; T spans [" << tmin << ", " << tmax << "]";
   Draw(c, "fig11_two_impact_orbits", body.str(), note.str());
   // Fig. 12: the branch's orbits as a surface, finer than Fig. 11's curves.
-  SectionFamily family{"arclength s of the root curve", {}};
+  SectionFamily family{"s", {}};
   const int scans = 40;
   for (int j = 0; j <= scans; ++j) {
     const BranchPoint& p = AtArclength(m, static_cast<double>(j) / scans);
@@ -583,24 +606,19 @@ void Figures13To15(Context& c) {
     }
     std::ostringstream body;
     // The ends of the bridge (the grazing orbit and its shift) black, as in
-    // Fig. 14; the 2-ipp orbits between shaded by s / s_end on its colour bar.
+    // Fig. 14; the three 2-ipp orbits between in the family map's colours at
+    // their positions (each keyed: three curves need no colour bar).
     const std::string xc = std::to_string(XCol(c, c.contact));
-    body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
-         << style::Palette("family", "position along the family: s / s_{end} along the bridge (2-ipp, T = T_G)")
-         << "set cbrange [0:1]\n";
+    body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n";
     Plot plot;
     plot.Add("'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" + xc, With("limit"),
              "grazing 1-ipp orbit (s = 0)")
         .Add("'' using (strcol(1) eq 'one_shifted' ? $3 : 1/0):" + xc, With("limit_shifted"),
              "the same, shifted (s = s_{end})");
     for (int pct : {20, 50, 80}) {
-      const std::string spec = "'' using (strcol(1) eq 's" + std::to_string(pct) + "' ? $3 : 1/0):" + xc + ":(" +
-                               std::to_string(pct / 100.0) + ")";
-      if (pct == 20) {
-        plot.Add(spec, "with lines lw 1.5 lc palette", "2-ipp, s = 0.2, 0.5, 0.8 s_{end}");
-      } else {
-        plot.Unkeyed(spec, "with lines lw 1.5 lc palette");
-      }
+      plot.Add("'' using (strcol(1) eq 's" + std::to_string(pct) + "' ? $3 : 1/0):" + xc,
+               With("orbit", "lines", style::MapColour("family", pct / 100.0)),
+               "2-ipp, s = 0." + std::to_string(pct / 10) + " s_{end}");
     }
     plot.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
     body << plot.str();
@@ -619,7 +637,7 @@ void Figures13To15(Context& c) {
       if (!o.admissible) break;
       one.trajectories.push_back(OrbitTrajectory(c.b, o, kSamples));
     }
-    SectionFamily family{"s / s_{end} along the bridge (2-ipp, T = T_G)", {}};
+    SectionFamily family{"s / s_{end}", {}};
     for (int k = 0; k <= 20; ++k) {
       family.orbits.emplace_back(k / 20.0,
                                  OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, br->s_end * k / 20.0), kSurfaceSamples));
@@ -640,7 +658,7 @@ void Figures13To15(Context& c) {
     const double e_lo = std::min(lo, br->energy_min), e_hi = std::max(hi, br->energy_max);
     const double pad = 0.1 * (e_hi - e_lo);
     std::ostringstream body;
-    body << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key inside top left opaque\n"
+    body << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key below\n"
          << "set xrange [" << t - w << ":" << t + w << "]\nset yrange [" << e_lo - pad << ":" << e_hi + pad << "]\n"
          << table.Layers("fig15_bridge_fep.csv", "fig15_bridge.csv", 1);
     out.Commit();
@@ -666,9 +684,12 @@ void Figure17(Context& c) {
   const int n = static_cast<int>(c.bridges.size());
   const int cols = n <= 2 ? n : 2, rows = (n + cols - 1) / cols;
   std::ostringstream body;
-  // Each panel keys what it draws, inside its frame.
-  body << "set multiplot layout " << rows << "," << cols << "\nset key below samplen 1 spacing 0.9\n"
-       << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\n";
+  // Each panel keys what it draws in a band of its own below it; the plot
+  // areas are placed by hand so that they are the same size whatever the
+  // length of their keys.
+  const double cw = 1.0 / cols, ch = 1.0 / rows;
+  body << "set multiplot\nset key samplen 1.5 spacing 0.85 vertical maxrows 4\n"
+       << "set xlabel 'period T (s)' offset 0, 0.3\n";
   for (int k = 0; k < n; ++k) {
     const Bridge& br = c.bridges[k];
     const double w = 0.01 * br.period, height = br.energy_max - br.energy_min;
@@ -678,7 +699,15 @@ void Figure17(Context& c) {
     out << "\n\n";
     WriteBridges(bo.stream(), {br});
     bo << "\n\n";
-    body << "set xrange [" << br.period - w << ":" << br.period + w << "]\nset yrange ["
+    const double x0 = (k % cols) * cw, y0 = 1.0 - (k / cols + 1) * ch;
+    // (The energy label on the left column only: the right one's would run
+    // into its neighbour.)
+    body << "set lmargin at screen " << x0 + 0.22 * cw << "\nset rmargin at screen " << x0 + 0.97 * cw
+         << "\nset tmargin at screen " << y0 + 0.95 * ch << "\nset bmargin at screen " << y0 + 0.45 * ch
+         << "\nset key at screen " << x0 + 0.5 * cw << ", screen " << y0 + 0.26 * ch << " center top\n"
+         << "set ylabel '" << (k % cols == 0 ? "energy E (J)" : "") << "'\n"
+         << "set xtics " << NiceStep(br.period - w, br.period + w, 3) << "\n"
+         << "set xrange [" << br.period - w << ":" << br.period + w << "]\nset yrange ["
          << br.energy_min - 0.5 * height << ":" << br.energy_max + 0.5 * height << "]\n"
          << "set label 1 'B" << k + 1 << ": " << (IsGrazing(br) ? "grazing" : "period doubling") << ", T = "
          << std::setprecision(6) << br.period << "' at graph 0.03, graph 0.93 front\n"
@@ -802,6 +831,7 @@ void Figure18(Context& c) {
   opt.stability = StabilityPolicy::kAdmissible;
   double lo = INFINITY, hi = -INFINITY;
   std::vector<std::array<long, 2>> counts(sequences.size(), {0, 0});  // unstable, stable
+  std::vector<double> energies;
   for (std::size_t s = 0; s < sequences.size(); ++s) {
     const std::vector<int>& seq = sequences[s];
     // (A stream: GCC 12 warns falsely (-Wrestrict) on chains of string + literal.)
@@ -825,6 +855,7 @@ void Figure18(Context& c) {
         os << labels.back() << "," << s << "," << r.orbit.period << "," << (seq.size() == 1 ? 0.0 : r.orbit.times[0]) << ","
            << r.orbit.energy << "," << IsStable(r.stability) << "\n";
         ++counts[s][IsStable(r.stability)];
+        energies.push_back(r.orbit.energy);
         lo = std::min(lo, r.orbit.energy);
         hi = std::max(hi, r.orbit.energy);
       }
@@ -836,7 +867,11 @@ void Figure18(Context& c) {
     return;
   }
   std::ostringstream body;
-  body << "set logscale y\nset format y '10^{%T}'\nset yrange [" << 0.5 * lo << ":" << 2.0 * hi << "]\n"
+  // Up to 30 times the median energy, as the other frequency-energy plots:
+  // the families fill the frame, their diverging ends leave it.
+  std::nth_element(energies.begin(), energies.begin() + static_cast<long>(energies.size() / 2), energies.end());
+  const double top = std::min(2.0 * hi, 30.0 * energies[energies.size() / 2]);
+  body << "set logscale y\nset format y '10^{%T}'\nset yrange [" << 0.5 * lo << ":" << top << "]\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n"
        << "set key below\n";
   // One colour per sequence (the sequences cycle); stability as everywhere:
@@ -980,14 +1015,24 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
     if (r.orbit.energy > 0.0) e_min = std::min(e_min, r.orbit.energy);
     e_max = std::max(e_max, r.orbit.energy);
     if (r.orbit.impacts > 0 && r.orbit.admissible) v_max = std::max(v_max, r.orbit.min_impact_velocity);
+    // The frame holds the admissible responses (a branch admissible nowhere
+    // is drawn where it meets them, not followed across an empty axis).
     const double x = frequency ? r.orbit.frequency : r.orbit.amplitude;
-    x_lo = std::min(x_lo, x);
-    x_hi = std::max(x_hi, x);
+    if (r.orbit.admissible) {
+      x_lo = std::min(x_lo, x);
+      x_hi = std::max(x_hi, x);
+    }
     const double held = frequency ? r.orbit.amplitude : r.orbit.frequency;
     if (std::find(levels.begin(), levels.end(), held) == levels.end()) levels.push_back(held);
     level_of[r.branch] = static_cast<std::size_t>(std::find(levels.begin(), levels.end(), held) - levels.begin());
   }
   if (rows.empty() || !(e_max > 0.0)) return 0;
+  if (!(x_hi >= x_lo)) {  // nothing admissible: the whole sweep
+    for (const ResponseRow& r : rows) {
+      x_lo = std::min(x_lo, frequency ? r.orbit.frequency : r.orbit.amplitude);
+      x_hi = std::max(x_hi, frequency ? r.orbit.frequency : r.orbit.amplitude);
+    }
+  }
   // The special points (located between grid points) inside the frame too.
   for (const SpecialPoint& p : points) {
     if (!p.orbit.admissible) continue;
@@ -1001,6 +1046,7 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
   // response.csv columns (1-based, tables.h): w 1, amplitude 2, energy 5,
   // max_xc 6, impact_velocity 7, admissible 8, stable 9, branch 12 + 2N.
   const std::string branch_col = std::to_string(12 + 2 * dofs), x = frequency ? "1" : "2";
+  const double frame_lo = x_lo - 0.05 * (x_hi - x_lo), frame_hi = x_hi + 0.05 * (x_hi - x_lo);
   int failed = 0;
   for (const auto& [name, col, label] :
        {std::tuple<std::string, int, std::string>{"response_energy", 5, "mean energy (J)"},
@@ -1009,7 +1055,7 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
     body << std::setprecision(17) << "set datafile separator ','\nset key below\n"
          << "set xlabel '" << (frequency ? "forcing frequency w (rad/s)" : "forcing amplitude a (N)") << "'\n"
          << "set ylabel '" << label << "'\n"
-         << "set xrange [" << x_lo << ":" << x_hi << "]\n"
+         << "set xrange [" << frame_lo << ":" << frame_hi << "]\n"
          // The responses fill the frame; the backbone leaves it where it
          // diverges (towards its singular transitions).
          << (col == 5 ? "set logscale y\nset yrange [" + std::to_string(0.5 * e_min) + ":" + std::to_string(3.0 * e_max) + "]\n"
@@ -1019,7 +1065,9 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
     // the axis).
     std::map<int, std::array<long, 3>> count;  // branch -> not admissible, unstable, stable
     for (const ResponseRow& r : rows) {
-      if (col == 7 ? r.orbit.impacts > 0 && r.orbit.min_impact_velocity >= 0.0 : r.orbit.energy > 0.0) {
+      const double at = frequency ? r.orbit.frequency : r.orbit.amplitude;
+      if (at >= frame_lo && at <= frame_hi &&
+          (col == 7 ? r.orbit.impacts > 0 && r.orbit.min_impact_velocity >= 0.0 : r.orbit.energy > 0.0)) {
         ++count[r.branch][r.orbit.admissible ? 1 + r.orbit.stable : 0];
       }
     }
