@@ -11,7 +11,7 @@ never a colour::
     style.use("png")                        # fonts and size of the PNG charts
     fig, ax = plt.subplots(figsize=style.figsize("png"))
     ax.plot(T, E, **style.series("one_stable"), label="1-ipp, stable")
-    style.save(fig, "out/fep")              # fep.png, .svg, .pdf, .column.pdf
+    style.save(fig, "out/fep")              # fep.png, .svg, .pdf (as drawn)
 """
 import json as _json
 
@@ -95,8 +95,12 @@ def use(fmt="png"):
     })
 
 
-def save(fig, stem, formats=FORMATS):
-    """Writes STEM.png, STEM.svg, STEM.pdf and STEM.column.pdf (the
-    figure as drawn; sizes per format come from figsize and use)."""
+def save(fig, stem, formats=("png", "svg", "pdf")):
+    """Writes STEM.EXT for each of `formats` (of FORMATS), the figure as
+    drawn: a chart for an 8.5 cm column is drawn at its size, with
+    use("column.pdf") and figsize("column.pdf"), then saved as
+    save(fig, stem, ["column.pdf"])."""
     for fmt in formats:
+        if fmt not in FORMATS:
+            raise ValueError(f"nsmodal.style.save: formats: {fmt!r} is not one of {FORMATS}")
         fig.savefig(f"{stem}.{fmt}", dpi=100 if fmt == "png" else None)

@@ -60,3 +60,21 @@ def test_an_unknown_role_is_named():
     else:
         raise AssertionError("an unknown role was accepted")
     assert nsmodal.__name__ == "nsmodal"
+
+
+def test_save_writes_the_formats_asked_and_names_a_bad_one(tmp_path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    style.use("column.pdf")
+    fig, ax = plt.subplots(figsize=style.figsize("column.pdf"))
+    ax.plot([0, 1], [0, 1], **style.series("one_stable"))
+    style.save(fig, str(tmp_path / "c"), ["column.pdf", "png"])
+    assert (tmp_path / "c.column.pdf").stat().st_size > 0 and (tmp_path / "c.png").stat().st_size > 0
+    try:
+        style.save(fig, str(tmp_path / "c"), ["jpg"])
+    except ValueError as e:
+        assert "formats" in str(e) and "jpg" in str(e)
+    else:
+        raise AssertionError("an unknown format was accepted")
+    plt.close(fig)
