@@ -23,12 +23,13 @@ std::string VerticalLines(const std::string& name, const std::vector<double>& xs
 std::string DofLabel(const char* symbol, int dof, const char* unit) {
   return std::string(symbol) + "_{" + std::to_string(dof + 1) + "} (" + unit + ")";
 }
+std::string Xc(const Context& c) { return "x_{" + std::to_string(c.contact + 1) + "}"; }
 std::string XcLabel(const Context& c) { return "contact displacement " + DofLabel("x", c.contact, "m"); }
 
-void Draw(Context& c, const std::string& name, const std::string& body, const std::string& note) {
+void Draw(Context& c, const std::string& name, const std::string& body, const std::string& note, double aspect) {
   // Offsets keep a curve that touches d off the frame of an autoscaled axis.
   const std::string setup = "set datafile separator ','\nset offsets graph 0, graph 0, graph 0.05, graph 0.05\n";
-  const report::ChartStatus s = report::DrawChart(c.dir, name, setup + body);
+  const report::ChartStatus s = report::DrawChart(c.dir, name, setup + body, aspect);
   (s.drawn ? c.drawn : c.failed) += 1;
   c.log << "  " << name << (note.empty() ? "" : ": " + note) << (s.drawn ? "" : ": not drawn: " + s.message) << "\n";
 }
@@ -89,6 +90,44 @@ std::pair<double, double> EnergyRange(const Context& c) {
   return {0.5 * lo, std::min(hi, 1e4 * lo)};
 }
 
+std::string LogTics(const char* axis, double lo, double hi) {
+  std::ostringstream os;
+  os << "set " << axis << "tics (";
+  const double decades = std::log10(hi / lo);
+  const std::vector<double> mantissas = decades <= 1.5 ? std::vector<double>{1, 2, 5} :
+                                        decades <= 3.5 ? std::vector<double>{1, 3} : std::vector<double>{1};
+  bool first = true;
+  for (double p = std::floor(std::log10(lo)); p <= std::ceil(std::log10(hi)); ++p) {
+    for (double m : mantissas) {
+      const double v = m * std::pow(10.0, p);
+      if (v < lo * (1 - 1e-9) || v > hi * (1 + 1e-9)) continue;
+      os << (first ? "" : ", ") << "'" << v << "' " << v;
+      first = false;
+    }
+  }
+  os << ")\nset m" << axis << "tics 10\n";
+  return first ? std::string("set format ") + axis + " '10^{%T}'\n" : os.str();
+}
+
+std::string InnerTics(const char* axis, double lo, double hi, int ticks) {
+  const double step = NiceStep(lo, hi, ticks);
+  const double first = std::ceil((lo + 0.4 * step) / step) * step, last = std::floor((hi - 0.4 * step) / step) * step;
+  std::ostringstream os;
+  if (first <= last) {
+    os << "set " << axis << "tics " << first << ", " << step << ", " << last << "\n";
+  } else {
+    os << "set " << axis << "tics " << step << "\n";
+  }
+  return os.str();
+}
+
+void BridgeLabels(const Context& c, std::ostream& body) {
+  for (std::size_t k = 0; k < c.bridges.size(); ++k) {
+    const Bridge& b = c.bridges[k];
+    body << "set label 'B" << k + 1 << "' at " << b.period << ", " << b.energy_max << " offset -0.6, 1.1 front\n";
+  }
+}
+
 double NiceStep(double lo, double hi, int ticks) {
   const double raw = std::max(hi - lo, 1e-300) / std::max(ticks, 1);
   const double decade = std::pow(10.0, std::floor(std::log10(raw)));
@@ -101,7 +140,7 @@ double NiceStep(double lo, double hi, int ticks) {
 std::string EnergyAxes(const Context& c) {
   const auto [lo, hi] = EnergyRange(c);
   std::ostringstream os;
-  os << "set logscale y\nset format y '10^{%T}'\nset yrange [" << lo << ":" << hi << "]\n"
+  os << "set logscale y\n" << LogTics("y", lo, hi) << "set yrange [" << lo << ":" << hi << "]\n"
      << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n"
      << "set key below\n";
   return os.str();

@@ -5,6 +5,7 @@
 // axis, the frequency-energy table. Every series is drawn by its role in the
 // one visual language (report/style.toml, style.h); no colour is named here.
 #include <Eigen/Dense>
+#include <algorithm>
 #include <optional>
 #include <ostream>
 #include <sstream>
@@ -91,12 +92,16 @@ struct Context {
 // Axis labels, in the paper's SI units (gnuplot enhanced text).
 std::string DofLabel(const char* symbol, int dof, const char* unit);
 std::string XcLabel(const Context& c);
+// The contact displacement's symbol in keys, as on the axes: x_{2} for the
+// paper's system (not x_c: one name per quantity on a chart).
+std::string Xc(const Context& c);
 
 // Draws NAME from `body` (report::DrawChart) and logs it. The data files
 // must be closed (flushed) before. Figures carry no titles (captions go with
 // the figure, docs/source/figures.md): `note` is the caption's numbers,
 // printed beside the name.
-void Draw(Context& c, const std::string& name, const std::string& body, const std::string& note = "");
+void Draw(Context& c, const std::string& name, const std::string& body, const std::string& note = "",
+          double aspect = 0.0);
 
 bool IsStable(const std::optional<Stability>& s);
 
@@ -112,12 +117,27 @@ int XCol(const Context&, int dof);
 
 // Energy range and axes of a frequency-energy plot.
 std::pair<double, double> EnergyRange(const Context& c);
+// The labelled ticks of a log axis over [lo, hi]: 1, 2, 5 per decade on
+// up to a decade and a half, 1 and 3 on up to three and a half, powers of 10
+// beyond (a log axis with two labels is hard to read).
+std::string LogTics(const char* axis, double lo, double hi);
+// About `ticks` ticks on [lo, hi] none of them within 0.4 of a step of its
+// ends: on a 3-D chart's floor the two axes' end labels meet at a corner.
+std::string InnerTics(const char* axis, double lo, double hi, int ticks);
 // A tick step of 1, 2 or 5 times a power of 10 giving about `ticks` ticks on
 // [lo, hi] (small panels, 3-D axes and column PDFs need few).
 double NiceStep(double lo, double hi, int ticks);
 std::string EnergyAxes(const Context& c);
 
 void WriteBridges(std::ostream& out, const std::vector<Bridge>& bridges);
+// Labels B1, B2, ... at the top of each bridge of the atlas (Figs. 8, 17,
+// fep_all_families name them alike).
+void BridgeLabels(const Context& c, std::ostream& body);
+
+// The step between the drawn 2-ipp points of a frequency-energy plot over a
+// grid of `periods` periods: about 500 columns of markers across the chart
+// (fewer lose the steep branches; more merge the markers into bands).
+inline int PointsEvery(std::size_t periods) { return std::max(1, static_cast<int>(periods / 500)); }
 
 // The rows of a frequency-energy plot's CSV (family,T,t2,energy,stable) of
 // admissible orbits, grouped by family, so that a family with one orbit per
@@ -125,6 +145,11 @@ void WriteBridges(std::ostream& out, const std::vector<Bridge>& bridges);
 // blank line) wherever a period of the grid has no admissible orbit of it.
 class FepTable {
  public:
+  // `every`: the 2-ipp points (a cloud, not a line) are drawn on every
+  // every-th step of the grid only, so that the markers stand apart and a
+  // filled (stable) one can be told from an open (unstable) one; the CSV
+  // holds them all, with a column `drawn`.
+  explicit FepTable(int every = 1) : every_(std::max(every, 1)) {}
   // The admissible orbits of an atlas's 1- and 2-ipp sweeps.
   void AddAtlas(const Atlas& atlas) {
     for (std::size_t k = 0; k < atlas.one.at.size(); ++k) {
@@ -144,9 +169,10 @@ class FepTable {
     Family& f = one ? one_ : half ? half_ : three ? three_ : two_;
     if ((one || half || three) && f.last >= 0 && step != f.last + 1) f.rows << "\n";
     f.last = step;
-    (IsStable(s) ? f.stable : f.unstable) += 1;
+    const bool drawn = one || half || three || step % every_ == 0;
+    (IsStable(s) ? f.stable : f.unstable) += drawn;
     f.rows << (one ? "1-ipp" : half ? "2-ipp-half" : three ? "3-ipp" : "2-ipp") << "," << o.period << ","
-           << (one ? 0.0 : o.times[0]) << "," << o.energy << "," << IsStable(s) << "\n";
+           << (one ? 0.0 : o.times[0]) << "," << o.energy << "," << IsStable(s) << "," << drawn << "\n";
   }
   // The plot of the CSV `csv` written by Write and of a bridges CSV with
   // `bridges` rows (WriteBridges). Families with one orbit per period are
@@ -162,13 +188,13 @@ class FepTable {
   void AddLayers(Plot& plot, const std::string& csv, const std::string& bridges, long bridge_count, int index = -1) const {
     const std::string ix = index < 0 ? "" : " index " + std::to_string(index);
     auto select = [&](const char* family, const char* stable) {
-      return "'" + csv + "'" + ix + " using 2:(strcol(1) eq '" + family + "'" + stable + " ? $4 : 1/0)";
+      return "'" + csv + "'" + ix + " using 2:(strcol(1) eq '" + family + "'" + stable + " && $6 == 1 ? $4 : 1/0)";
     };
     plot.Add(select("2-ipp", " && $5 == 1"), With("two_stable"), "2-ipp, stable", two_.stable)
         .Add(select("2-ipp", " && $5 == 0"), With("two_unstable"), "2-ipp, unstable", two_.unstable)
         .Add(select("1-ipp", " && $5 == 1"), With("one_stable"), "1-ipp, stable", one_.stable)
         .Add(select("1-ipp", " && $5 == 0"), With("one_unstable"), "1-ipp, unstable", one_.unstable)
-        .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp, t2 = T/2 (1-ipp dilated)",
+        .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp, t_2 = T/2 (1-ipp dilated)",
              half_.stable + half_.unstable)
         .Add(select("3-ipp", " && $5 == 1"), With("three_stable"), "3-ipp, stable", three_.stable)
         .Add(select("3-ipp", " && $5 == 0"), With("three_unstable"), "3-ipp, unstable", three_.unstable)
@@ -176,7 +202,7 @@ class FepTable {
   }
   void Write(std::ostream& out) const {
     // One blank line between the families (two would start a new dataset).
-    out << "family,T,t2,energy,stable\n";
+    out << "family,T,t2,energy,stable,drawn\n";
     bool first = true;
     for (const Family* f : {&one_, &half_, &two_, &three_}) {
       if (f->last < 0) continue;
@@ -192,6 +218,7 @@ class FepTable {
     long stable = 0, unstable = 0;
   };
   Family one_, half_, two_, three_;
+  int every_ = 1;
 };
 
 // The transitions of the 1-ipp family on a frequency-energy plot, written

@@ -129,10 +129,12 @@ void FigureModel(Context& c) {
   body << "set arrow from " << left(n - 1) + size << ", -0.15 to " << wall << ", -0.15 heads size 0.1,25 "
        << style::Look("function") << "\nset label 'd = " << Num(m.FirstContact().gap) << "' at "
        << 0.5 * (left(n - 1) + size + wall) << ", -0.45 center\n"
-       << "set label 'e = " << Num(stop.restitution) << "' at " << wall + 0.35 << ", 0.5 left\n";
+       << "set label 'restitution e = " << Num(stop.restitution) << "' at " << wall << ", -0.55 center\n";
   std::ostringstream chart;
-  chart << "unset border\nunset tics\nunset grid\nunset key\nset size ratio -1\nset xrange [-0.6:" << wall + 1.6
-        << "]\nset yrange [-0.8:2.0]\n" << lines.str() << body.str();
+  // The canvas of the drawing's shape: no white bands around it.
+  const double x_lo = -0.6, x_hi = wall + 1.6, y_lo = -0.8, y_hi = 2.0;
+  chart << "unset border\nunset tics\nunset grid\nunset key\nset size ratio -1\nset margins 0, 0, 0, 0\nset xrange ["
+        << x_lo << ":" << x_hi << "]\nset yrange [" << y_lo << ":" << y_hi << "]\n" << lines.str() << body.str();
   Plot plot;
   plot.Unkeyed("$drawing using 1:2", With("function"));
   report::ResultFile out(c.dir, "fig01_model.csv");
@@ -141,7 +143,8 @@ void FigureModel(Context& c) {
     out << i + 1 << "," << m.mass(i, i) << "," << (i == 0 ? m.stiffness.row(0).sum() : -m.stiffness(i - 1, i)) << "\n";
   }
   out.Commit();
-  Draw(c, "fig01_model", chart.str() + plot.str(), std::to_string(n) + " masses, the stop beyond mass " + std::to_string(n));
+  Draw(c, "fig01_model", chart.str() + plot.str(), std::to_string(n) + " masses, the stop beyond mass " + std::to_string(n),
+       (y_hi - y_lo) / (x_hi - x_lo));
 }
 
 // multipliers_one_impact: the Floquet multipliers of the admissible 1-ipp
@@ -206,8 +209,8 @@ void FigureMultipliers(Context& c) {
   // of the unstable orbits are on the left panel).
   body << left.str() << "unset logscale y\nset size ratio -1\nset xrange [-2.5:2.5]\nset yrange [-2.5:2.5]\n"
        << "set xlabel 'Re {/Symbol m}'\nset ylabel 'Im {/Symbol m}'\n"
-       << style::Palette("family", "position along the 1-ipp branch") << "set cbtics ('T = " << Num(t_lo) << "' 0, '"
-       << Num(t_hi) << "' 1, '' 0.5)\nset cbrange [0:1]\nunset key\n";
+       << style::Palette("family", "T (s) along the 1-ipp branch") << "set cbtics ('" << Num(t_lo) << "' 0, '"
+       << Num(0.5 * (t_lo + t_hi)) << "' 0.5, '" << Num(t_hi) << "' 1)\nset cbrange [0:1]\nunset key\n";
   // The unit circle over the points (the line |mu| = 1 of the left panel).
   Plot right;
   right.Unkeyed("'multipliers_one_impact.csv' using 5:6:(($1 - " + std::to_string(t_lo) + ") / " +
@@ -242,7 +245,10 @@ void FigureTimeHistory(Context& c) {
   for (int i = 1; i <= n; ++i) out << ",v" << i;
   out << "\n";
   jumps << "t,x_c,v_before,v_after\n";
+  double v_lo = 0.0, v_hi = 0.0;  // the contact velocity's range (about four ticks on it)
   auto row = [&](double t, const Eigen::VectorXd& z) {
+    v_lo = std::min(v_lo, z[n + c.contact]);
+    v_hi = std::max(v_hi, z[n + c.contact]);
     out << t;
     for (long k = 0; k < z.size(); ++k) out << "," << z[k];
     out << "\n";
@@ -285,7 +291,8 @@ void FigureTimeHistory(Context& c) {
   bottom.Add("'time_history.csv' using 1:" + vc, With("dof_contact"), "v_{" + std::to_string(c.contact + 1) + "}")
       .Add("'time_history_impacts.csv' using 1:3:(0):($4 - $3)", With("velocity_jump"), "velocity jump v^- to v^+ = -e v^-",
            s.impacts);
-  body << top.str() << "set format x '% g'\nset xlabel 'time t (s)'\nset ylabel 'contact velocity (m/s)'\n" << bottom.str()
+  body << top.str() << "set format x '% g'\nset xlabel 'time t (s)'\nset ylabel 'contact velocity (m/s)'\nset ytics "
+       << NiceStep(v_lo, v_hi, 4) << "\n" << bottom.str()
        << "unset multiplot";
   Draw(c, "time_history", body.str(),
        "the stable 1-ipp orbit T = " + Num(o->period, 6) + ", " + std::to_string(periods) + " periods simulated (exact), " +
@@ -363,7 +370,7 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
     p.Add("'validation_orbits.csv' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'analytic' ? $3 : 1/0):4",
           With("analytic"), "analytic")
         .Add("'' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'simulated' ? $3 : 1/0):4", With("simulated"),
-             "simulated, period " + std::to_string(shown))
+             "simulation, its " + std::to_string(shown) + "th period")
         .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
     body << p.str();
   }
@@ -386,7 +393,7 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
 // fep_all_families: the frequency-energy plot of Fig. 8 with the 3-ipp
 // family of Fig. 16 (its admissible orbits), the bridges and transitions.
 void FigureAllFamilies(Context& c, const ThreeImpactPick& three) {
-  FepTable table;
+  FepTable table(PointsEvery(c.atlas.two.at.size()));
   table.AddAtlas(c.atlas);
   for (std::size_t k = 0; k < three.family.size(); ++k) {
     const Orbit& o = three.family[k];
@@ -403,6 +410,7 @@ void FigureAllFamilies(Context& c, const ThreeImpactPick& three) {
   Plot plot;
   table.AddLayers(plot, "fep_all_families.csv", "fep_all_families_bridges.csv", static_cast<long>(c.bridges.size()));
   TransitionLayers(c, "fep_all_families_transitions.csv", false, body, plot);
+  BridgeLabels(c, body);
   body << plot.str();
   Draw(c, "fep_all_families", body.str(),
        three.family.empty() ? "no 3-ipp family found" :
@@ -460,7 +468,7 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
        // (a strip above x = L: the impacts marked there are not cut.)
        << "set xrange [0:" << 1e3 * opt.t_end << "]\nset yrange [0:" << 1.04 * bar.length << "]\nset ytics "
        << NiceStep(0.0, bar.length, 4) << "\n"
-       << style::Palette("displacement", "displacement u / d (the wall at u / d = 1)") << "set cbrange [" << -m << ":" << m
+           << style::Palette("displacement", "u / d") << "set cbrange [" << -m << ":" << m
        << "]\nunset key\n";
   Plot map;
   map.Unkeyed("'bar_spacetime.csv' using 1:2:3", "with image")

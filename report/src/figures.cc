@@ -58,8 +58,8 @@ void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const cha
        << "]\n" << setup;
   Plot plot;
   plot.Add("'" + name + ".csv' using " + xc, "with filledcurves above y=" + std::to_string(c.b.gap) + " " + style::Look("excess"),
-           "x_c > d", above)
-      .Add("'' using " + xc, With(role), "x_c(t)")
+           Xc(c) + " > d", above)
+      .Add("'' using " + xc, With(role), Xc(c) + "(t)")
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
   if (marks) marks(plot);
   Draw(c, name, body.str() + plot.str(), note);
@@ -79,8 +79,9 @@ void Mark(Plot& plot, double t, double x, const char* role, const std::string& t
 // Layers circling the points (t, d) where an orbit grazes the obstacle.
 std::function<void(Plot&)> GrazeMarks(const Context& c, const std::vector<double>& times) {
   const double d = c.b.gap;
-  return [times, d](Plot& plot) {
-    for (std::size_t k = 0; k < times.size(); ++k) Mark(plot, times[k], d, "grazing", k ? "" : "graze: x_c = d, v_c = 0");
+  const std::string title = "graze: " + Xc(c) + " = d, v_{" + std::to_string(c.contact + 1) + "} = 0";
+  return [times, d, title](Plot& plot) {
+    for (std::size_t k = 0; k < times.size(); ++k) Mark(plot, times[k], d, "grazing", k ? "" : title);
   };
 }
 
@@ -103,7 +104,7 @@ void Figure2(Context& c) {
   note << "T = " << pick->period << ", t2 = " << t2 << ", x_c(t2) = " << x_t2 << ", x_c exceeds d by up to "
        << pick->max_excess;
   DrawOneOrbit(c, "fig02_not_admissible", *pick, "orbit_not_admissible", setup.str(),
-               [&](Plot& plot) { Mark(plot, t2, x_t2, "mark", "x_c(t_2) {/Symbol \\271} d: NC2 fails"); }, note.str());
+               [&](Plot& plot) { Mark(plot, t2, x_t2, "mark", Xc(c) + "(t_2) {/Symbol \\271} d: NC2 fails"); }, note.str());
 }
 
 // Fig. 3: 1-ipp energies, admissible zones coloured by stability,
@@ -152,10 +153,11 @@ void Figure4(Context& c, const ModalPick& m) {
   std::ostringstream body;
   body << "set xlabel 'normalised time t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n";
   const std::string xc = std::to_string(XCol(c, c.contact));
-  std::ostringstream in_title, mode_title, beyond_title;
+  std::ostringstream in_title, mode_title, beyond_title;  // (periods to 4 digits: the note has them all)
+  for (std::ostringstream* os : {&in_title, &mode_title, &beyond_title}) *os << std::setprecision(4);
   in_title << "T = " << in.period << " (admissible)";
   mode_title << "T = " << m.period << " (grazing linear mode)";
-  beyond_title << "T = " << beyond.period << " (x_c > d: not admissible)";
+  beyond_title << "T = " << beyond.period << " (" << Xc(c) << " > d: not admissible)";
   Plot plot;
   plot.Add("'fig04_modal_transition.csv' using (strcol(1) eq 'admissible' ? $3/$2 : 1/0):" + xc, With("orbit"), in_title.str())
       .Add("'' using (strcol(1) eq 'modal' ? $3/$2 : 1/0):" + xc, With("limit"), mode_title.str())
@@ -209,30 +211,46 @@ void Figure6(Context& c) {
   report::ResultFile roots(c.dir, "fig06_roots.csv");
   out << "T,t2,det\n";
   roots << "T,t2,half_period\n";
+  std::vector<std::array<double, 2>> range(11, {INFINITY, -INFINITY});  // det's range at each T
+  std::vector<std::array<long, 2>> found(11, {0, 0});                   // roots off T/2, trivial roots
   for (int period = 1; period <= 10; ++period) {
     for (int j = 1; j < 1000; ++j) {
-      const double t2 = period * j / 1000.0;
-      out << period << "," << t2 << "," << MatrixA(c.b, {t2}, period).determinant() << "\n";
+      const double t2 = period * j / 1000.0, det = MatrixA(c.b, {t2}, period).determinant();
+      out << period << "," << t2 << "," << det << "\n";
+      range[period] = {std::min(range[period][0], det), std::max(range[period][1], det)};
     }
     out << "\n";
     for (double r : TwoImpactRoots(c.b, period)) {
       roots << period << "," << r << "," << AtHalfPeriod(r, period) << "\n";
+      ++found[period][AtHalfPeriod(r, period)];
     }
   }
   std::ostringstream body;
   // Ten small panels: labels shared (y on the left column, x on the bottom
-  // row), ticks at 0 and T only, the markers named once below the panels.
-  body << "set multiplot layout 2,5 margins 0.08, 0.98, 0.16, 0.94 spacing 0.035, 0.12\nunset key\n"
-       << "set label 1 'open green: the trivial root t_2 = T/2;   filled vermillion: the roots t_2 {/Symbol \\271} T/2' "
-          "at screen 0.5, screen 0.03 center\n"
-       << "set format y '%g'\nset ytics scale 0.5\n";
+  // row), ticks at 0 and T and about three on det, the two kinds of root
+  // keyed once each below the panels (by the first panel that draws one).
+  body << "set multiplot layout 2,5 margins 0.09, 0.98, 0.17, 0.94 spacing 0.05, 0.13\n"
+       << "set format y '%g'\nset ytics scale 0.5\nset key horizontal\n";
+  bool keyed[2] = {false, false};
   for (int period = 1; period <= 10; ++period) {
+    const std::string at = "($1 == " + std::to_string(period) + " && $3 == ";
+    Plot plot;
+    plot.Unkeyed("'fig06_det_a2.csv' using ($1 == " + std::to_string(period) + " ? $2 : 1/0):3", With("function"));
+    for (int trivial : {1, 0}) {
+      const std::string spec = "'fig06_roots.csv' using " + at + std::to_string(trivial) + " ? $2 : 1/0):(0)";
+      const char* role = trivial ? "trivial_root" : "root";
+      if (!keyed[trivial] && found[period][trivial] > 0) {
+        body << "set key at screen " << (trivial ? 0.3 : 0.7) << ", screen 0.02 center bottom\n";
+        plot.Add(spec, With(role), trivial ? "trivial root t_2 = T/2" : "root t_2 {/Symbol \\271} T/2");
+        keyed[trivial] = true;
+      } else {
+        plot.Unkeyed(spec, With(role));
+      }
+    }
+    const double lo = std::min(range[period][0], 0.0), hi = range[period][1];
     body << "set title 'T = " << period << "'\nset xrange [0:" << period << "]\nset xtics (0, " << period << ")\n"
          << "set xlabel '" << (period > 5 ? "t_2 (s)" : "") << "'\nset ylabel '" << (period % 5 == 1 ? "det A_2" : "")
-         << "'\n"
-         << "plot 'fig06_det_a2.csv' using ($1 == " << period << " ? $2 : 1/0):3 " << With("function") << " notitle, "
-         << "'fig06_roots.csv' using ($1 == " << period << " && $3 == 1 ? $2 : 1/0):(0) " << With("trivial_root")
-         << " notitle, '' using ($1 == " << period << " && $3 == 0 ? $2 : 1/0):(0) " << With("root") << " notitle\n";
+         << "'\nset ytics " << NiceStep(lo, hi, 2) << "\n" << plot.str();
   }
   body << "unset multiplot";
   out.Commit();
@@ -262,7 +280,7 @@ void Figure6(Context& c) {
   plot.Add("$half using 1:2", With("two_half"), "trivial root t_2 = T/2 (the dilated 1-ipp)")
       .Add("'fig06_root_curves.csv' using 1:($4 == 1 && $3 == 0 ? $2 : 1/0)", With("potential", "points"),
            "other root, not admissible", other)
-      .Add("'' using 1:($4 == 1 && $3 == 1 ? $2 : 1/0)", With("two_stable", "points"), "other root, admissible", admissible);
+      .Add("'' using 1:($4 == 1 && $3 == 1 ? $2 : 1/0)", With("root_cloud"), "other root, admissible", admissible);
   Draw(c, "fig06_root_curves", plane.str() + plot.str());
 }
 
@@ -304,7 +322,7 @@ void Figure7(Context& c) {
   std::ostringstream body;
   body << "set xlabel 'period T (s)'\nset ylabel 'time of the second impact t_2 (s)'\nset key below\n"
        << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:" << c.periods.back() << "]\n"
-       << style::Palette("energy", "energy E (J) of the admissible orbits") << "set logscale cb\nset format cb '10^{%T}'\n"
+       << style::Palette("energy", "energy E (J) of the admissible orbits") << "set logscale cb\n" << LogTics("cb", e_lo, e_hi)
        << "set cbrange [" << e_lo << ":" << e_hi << "]\n" << HalfPeriodLine(c);
   Plot plot;
   plot.Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 0 ? $2 : 1/0)", With("potential", "points"),
@@ -320,7 +338,7 @@ void Figure7(Context& c) {
 // Fig. 8: the combined frequency-energy plot.
 void Figure8(Context& c) {
   report::ResultFile out(c.dir, "fig08_fep.csv");
-  FepTable table;
+  FepTable table(PointsEvery(c.atlas.two.at.size()));
   table.AddAtlas(c.atlas);
   table.Write(out.stream());
   report::ResultFile br(c.dir, "fig08_bridges.csv");
@@ -330,10 +348,7 @@ void Figure8(Context& c) {
   Plot plot;
   table.AddLayers(plot, "fig08_fep.csv", "fig08_bridges.csv", static_cast<long>(c.bridges.size()));
   TransitionLayers(c, "fig08_transitions.csv", false, body, plot);
-  for (std::size_t k = 0; k < c.bridges.size(); ++k) {
-    const Bridge& b = c.bridges[k];
-    body << "set label 'B" << k + 1 << "' at " << b.period << ", " << b.energy_max << " offset -0.6, 1.1 front\n";
-  }
+  BridgeLabels(c, body);
   body << plot.str();
   out.Commit();
   br.Commit();
@@ -425,7 +440,7 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   // The colour bar: the position along the family, its ends named by the
   // parameter's values (short: a long bar label is cut in the column PDF).
   std::ostringstream bar;
-  bar << std::setprecision(4) << "set cbtics ('" << family.parameter << " = " << s_lo << "' 0, '" << s_hi << "' 1, '' 0.5)\n";
+  bar << std::setprecision(4) << "set cbtics ('" << s_lo << "' 0, '" << 0.5 * (s_lo + s_hi) << "' 0.5, '" << s_hi << "' 1)\n";
   const std::string u = std::to_string(TCol() + cols[0]), w = std::to_string(TCol() + cols[1]),
                     v = std::to_string(TCol() + cols[2]);
   std::ostringstream body;
@@ -433,10 +448,10 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   // meaning, the position along the family, is said above the bar.)
   body << "set multiplot\nset size 0.56, 1\nset origin 0, 0\n" << style::Palette("family", "")
        << bar.str() << "set cbrange [0:1]\nset colorbox user origin screen 0.565, screen 0.25 size screen 0.02, screen 0.5\n"
-       << "set label 1 'along the family' at screen 0.575, screen 0.78 center\n"
+       << "set label 1 '" << family.parameter << "' at screen 0.575, screen 0.78 center\n"
        // About four ticks per 3-D axis: more collide at the column PDF's size.
-       << "set xtics " << NiceStep(lo[0], hi[0], 3) << "\nset ytics " << NiceStep(lo[1], hi[1], 3) << "\nset ztics "
-       << NiceStep(lo[2], hi[2], 4) << "\n"
+       << InnerTics("x", lo[0], hi[0], 3) << InnerTics("y", lo[1], hi[1], 3) << "set ztics " << NiceStep(lo[2], hi[2], 4)
+       << "\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
        << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate\n"
        << "set view 62, 35\nset xyplane relative 0\nset key at screen 0.02, screen 0.99 left top\n"
@@ -451,7 +466,7 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   Plot surface("splot");
   surface.Unkeyed("'" + name + ".csv' index 0 using " + u + ":" + w + ":" + v + ":2", "with pm3d")
       .Unkeyed("$plane using 1:2:3", "with pm3d fillcolor rgb '" + style::Colour("plane") + "'")
-      .Add("$edge using 1:2:3", With("obstacle"), "obstacle x_c = d (the plane)");
+      .Add("$edge using 1:2:3", With("obstacle"), "obstacle " + Xc(c) + " = d (the plane)");
   // The projection: every other orbit of a dense family (the curves overlap).
   const std::string every = family.orbits.size() > 25 ? " every :2" : "";
   Plot projection;
@@ -465,6 +480,7 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   body << surface.str() << "unset label 1\nset size 0.32, 1\nset origin 0.68, 0\nunset pm3d\nunset colorbox\nunset key\nset xlabel '"
        << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s") << "'\n"
        << "set xtics " << NiceStep(lo[1], hi[1], 2) << "\nset ytics " << NiceStep(lo[2], hi[2], 5) << "\n"
+       << "set xrange [" << lo[1] - 0.05 * (hi[1] - lo[1]) << ":" << hi[1] + 0.05 * (hi[1] - lo[1]) << "]\n"
        << "set arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead " << style::Look("obstacle") << "\n"
        << projection.str() << "unset multiplot";
   Draw(c, name, body.str(), note);
@@ -479,7 +495,7 @@ void Figure10(Context& c, const ModalPick& m) {
   const Orbit mode = GrazingMode(c.b, ModeOf(c.b, m.period), m.period);
   // Orbits across the zone, stopping where the energy passes 4 times the
   // mode's (towards a singular transition it diverges).
-  SectionFamily family{"T", {{m.period, OrbitTrajectory(c.b, mode, kSurfaceSamples)}}};
+  SectionFamily family{"T (s)", {{m.period, OrbitTrajectory(c.b, mode, kSurfaceSamples)}}};
   for (int k = 1; k <= 24; ++k) {
     const Orbit o = OneImpactOrbit(c.b, m.period + m.side * m.width * k / 25.0);
     if (!o.admissible || o.energy > 4.0 * mode.energy) break;
@@ -538,7 +554,7 @@ void Figures11And12(Context& c) {
   // The arclength from the branch's start, the grazing mode.
   const double s0 = branch[run.front()].arclength, s1 = branch[run.back()].arclength;
   write(0, linear, 0.0);
-  const int curves = 16;
+  const int curves = 8;  // (more overlap into a band)
   std::ostringstream summary;
   for (int j = 1; j <= curves; ++j) {
     const BranchPoint& p = AtArclength(m, static_cast<double>(j) / curves);
@@ -555,9 +571,10 @@ void Figures11And12(Context& c) {
   // The colour bar: the position along the family, its ends named by the
   // arclength from the grazing mode (short: a long label is cut in print).
   std::ostringstream bar;
-  bar << std::setprecision(4) << "set cbtics ('s = 0' 0, '" << std::abs(s1 - s0) << "' 1, '' 0.5)\n";
+  bar << std::setprecision(4) << "set cbtics ('0' 0, '" << 0.5 * std::abs(s1 - s0) << "' 0.5, '" << std::abs(s1 - s0)
+      << "' 1)\n";
   body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
-       << style::Palette("family", "position along the family") << bar.str() << "set cbrange [0:1]\n"
+       << style::Palette("family", "arclength s of the family") << bar.str() << "set cbrange [0:1]\n"
        << "set xrange [0:" << tmax << "]\n";
   Plot plot;
   plot.Unkeyed("'fig11_two_impact_mode.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)) +
@@ -574,7 +591,7 @@ void Figures11And12(Context& c) {
        << "; T spans [" << tmin << ", " << tmax << "]";
   Draw(c, "fig11_two_impact_orbits", body.str(), note.str());
   // Fig. 12: the branch's orbits as a surface, finer than Fig. 11's curves.
-  SectionFamily family{"s", {}};
+  SectionFamily family{"arclength s", {}};
   const int scans = 40;
   for (int j = 0; j <= scans; ++j) {
     const BranchPoint& p = AtArclength(m, static_cast<double>(j) / scans);
@@ -609,7 +626,7 @@ void Figures13To15(Context& c) {
     // Fig. 14; the three 2-ipp orbits between in the family map's colours at
     // their positions (each keyed: three curves need no colour bar).
     const std::string xc = std::to_string(XCol(c, c.contact));
-    body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n";
+    body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset xrange [0:" << t << "]\n";
     Plot plot;
     plot.Add("'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" + xc, With("limit"),
              "grazing 1-ipp orbit (s = 0)")
@@ -650,7 +667,7 @@ void Figures13To15(Context& c) {
   {
     const double w = 0.01 * t;
     report::ResultFile out(c.dir, "fig15_bridge_fep.csv");
-    FepTable table;
+    FepTable table(PointsEvery(401));  // (AddOrbitsNear: 401 periods)
     const auto [lo, hi] = AddOrbitsNear(c, t, w, table);
     table.Write(out.stream());
     report::ResultFile bo(c.dir, "fig15_bridge.csv");
@@ -693,7 +710,7 @@ void Figure17(Context& c) {
   for (int k = 0; k < n; ++k) {
     const Bridge& br = c.bridges[k];
     const double w = 0.01 * br.period, height = br.energy_max - br.energy_min;
-    FepTable table;
+    FepTable table(PointsEvery(401));  // (AddOrbitsNear: 401 periods)
     AddOrbitsNear(c, br.period, w, table);
     table.Write(out.stream());
     out << "\n\n";
@@ -762,16 +779,24 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   report::ResultFile orbit(c.dir, "fig16_orbit.csv");
   WriteTrajectoryHeader(orbit.stream(), c);
   WriteTrajectory(orbit.stream(), "x", pick.start.period, OrbitTrajectory(c.b, pick.start, kSamples));
-  double e_hi = 0.0;
+  // The energy axis from just below the lowest drawn orbit (3-ipp or
+  // 1-ipp in the window) to 1.5 times the highest admissible 3-ipp one.
+  double e_hi = 0.0, e_lo = INFINITY;
   for (const Orbit& o : pick.family) {
     if (o.admissible) e_hi = std::max(e_hi, o.energy);
+    if (o.period >= t_lo && o.period <= t_hi) e_lo = std::min(e_lo, o.energy);
   }
+  for (const auto& list : c.atlas.one.at) {
+    const Orbit& o = list.front().orbit;
+    if (o.admissible && o.period >= t_lo && o.period <= t_hi) e_lo = std::min(e_lo, o.energy);
+  }
+  if (!std::isfinite(e_lo) || !(e_lo < e_hi)) e_lo = 0.0;
   std::ostringstream body, period_label;
   period_label << std::setprecision(4) << pick.start.period;
   body << "set multiplot layout 1,2\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key below\n"
-       << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [0:" << 1.5 * e_hi << "]\n"
-       << VerticalLines("ends", {pick.admissible_from, pick.admissible_to}, 0.0, 1.5 * e_hi);
+       << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << 0.9 * e_lo << ":" << 1.5 * e_hi << "]\n"
+       << VerticalLines("ends", {pick.admissible_from, pick.admissible_to}, 0.9 * e_lo, 1.5 * e_hi);
   Plot energies;
   energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)", With("not_admissible"), "3-ipp, not admissible", three[0])
       .Add("'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0)", With("three_unstable"), "3-ipp, unstable", three[1])
@@ -781,7 +806,7 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
       .Add("$ends using 1:2", With("range_end"), "ends of the admissible 3-ipp stretch");
   Plot orbit_plot;
   orbit_plot.Add("'fig16_orbit.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)),
-                 With("three_stable", "lines"), "x_c(t), T = " + period_label.str())
+                 With("three_stable", "lines"), Xc(c) + "(t), T = " + period_label.str())
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
   body << energies.str() << "set autoscale y\nset xrange [0:" << pick.start.period << "]\n"
        << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << "unset multiplot";
@@ -871,7 +896,7 @@ void Figure18(Context& c) {
   // the families fill the frame, their diverging ends leave it.
   std::nth_element(energies.begin(), energies.begin() + static_cast<long>(energies.size() / 2), energies.end());
   const double top = std::min(2.0 * hi, 30.0 * energies[energies.size() / 2]);
-  body << "set logscale y\nset format y '10^{%T}'\nset yrange [" << 0.5 * lo << ":" << top << "]\n"
+  body << "set logscale y\n" << LogTics("y", 0.5 * lo, top) << "set yrange [" << 0.5 * lo << ":" << top << "]\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n"
        << "set key below\n";
   // One colour per sequence (the sequences cycle); stability as everywhere:
@@ -1053,13 +1078,17 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
         {"response_amplitude", 7, "impact velocity |v_c^-| (m/s)"}}) {
     std::ostringstream body;
     body << std::setprecision(17) << "set datafile separator ','\nset key below\n"
-         << "set xlabel '" << (frequency ? "forcing frequency w (rad/s)" : "forcing amplitude a (N)") << "'\n"
+         << "set xlabel '" << (frequency ? "forcing frequency {/Symbol w} (rad/s)" : "forcing amplitude a (N)") << "'\n"
          << "set ylabel '" << label << "'\n"
-         << "set xrange [" << frame_lo << ":" << frame_hi << "]\n"
-         // The responses fill the frame; the backbone leaves it where it
-         // diverges (towards its singular transitions).
-         << (col == 5 ? "set logscale y\nset yrange [" + std::to_string(0.5 * e_min) + ":" + std::to_string(3.0 * e_max) + "]\n"
-                      : "set yrange [0:" + std::to_string(v_max > 0.0 ? 1.3 * v_max : 1.0) + "]\n");
+         << "set xrange [" << frame_lo << ":" << frame_hi << "]\n";
+    // The responses fill the frame; the backbone leaves it where it diverges
+    // (towards its singular transitions).
+    if (col == 5) {
+      body << "set logscale y\n" << LogTics("y", 0.5 * e_min, 1.5 * e_max) << "set yrange [" << 0.5 * e_min << ":"
+           << 1.5 * e_max << "]\n";
+    } else {
+      body << "set yrange [0:" << (v_max > 0.0 ? 1.3 * v_max : 1.0) << "]\n";
+    }
     // What each branch draws on this chart: an orbit without impact has no
     // impact velocity, one not admissible may have a negative one (below
     // the axis).

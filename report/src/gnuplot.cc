@@ -91,7 +91,7 @@ std::string IncompleteImage(const std::filesystem::path& path, const std::string
 
 }  // namespace
 
-ChartStatus DrawChart(const OutputDir& dir, const std::string& name, const std::string& body) {
+ChartStatus DrawChart(const OutputDir& dir, const std::string& name, const std::string& body, double aspect) {
   NSMODAL_CHECK(IsPlainName(name));
   ThrowIfStopRequested();  // between charts: a signal ends the set here (stop.h)
   // PNG and SVG for the screen; PDF for print, vector, at the final size
@@ -103,7 +103,7 @@ ChartStatus DrawChart(const OutputDir& dir, const std::string& name, const std::
     // The image name is a variable so that the run below can draw under a
     // temporary name while the script, rerun by hand, draws NAME.EXT.
     WriteResult(dir, script,
-                "set terminal " + f.terminal + "\nif (!exists('nsmodal_output')) nsmodal_output = '" + image +
+                "set terminal " + f.Terminal(aspect) + "\nif (!exists('nsmodal_output')) nsmodal_output = '" + image +
                     "'\nset output nsmodal_output\n" + style::ChartSetup() + body + "\n");
     const std::string log = script + ".log";
     std::string error = Run({"gnuplot", "-e", "nsmodal_output='" + temp + "'", script}, dir.path(), log);

@@ -92,16 +92,33 @@ Declaration Parse() {
     const toml::table& f = Table(Table(d.table, "formats"), ext);
     const std::string terminal = Value<std::string>(f, "terminal", where);
     const double points = Value<double>(f, "points", where);
+    Format format;
+    format.extension = ext;
+    format.terminal = terminal;
+    // size = "W,H" or "Wcm,Hcm"
+    const std::string size = Value<std::string>(f, "size", where);
+    const std::size_t comma = size.find(',');
+    std::size_t used = 0;
+    try {
+      format.width = std::stod(size.substr(0, comma), &used);
+      format.unit = size.substr(used, comma - used);
+      format.height = std::stod(size.substr(comma + 1));
+    } catch (const std::exception&) {
+      Broken(where + ".size '" + size + "' is not W,H or Wcm,Hcm");
+    }
+    if (comma == std::string::npos || !(format.width > 0 && format.height > 0)) {
+      Broken(where + ".size '" + size + "' is not W,H or Wcm,Hcm");
+    }
     std::ostringstream os;
-    os << terminal << " size " << Value<std::string>(f, "size", where) << " font '," << Value<int>(f, "font", where)
-       << "' linewidth " << Number(Value<double>(f, "lines", where));
+    os << " font '," << Value<int>(f, "font", where) << "' linewidth " << Number(Value<double>(f, "lines", where));
     // (gnuplot's svg terminal has no pointscale: its markers are the PNG's.)
     if (terminal.rfind("svg", 0) == 0) {
       if (points != 1.0) Broken(where + ".points must be 1: gnuplot's svg terminal cannot scale markers");
     } else {
       os << " pointscale " << Number(points);
     }
-    d.formats.push_back({ext, os.str()});
+    format.options = os.str();
+    d.formats.push_back(format);
   }
   return d;
 }
@@ -120,6 +137,13 @@ const Series& Role(std::string_view role) {
 }  // namespace
 
 const std::vector<Format>& Formats() { return The().formats; }
+
+std::string Format::Terminal(double aspect) const {
+  std::ostringstream os;
+  const double h = aspect > 0.0 ? aspect * width : height;
+  os << terminal << " size " << Number(width) << unit << "," << (unit.empty() ? std::round(h) : h) << unit << options;
+  return os.str();
+}
 
 std::string Colour(std::string_view name) {
   const auto it = The().colours.find(name);
@@ -204,7 +228,7 @@ std::string CycleColour(std::string_view cycle, std::size_t k) {
 }
 
 std::string ChartSetup() {
-  return "set grid lt 1 lw 0.5 lc rgb '" + Colour("grid") + "'\nset key samplen 2 spacing 1 noautotitle\n";
+  return "set grid lt 1 lw 0.5 lc rgb '" + Colour("grid") + "'\nset key samplen 2 spacing 1 height 1 noautotitle\n";
 }
 
 std::string Json() {

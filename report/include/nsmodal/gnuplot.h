@@ -23,6 +23,7 @@ struct ChartStatus {
 };
 
 // NAME: letters, digits, '_' and '-' only (an invariant of the callers).
-ChartStatus DrawChart(const OutputDir& dir, const std::string& name, const std::string& body);
+// `aspect` > 0: the charts' height over width (else the formats', style.toml).
+ChartStatus DrawChart(const OutputDir& dir, const std::string& name, const std::string& body, double aspect = 0.0);
 
 }  // namespace nsmodal::report

@@ -16,7 +16,13 @@ namespace nsmodal::report::style {
 // One output format of a chart (style.toml [formats]).
 struct Format {
   std::string extension;  // png, svg, pdf, column.pdf
-  std::string terminal;   // gnuplot's "set terminal" line, sized and scaled
+  std::string terminal;   // gnuplot's terminal ("pngcairo", "svg dynamic", ...)
+  double width = 0.0, height = 0.0;
+  std::string unit;       // of width and height: "" (pixels) or "cm"
+  std::string options;    // font, line width, marker scale
+  // The "set terminal" line; `aspect` > 0: height = aspect * width (a chart
+  // whose subject has its own shape, the model's drawing), else the format's.
+  std::string Terminal(double aspect = 0.0) const;
 };
 const std::vector<Format>& Formats();
 
