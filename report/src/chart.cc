@@ -128,6 +128,19 @@ void BridgeLabels(const Context& c, std::ostream& body) {
   }
 }
 
+std::string FamilyBarTics(double lo, double hi) {
+  const double step = NiceStep(lo, hi, 4);
+  std::ostringstream os;
+  os << "set cbtics (";
+  bool first = true;
+  for (double v = std::ceil(lo / step - 1e-9) * step; v <= hi + 1e-9 * std::abs(hi); v += step) {
+    os << (first ? "" : ", ") << "'" << v << "' " << (v - lo) / (hi - lo);
+    first = false;
+  }
+  os << ")\n";
+  return os.str();
+}
+
 double NiceStep(double lo, double hi, int ticks) {
   const double raw = std::max(hi - lo, 1e-300) / std::max(ticks, 1);
   const double decade = std::pow(10.0, std::floor(std::log10(raw)));
@@ -186,17 +199,22 @@ void TransitionLayers(Context& c, const std::string& name, bool all, std::ostrea
   const std::string block = name.substr(0, name.find('.'));
   body << VerticalLines(block + "_singular", at[TransitionKind::kSingular], lo, hi)
        << VerticalLines(block + "_modal", all ? at[TransitionKind::kModal] : std::vector<double>{}, lo, hi);
-  // A label per singular transition, but not on top of the previous one
-  // (4 % of the axis apart at least).
+  // A label per singular transition at the foot of its line (the families
+  // crowd the top, where the energy diverges), each on a row of its own when
+  // the previous one is near (4 % of the axis).
   double last_label = -INFINITY;
+  int row = 0;
   for (double t : at[TransitionKind::kSingular]) {
-    if (t - last_label < 0.04 * c.periods.back()) continue;
-    body << "set label 'T_S' at " << t << ", graph 1 offset 0.3, -0.8 front\n";
+    row = t - last_label < 0.04 * c.periods.back() ? row + 1 : 0;
+    body << "set label 'T_S' at " << t << ", graph 0 offset 0.3, " << 0.8 + 1.1 * row << " front\n";
     last_label = t;
   }
+  // T_G beside each grazing circle, to its left (the stability changes that
+  // follow a graze are marked to its right); where the bridges are labelled
+  // (B1, ...), the key's circle says it.
   for (const Transition& t : c.transitions) {
-    if (t.kind == TransitionKind::kGrazing && t.energy < hi) {
-      body << "set label 'T_G' at " << t.period << ", " << t.energy << " offset 0.8, -0.9 front\n";
+    if (all && t.kind == TransitionKind::kGrazing && t.energy < hi) {
+      body << "set label 'T_G' at " << t.period << ", " << t.energy << " right offset -0.8, 0 front\n";
     }
   }
   plot.Add("$" + block + "_singular using 1:2", With("singular"), "singular transition T_S",

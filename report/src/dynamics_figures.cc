@@ -100,7 +100,7 @@ void FigureModel(Context& c) {
   Wall(lines, 0.0, -0.3, 1.3, -1);
   for (int i = 0; i < n; ++i) {
     const double ground = m.stiffness.row(i).sum();
-    const std::string mass = "m_{" + std::to_string(i + 1) + "} = " + Num(m.mass(i, i));
+    const std::string mass = "m_{" + std::to_string(i + 1) + "} = " + Num(m.mass(i, i)) + " kg";
     body << "set object " << i + 1 << " rect from " << left(i) << ",0 to " << left(i) + size << "," << size
          << " fc rgb '" << style::Colour("fill") << "' fs solid 1 border lc rgb '" << style::Colour("black") << "' lw 1.5\n"
          << "set label '" << mass << "' at " << left(i) + 0.5 * size << ", -0.35 center\n"
@@ -112,14 +112,14 @@ void FigureModel(Context& c) {
         return;
       }
       Zigzag(lines, 0.0, left(0), 0.5);
-      body << "set label 'k_{1} = " << Num(ground) << "' at " << 0.5 * left(0) << ", 0.95 center\n";
+      body << "set label 'k_{1} = " << Num(ground) << " N/m' at " << 0.5 * left(0) << ", 0.95 center\n";
     } else if (ground > 1e-12 * m.stiffness.norm()) {
       c.log << "  fig01_model: dof " << i + 1 << " has a spring to the ground: drawn for chains fixed at the left; skipped\n";
       return;
     }
     if (i + 1 < n) {
       Zigzag(lines, left(i) + size, left(i + 1), 0.5);
-      body << "set label 'k_{" << i + 2 << "} = " << Num(-m.stiffness(i, i + 1)) << "' at "
+      body << "set label 'k_{" << i + 2 << "} = " << Num(-m.stiffness(i, i + 1)) << " N/m' at "
            << 0.5 * (left(i) + size + left(i + 1)) << ", 0.95 center\n";
     }
   }
@@ -127,9 +127,9 @@ void FigureModel(Context& c) {
   Wall(lines, wall, -0.3, 1.3, 1);
   lines << "EOD\n";
   body << "set arrow from " << left(n - 1) + size << ", -0.15 to " << wall << ", -0.15 heads size 0.1,25 "
-       << style::Look("function") << "\nset label 'd = " << Num(m.FirstContact().gap) << "' at "
+       << style::Look("function") << "\nset label 'd = " << Num(m.FirstContact().gap) << " m' at "
        << 0.5 * (left(n - 1) + size + wall) << ", -0.45 center\n"
-       << "set label 'restitution e = " << Num(stop.restitution) << "' at " << wall << ", -0.55 center\n";
+       << "set label 'restitution e = " << Num(stop.restitution) << "' at " << wall << ", 1.6 center\n";
   std::ostringstream chart;
   // The canvas of the drawing's shape: no white bands around it.
   const double x_lo = -0.6, x_hi = wall + 1.6, y_lo = -0.8, y_hi = 2.0;
@@ -209,14 +209,14 @@ void FigureMultipliers(Context& c) {
   // of the unstable orbits are on the left panel).
   body << left.str() << "unset logscale y\nset size ratio -1\nset xrange [-2.5:2.5]\nset yrange [-2.5:2.5]\n"
        << "set xlabel 'Re {/Symbol m}'\nset ylabel 'Im {/Symbol m}'\n"
-       << style::Palette("family", "T (s) along the 1-ipp branch") << "set cbtics ('" << Num(t_lo) << "' 0, '"
-       << Num(0.5 * (t_lo + t_hi)) << "' 0.5, '" << Num(t_hi) << "' 1)\nset cbrange [0:1]\nunset key\n";
+       << style::Palette("family", "T (s) along the 1-ipp branch") << FamilyBarTics(t_lo, t_hi)
+       << "set cbrange [0:1]\nunset key\n";
   // The unit circle over the points (the line |mu| = 1 of the left panel).
   Plot right;
   right.Unkeyed("'multipliers_one_impact.csv' using 5:6:(($1 - " + std::to_string(t_lo) + ") / " +
                     std::to_string(std::max(t_hi - t_lo, 1e-300)) + ")",
                 style::WithPalette("one_stable"))
-      .Unkeyed("$circle using 1:2", With("unit_circle"));
+      .Unkeyed("$circle using 1:2", With("function"));
   body << right.str() << "unset multiplot";
   Draw(c, "multipliers_one_impact", body.str(),
        std::to_string(stable + unstable) + " admissible orbits, T from " + Num(t_lo) + " to " + Num(t_hi) +
@@ -356,9 +356,11 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
   out.Commit();
   dev.Commit();
   const int cols = static_cast<int>(orbits.size());
-  // One key, across the top: the panels draw the same series.
-  body << "set multiplot layout 2," << cols << " margins 0.11, 0.98, 0.09, 0.86 spacing 0.07, 0.13\n"
-       << "set key at screen 0.5, screen 0.995 center top horizontal\n";
+  // One key at the top, above the panels' titles: the panels draw the same
+  // series. (A multiplot panel's key is as wide as the panel: two short
+  // entries; the obstacle, dashed at d as in every chart, is unkeyed.)
+  body << "set multiplot layout 2," << cols << " margins 0.11, 0.98, 0.09, 0.84 spacing 0.07, 0.14\n"
+       << "set key at screen 0.5, screen 0.995 center top\n";
   for (int k = 0; k < cols; ++k) {
     if (k == 1) body << "unset key\n";
     const Orbit& o = orbits[k].second;
@@ -370,8 +372,8 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
     p.Add("'validation_orbits.csv' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'analytic' ? $3 : 1/0):4",
           With("analytic"), "analytic")
         .Add("'' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'simulated' ? $3 : 1/0):4", With("simulated"),
-             "simulation, its " + std::to_string(shown) + "th period")
-        .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+             "simulated, " + std::to_string(shown) + "th period")
+        .Unkeyed(std::to_string(c.b.gap), With("obstacle"));
     body << p.str();
   }
   // The deviations on one scale, the panels compared at a glance.

@@ -39,6 +39,13 @@
 namespace nsmodal::report {
 namespace {
 
+// A number to four digits, for keys (the printout has all of them).
+std::string Short(double x) {
+  std::ostringstream os;
+  os << std::setprecision(4) << x;
+  return os.str();
+}
+
 // A chart of x_c(t) over one period of one orbit (Figs. 2, 5, 9) drawn as
 // `role`: the orbit's samples to DIR/NAME.csv, the obstacle at d, the part
 // of x_c above d filled (an NC3 failure is seen, not read off a number).
@@ -59,7 +66,7 @@ void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const cha
   Plot plot;
   plot.Add("'" + name + ".csv' using " + xc, "with filledcurves above y=" + std::to_string(c.b.gap) + " " + style::Look("excess"),
            Xc(c) + " > d", above)
-      .Add("'' using " + xc, With(role), Xc(c) + "(t)")
+      .Add("'' using " + xc, With(role), Xc(c) + "(t), T = " + Short(o.period))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
   if (marks) marks(plot);
   Draw(c, name, body.str() + plot.str(), note);
@@ -248,7 +255,7 @@ void Figure6(Context& c) {
       }
     }
     const double lo = std::min(range[period][0], 0.0), hi = range[period][1];
-    body << "set title 'T = " << period << "'\nset xrange [0:" << period << "]\nset xtics (0, " << period << ")\n"
+    body << "set title 'T = " << period << " s'\nset xrange [0:" << period << "]\nset xtics (0, " << period << ")\n"
          << "set xlabel '" << (period > 5 ? "t_2 (s)" : "") << "'\nset ylabel '" << (period % 5 == 1 ? "det A_2" : "")
          << "'\nset ytics " << NiceStep(lo, hi, 2) << "\n" << plot.str();
   }
@@ -278,7 +285,7 @@ void Figure6(Context& c) {
         << HalfPeriodLine(c);
   Plot plot;
   plot.Add("$half using 1:2", With("two_half"), "trivial root t_2 = T/2 (the dilated 1-ipp)")
-      .Add("'fig06_root_curves.csv' using 1:($4 == 1 && $3 == 0 ? $2 : 1/0)", With("potential", "points"),
+      .Add("'fig06_root_curves.csv' using 1:($4 == 1 && $3 == 0 ? $2 : 1/0)", With("root_cloud_other"),
            "other root, not admissible", other)
       .Add("'' using 1:($4 == 1 && $3 == 1 ? $2 : 1/0)", With("root_cloud"), "other root, admissible", admissible);
   Draw(c, "fig06_root_curves", plane.str() + plot.str());
@@ -322,7 +329,7 @@ void Figure7(Context& c) {
   std::ostringstream body;
   body << "set xlabel 'period T (s)'\nset ylabel 'time of the second impact t_2 (s)'\nset key below\n"
        << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:" << c.periods.back() << "]\n"
-       << style::Palette("energy", "energy E (J) of the admissible orbits") << "set logscale cb\n" << LogTics("cb", e_lo, e_hi)
+       << style::Palette("energy", "energy E (J)") << "set logscale cb\n" << LogTics("cb", e_lo, e_hi)
        << "set cbrange [" << e_lo << ":" << e_hi << "]\n" << HalfPeriodLine(c);
   Plot plot;
   plot.Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 0 ? $2 : 1/0)", With("potential", "points"),
@@ -440,7 +447,7 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   // The colour bar: the position along the family, its ends named by the
   // parameter's values (short: a long bar label is cut in the column PDF).
   std::ostringstream bar;
-  bar << std::setprecision(4) << "set cbtics ('" << s_lo << "' 0, '" << 0.5 * (s_lo + s_hi) << "' 0.5, '" << s_hi << "' 1)\n";
+  bar << FamilyBarTics(s_lo, s_hi);
   const std::string u = std::to_string(TCol() + cols[0]), w = std::to_string(TCol() + cols[1]),
                     v = std::to_string(TCol() + cols[2]);
   std::ostringstream body;
@@ -450,7 +457,7 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        << bar.str() << "set cbrange [0:1]\nset colorbox user origin screen 0.565, screen 0.25 size screen 0.02, screen 0.5\n"
        << "set label 1 '" << family.parameter << "' at screen 0.575, screen 0.78 center\n"
        // About four ticks per 3-D axis: more collide at the column PDF's size.
-       << InnerTics("x", lo[0], hi[0], 3) << InnerTics("y", lo[1], hi[1], 3) << "set ztics " << NiceStep(lo[2], hi[2], 4)
+       << InnerTics("x", lo[0], hi[0], 5) << InnerTics("y", lo[1], hi[1], 5) << "set ztics " << NiceStep(lo[2], hi[2], 4)
        << "\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
        << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate\n"
@@ -479,7 +486,7 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   }
   body << surface.str() << "unset label 1\nset size 0.32, 1\nset origin 0.68, 0\nunset pm3d\nunset colorbox\nunset key\nset xlabel '"
        << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s") << "'\n"
-       << "set xtics " << NiceStep(lo[1], hi[1], 2) << "\nset ytics " << NiceStep(lo[2], hi[2], 5) << "\n"
+       << "set xtics " << NiceStep(lo[1], hi[1], 3) << "\nset ytics " << NiceStep(lo[2], hi[2], 5) << "\n"
        << "set xrange [" << lo[1] - 0.05 * (hi[1] - lo[1]) << ":" << hi[1] + 0.05 * (hi[1] - lo[1]) << "]\n"
        << "set arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead " << style::Look("obstacle") << "\n"
        << projection.str() << "unset multiplot";
@@ -571,8 +578,7 @@ void Figures11And12(Context& c) {
   // The colour bar: the position along the family, its ends named by the
   // arclength from the grazing mode (short: a long label is cut in print).
   std::ostringstream bar;
-  bar << std::setprecision(4) << "set cbtics ('0' 0, '" << 0.5 * std::abs(s1 - s0) << "' 0.5, '" << std::abs(s1 - s0)
-      << "' 1)\n";
+  bar << FamilyBarTics(0.0, std::abs(s1 - s0));
   body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
        << style::Palette("family", "arclength s of the family") << bar.str() << "set cbrange [0:1]\n"
        << "set xrange [0:" << tmax << "]\n";
@@ -677,7 +683,12 @@ void Figures13To15(Context& c) {
     std::ostringstream body;
     body << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key below\n"
          << "set xrange [" << t - w << ":" << t + w << "]\nset yrange [" << e_lo - pad << ":" << e_hi + pad << "]\n"
-         << table.Layers("fig15_bridge_fep.csv", "fig15_bridge.csv", 1);
+         << "set label 'B" << (br - c.bridges.data()) + 1 << "' at " << t << ", " << br->energy_max
+         << " offset -0.6, 1.1 front\n";
+    Plot plot;
+    table.AddLayers(plot, "fig15_bridge_fep.csv", "fig15_bridge.csv", 1);
+    Mark(plot, t, br->energy_max, "grazing", "grazing transition T_G");
+    body << plot.str();
     out.Commit();
     bo.Commit();
     std::ostringstream note;
@@ -804,9 +815,13 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
       .Add("'fig16_one_impact.csv' using 1:($3 == 1 && $4 == 1 ? $2 : 1/0)", With("one_stable"), "1-ipp, stable", one_stable)
       .Add("'' using 1:($3 == 1 && $4 == 0 ? $2 : 1/0)", With("one_unstable"), "1-ipp, unstable", one_unstable)
       .Add("$ends using 1:2", With("range_end"), "ends of the admissible 3-ipp stretch");
+  // The orbit drawn on the right is marked on its branch, in its branch's style.
+  const bool start_stable = OrbitStability(c.b, pick.start).stable;
+  Mark(energies, pick.start.period, pick.start.energy, "mark", "the orbit on the right");
   Plot orbit_plot;
   orbit_plot.Add("'fig16_orbit.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)),
-                 With("three_stable", "lines"), Xc(c) + "(t), T = " + period_label.str())
+                 With(start_stable ? "three_stable" : "three_unstable", "lines"),
+                 Xc(c) + "(t), T = " + period_label.str() + (start_stable ? " (stable)" : " (unstable)"))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
   body << energies.str() << "set autoscale y\nset xrange [0:" << pick.start.period << "]\n"
        << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << "unset multiplot";
@@ -850,7 +865,9 @@ void Figure18(Context& c) {
   }
   report::ResultFile out(c.dir, "fig18_sequences_fep.csv");
   std::ostream& os = out.stream();
-  os << "sequence,index,T,t2,energy,stable\n";
+  os << "sequence,index,T,t2,energy,stable,drawn\n";
+  // (2-impact families are clouds: drawn on every few periods, as Fig. 8's.)
+  const int every = PointsEvery(c.periods.size());
   std::vector<std::string> labels, titles;
   SweepOptions opt;
   opt.stability = StabilityPolicy::kAdmissible;
@@ -877,9 +894,10 @@ void Figure18(Context& c) {
         // A 1-impact family is a line: broken where a period has no admissible orbit.
         if (seq.size() == 1 && last >= 0 && static_cast<int>(i) != last + 1) os << "\n";
         last = static_cast<int>(i);
+        const bool drawn = seq.size() == 1 || i % every == 0;
         os << labels.back() << "," << s << "," << r.orbit.period << "," << (seq.size() == 1 ? 0.0 : r.orbit.times[0]) << ","
-           << r.orbit.energy << "," << IsStable(r.stability) << "\n";
-        ++counts[s][IsStable(r.stability)];
+           << r.orbit.energy << "," << IsStable(r.stability) << "," << drawn << "\n";
+        counts[s][IsStable(r.stability)] += drawn;
         energies.push_back(r.orbit.energy);
         lo = std::min(lo, r.orbit.energy);
         hi = std::max(hi, r.orbit.energy);
@@ -906,7 +924,7 @@ void Figure18(Context& c) {
     const bool one = sequences[s].size() == 1;
     for (int stable : {1, 0}) {
       std::ostringstream spec;
-      spec << "'fig18_sequences_fep.csv' using 3:(strcol(1) eq '" << labels[s] << "' && $6 == " << stable
+      spec << "'fig18_sequences_fep.csv' using 3:(strcol(1) eq '" << labels[s] << "' && $7 == 1 && $6 == " << stable
            << " ? $5 : 1/0)";
       // The role gives the line or point; the sequence the colour.
       const std::string role = one ? (stable ? "one_stable" : "one_unstable") : (stable ? "two_stable" : "two_unstable");
@@ -1119,7 +1137,7 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
       const std::size_t k = level_of[branch];
       const std::string colour = style::MapColour("level", levels.size() < 2 ? 0.0 : k / (levels.size() - 1.0));
       std::ostringstream level;
-      level << (frequency ? "a = " : "w = ") << levels[k];
+      level << (frequency ? "a = " : "{/Symbol w} = ") << levels[k] << (frequency ? " N" : " rad/s");
       for (int stable : {1, 0}) {
         if (n[1 + stable] == 0) continue;
         const std::string spec = select + "1 && $9 == " + std::to_string(stable) + " ? $" + x + " : 1/0):" + y;
