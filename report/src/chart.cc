@@ -141,6 +141,68 @@ std::string FamilyBarTics(double lo, double hi) {
   return os.str();
 }
 
+std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable::Root> roots) {
+  using Root = FepTable::Root;
+  std::sort(roots.begin(), roots.end(),
+            [](const Root& a, const Root& b) { return a.step != b.step ? a.step < b.step : a.t2 < b.t2; });
+  std::vector<std::vector<Root>> done, open;
+  for (std::size_t i = 0; i < roots.size();) {
+    std::size_t j = i;
+    while (j < roots.size() && roots[j].step == roots[i].step) ++j;
+    std::vector<bool> used(j - i, false);
+    std::vector<std::vector<Root>> next;
+    for (std::vector<Root>& branch : open) {
+      const Root& last = branch.back();
+      std::size_t best = j;
+      double best_d = 0.05;  // beyond: not the same branch
+      if (last.step == roots[i].step - 1) {
+        for (std::size_t k = i; k < j; ++k) {
+          if (used[k - i] || !(roots[k].energy > 0.0 && last.energy > 0.0)) continue;
+          const double d = std::abs(roots[k].t2 - last.t2) / last.period + std::abs(std::log(roots[k].energy / last.energy));
+          if (d < best_d) {
+            best_d = d;
+            best = k;
+          }
+        }
+      }
+      if (best < j) {
+        used[best - i] = true;
+        branch.push_back(roots[best]);
+        next.push_back(std::move(branch));
+      } else {
+        done.push_back(std::move(branch));
+      }
+    }
+    for (std::size_t k = i; k < j; ++k) {
+      if (!used[k - i]) next.push_back({roots[k]});
+    }
+    open = std::move(next);
+    i = j;
+  }
+  for (std::vector<Root>& branch : open) done.push_back(std::move(branch));
+  return done;
+}
+
+void FepTable::Write(std::ostream& out) const {
+  // One blank line between the families and the branches (two would start
+  // a new dataset).
+  out << "family,T,t2,energy,stable,branch\n";
+  bool first = true;
+  for (const Family* f : {&one_, &half_, &three_}) {
+    if (f->last < 0) continue;
+    out << (first ? "" : "\n") << f->rows.str();
+    first = false;
+  }
+  const std::vector<std::vector<Root>> branches = TwoImpactBranches(roots_);
+  for (std::size_t b = 0; b < branches.size(); ++b) {
+    out << (first ? "" : "\n");
+    first = false;
+    for (const Root& r : branches[b]) {
+      out << "2-ipp," << r.period << "," << r.t2 << "," << r.energy << "," << r.stable << "," << b + 1 << "\n";
+    }
+  }
+}
+
 double NiceStep(double lo, double hi, int ticks) {
   const double raw = std::max(hi - lo, 1e-300) / std::max(ticks, 1);
   const double decade = std::pow(10.0, std::floor(std::log10(raw)));

@@ -137,22 +137,21 @@ void WriteBridges(std::ostream& out, const std::vector<Bridge>& bridges);
 // fep_all_families name them alike).
 void BridgeLabels(const Context& c, std::ostream& body);
 
-// The step between the drawn 2-ipp points of a frequency-energy plot over a
-// grid of `periods` periods: about 500 columns of markers across the chart
-// (fewer lose the steep branches; more merge the markers into bands).
+// The step between the drawn points of a cloud of 2-impact roots over a
+// grid of `periods` periods (Fig. 18): about 500 columns of markers (fewer
+// lose the steep branches; more merge the markers into bands).
 inline int PointsEvery(std::size_t periods) { return std::max(1, static_cast<int>(periods / 500)); }
 
-// The rows of a frequency-energy plot's CSV (family,T,t2,energy,stable) of
-// admissible orbits, grouped by family, so that a family with one orbit per
-// period (1-ipp; the 2-ipp root t2 = T/2) is drawn as a line, broken (a
-// blank line) wherever a period of the grid has no admissible orbit of it.
+// The rows of a frequency-energy plot's CSV (family,T,t2,energy,stable,
+// branch) of admissible orbits, grouped by family. A family with one orbit
+// per period (1-ipp; the 2-ipp root t2 = T/2; the one 3-ipp family drawn) is
+// a line, broken (a blank line) wherever a period of the grid has no
+// admissible orbit of it. The other 2-ipp roots, several per period, are
+// joined into branches (TwoImpactBranches) and drawn as lines too, marked
+// every few points (filled dots stable, open circles unstable: told apart
+// from the 1-ipp lines in greyscale); `branch` numbers them (0 elsewhere).
 class FepTable {
  public:
-  // `every`: the 2-ipp points (a cloud, not a line) are drawn on every
-  // every-th step of the grid only, so that the markers stand apart and a
-  // filled (stable) one can be told from an open (unstable) one; the CSV
-  // holds them all, with a column `drawn`.
-  explicit FepTable(int every = 1) : every_(std::max(every, 1)) {}
   // The admissible orbits of an atlas's 1- and 2-ipp sweeps.
   void AddAtlas(const Atlas& atlas) {
     for (std::size_t k = 0; k < atlas.one.at.size(); ++k) {
@@ -166,22 +165,23 @@ class FepTable {
   // `step`: the index of the orbit's period on its grid.
   void Add(int step, const Orbit& o, const std::optional<Stability>& s) {
     if (!o.admissible) return;
-    // A family with one orbit per period (1-ipp, 2-ipp with t2 = T/2, the
-    // one 3-ipp family drawn) is a line, broken where a period is missing.
     const bool one = o.times.empty(), half = !one && o.impacts == 2 && IsHalfPeriodRoot(o), three = o.impacts == 3;
-    Family& f = one ? one_ : half ? half_ : three ? three_ : two_;
-    if ((one || half || three) && f.last >= 0 && step != f.last + 1) f.rows << "\n";
+    if (!one && !half && !three) {
+      roots_.push_back({step, o.period, o.times[0], o.energy, IsStable(s)});
+      (IsStable(s) ? two_stable_ : two_unstable_) += 1;
+      return;
+    }
+    Family& f = one ? one_ : half ? half_ : three_;
+    if (f.last >= 0 && step != f.last + 1) f.rows << "\n";
     f.last = step;
-    const bool drawn = one || half || three || step % every_ == 0;
-    (IsStable(s) ? f.stable : f.unstable) += drawn;
-    f.rows << (one ? "1-ipp" : half ? "2-ipp-half" : three ? "3-ipp" : "2-ipp") << "," << o.period << ","
-           << (one ? 0.0 : o.times[0]) << "," << o.energy << "," << IsStable(s) << "," << drawn << "\n";
+    (IsStable(s) ? f.stable : f.unstable) += 1;
+    f.rows << (one ? "1-ipp" : half ? "2-ipp-half" : "3-ipp") << "," << o.period << "," << (one ? 0.0 : o.times[0])
+           << "," << o.energy << "," << IsStable(s) << ",0\n";
   }
   // The plot of the CSV `csv` written by Write and of a bridges CSV with
-  // `bridges` rows (WriteBridges). Families with one orbit per period are
-  // lines (solid stable, dashed unstable); the other 2-ipp roots are points
-  // (filled stable, open unstable). `index` >= 0 selects that dataset of both
-  // files (gnuplot's `index`), where this table is the index-th written.
+  // `bridges` rows (WriteBridges): solid stable, dashed unstable. `index` >=
+  // 0 selects that dataset of both files (gnuplot's `index`), where this
+  // table is the index-th written.
   std::string Layers(const std::string& csv, const std::string& bridges, long bridge_count, int index = -1) const {
     Plot plot;
     AddLayers(plot, csv, bridges, bridge_count, index);
@@ -191,10 +191,12 @@ class FepTable {
   void AddLayers(Plot& plot, const std::string& csv, const std::string& bridges, long bridge_count, int index = -1) const {
     const std::string ix = index < 0 ? "" : " index " + std::to_string(index);
     auto select = [&](const char* family, const char* stable) {
-      return "'" + csv + "'" + ix + " using 2:(strcol(1) eq '" + family + "'" + stable + " && $6 == 1 ? $4 : 1/0)";
+      return "'" + csv + "'" + ix + " using 2:(strcol(1) eq '" + family + "'" + stable + " ? $4 : 1/0)";
     };
-    plot.Add(select("2-ipp", " && $5 == 1"), With("two_stable"), "2-ipp, stable", two_.stable)
-        .Add(select("2-ipp", " && $5 == 0"), With("two_unstable"), "2-ipp, unstable", two_.unstable)
+    // (pi: a marker every 12th point of a branch.)
+    plot.Add(select("2-ipp", " && $5 == 1"), With("two_stable", "linespoints") + " pi 12", "2-ipp, stable", two_stable_)
+        .Add(select("2-ipp", " && $5 == 0"), With("two_unstable", "linespoints") + " pi 12", "2-ipp, unstable",
+             two_unstable_)
         .Add(select("1-ipp", " && $5 == 1"), With("one_stable"), "1-ipp, stable", one_.stable)
         .Add(select("1-ipp", " && $5 == 0"), With("one_unstable"), "1-ipp, unstable", one_.unstable)
         .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp, t_2 = T/2 (1-ipp dilated)",
@@ -203,16 +205,13 @@ class FepTable {
         .Add(select("3-ipp", " && $5 == 0"), With("three_unstable"), "3-ipp, unstable", three_.unstable)
         .Add("'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)", With("bridge"), "bridge", bridge_count);
   }
-  void Write(std::ostream& out) const {
-    // One blank line between the families (two would start a new dataset).
-    out << "family,T,t2,energy,stable,drawn\n";
-    bool first = true;
-    for (const Family* f : {&one_, &half_, &two_, &three_}) {
-      if (f->last < 0) continue;
-      out << (first ? "" : "\n") << f->rows.str();
-      first = false;
-    }
-  }
+  void Write(std::ostream& out) const;
+
+  struct Root {
+    int step = 0;
+    double period = 0.0, t2 = 0.0, energy = 0.0;
+    bool stable = false;
+  };
 
  private:
   struct Family {
@@ -220,9 +219,17 @@ class FepTable {
     int last = -1;
     long stable = 0, unstable = 0;
   };
-  Family one_, half_, two_, three_;
-  int every_ = 1;
+  Family one_, half_, three_;
+  std::vector<Root> roots_;  // the 2-ipp roots off t2 = T/2
+  long two_stable_ = 0, two_unstable_ = 0;
 };
+
+// The 2-ipp roots of consecutive steps joined into branches: each root
+// continues the branch ending at the step before whose last root is nearest
+// (|dt2| / T + |d log E| below 0.05, greedy in order of t2); a root left
+// over starts a branch. A fold in T, where two roots meet and vanish, ends
+// both branches (a gap of one step).
+std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable::Root> roots);
 
 // The transitions of the 1-ipp family on a frequency-energy plot, written
 // to CSV `name` (T,kind,energy): singular ones (T_S) and, if `all`, modal

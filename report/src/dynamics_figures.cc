@@ -395,7 +395,7 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
 // fep_all_families: the frequency-energy plot of Fig. 8 with the 3-ipp
 // family of Fig. 16 (its admissible orbits), the bridges and transitions.
 void FigureAllFamilies(Context& c, const ThreeImpactPick& three) {
-  FepTable table(PointsEvery(c.atlas.two.at.size()));
+  FepTable table;
   table.AddAtlas(c.atlas);
   for (std::size_t k = 0; k < three.family.size(); ++k) {
     const Orbit& o = three.family[k];

@@ -345,7 +345,7 @@ void Figure7(Context& c) {
 // Fig. 8: the combined frequency-energy plot.
 void Figure8(Context& c) {
   report::ResultFile out(c.dir, "fig08_fep.csv");
-  FepTable table(PointsEvery(c.atlas.two.at.size()));
+  FepTable table;
   table.AddAtlas(c.atlas);
   table.Write(out.stream());
   report::ResultFile br(c.dir, "fig08_bridges.csv");
@@ -673,7 +673,7 @@ void Figures13To15(Context& c) {
   {
     const double w = 0.01 * t;
     report::ResultFile out(c.dir, "fig15_bridge_fep.csv");
-    FepTable table(PointsEvery(401));  // (AddOrbitsNear: 401 periods)
+    FepTable table;
     const auto [lo, hi] = AddOrbitsNear(c, t, w, table);
     table.Write(out.stream());
     report::ResultFile bo(c.dir, "fig15_bridge.csv");
@@ -721,7 +721,7 @@ void Figure17(Context& c) {
   for (int k = 0; k < n; ++k) {
     const Bridge& br = c.bridges[k];
     const double w = 0.01 * br.period, height = br.energy_max - br.energy_min;
-    FepTable table(PointsEvery(401));  // (AddOrbitsNear: 401 periods)
+    FepTable table;
     AddOrbitsNear(c, br.period, w, table);
     table.Write(out.stream());
     out << "\n\n";
