@@ -183,6 +183,24 @@ std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable:
   return done;
 }
 
+std::string FepChart(Context& c, const FepTable& table, const std::string& fep, const std::string& bridges,
+                     const std::string& transitions) {
+  report::ResultFile out(c.dir, fep);
+  table.Write(out.stream());
+  out.Commit();
+  report::ResultFile br(c.dir, bridges);
+  WriteBridges(br.stream(), c.bridges);
+  br.Commit();
+  std::ostringstream body;
+  body << EnergyAxes(c);
+  Plot plot;
+  table.AddLayers(plot, fep, bridges, static_cast<long>(c.bridges.size()));
+  TransitionLayers(c, transitions, false, body, plot);
+  BridgeLabels(c, body);
+  body << plot.str();
+  return body.str();
+}
+
 void FepTable::Write(std::ostream& out) const {
   // One blank line between the families and the branches (two would start
   // a new dataset).

@@ -247,6 +247,13 @@ void FigureTimeHistory(Context& c);
 void FigureValidation(Context& c, const ThreeImpactPick& three);
 void FigureAllFamilies(Context& c, const ThreeImpactPick& three);
 
+// A whole frequency-energy chart (Fig. 8, fep_all_families): `table` to the
+// CSV `fep`, the atlas's bridges to `bridges`, its transitions to
+// `transitions`; returns the gnuplot body: the energy axes, the families, the
+// singular and grazing transitions, the bridges labelled B1, B2, ...
+std::string FepChart(Context& c, const FepTable& table, const std::string& fep, const std::string& bridges,
+                     const std::string& transitions);
+
 // The admissible 1- and 2-ipp orbits of 401 periods over [t - w, t + w]
 // into `table`; returns the range of their energies.
 std::pair<double, double> AddOrbitsNear(const Context& c, double t, double w, FepTable& table);

@@ -401,20 +401,9 @@ void FigureAllFamilies(Context& c, const ThreeImpactPick& three) {
     const Orbit& o = three.family[k];
     if (o.admissible) table.Add(static_cast<int>(k), o, OrbitStability(c.b, o));
   }
-  report::ResultFile out(c.dir, "fep_all_families.csv");
-  table.Write(out.stream());
-  out.Commit();
-  report::ResultFile br(c.dir, "fep_all_families_bridges.csv");
-  WriteBridges(br.stream(), c.bridges);
-  br.Commit();
-  std::ostringstream body;
-  body << EnergyAxes(c);
-  Plot plot;
-  table.AddLayers(plot, "fep_all_families.csv", "fep_all_families_bridges.csv", static_cast<long>(c.bridges.size()));
-  TransitionLayers(c, "fep_all_families_transitions.csv", false, body, plot);
-  BridgeLabels(c, body);
-  body << plot.str();
-  Draw(c, "fep_all_families", body.str(),
+  const std::string body =
+      FepChart(c, table, "fep_all_families.csv", "fep_all_families_bridges.csv", "fep_all_families_transitions.csv");
+  Draw(c, "fep_all_families", body,
        three.family.empty() ? "no 3-ipp family found" :
                               "the 3-ipp family admissible for T in [" + Num(three.admissible_from, 6) + ", " +
                                   Num(three.admissible_to, 6) + "]");

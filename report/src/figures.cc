@@ -344,27 +344,15 @@ void Figure7(Context& c) {
 
 // Fig. 8: the combined frequency-energy plot.
 void Figure8(Context& c) {
-  report::ResultFile out(c.dir, "fig08_fep.csv");
   FepTable table;
   table.AddAtlas(c.atlas);
-  table.Write(out.stream());
-  report::ResultFile br(c.dir, "fig08_bridges.csv");
-  WriteBridges(br.stream(), c.bridges);
-  std::ostringstream body;
-  body << EnergyAxes(c);
-  Plot plot;
-  table.AddLayers(plot, "fig08_fep.csv", "fig08_bridges.csv", static_cast<long>(c.bridges.size()));
-  TransitionLayers(c, "fig08_transitions.csv", false, body, plot);
-  BridgeLabels(c, body);
-  body << plot.str();
-  out.Commit();
-  br.Commit();
+  const std::string body = FepChart(c, table, "fig08_fep.csv", "fig08_bridges.csv", "fig08_transitions.csv");
   std::ostringstream note;
   for (std::size_t k = 0; k < c.bridges.size(); ++k) {
     note << (k ? "; " : "") << "B" << k + 1 << " " << (IsGrazing(c.bridges[k]) ? "grazing" : "period-doubling")
          << " at T = " << c.bridges[k].period;
   }
-  Draw(c, "fig08_fep", body.str(), note.str());
+  Draw(c, "fig08_fep", body, note.str());
 }
 
 // Fig. 9: a 1-ipp orbit with two grazes, admissible as a 3-ipp orbit too.
