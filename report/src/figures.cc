@@ -803,12 +803,12 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
       .Add("'fig16_one_impact.csv' using 1:($3 == 1 && $4 == 1 ? $2 : 1/0)", With("one_stable"), "1-ipp, stable", one_stable)
       .Add("'' using 1:($3 == 1 && $4 == 0 ? $2 : 1/0)", With("one_unstable"), "1-ipp, unstable", one_unstable)
       .Add("$ends using 1:2", With("range_end"), "ends of the admissible 3-ipp stretch");
-  // The orbit drawn on the right is marked on its branch, in its branch's style.
+  // The orbit drawn on the right is marked on its branch, and its stability named.
   const bool start_stable = OrbitStability(c.b, pick.start).stable;
   Mark(energies, pick.start.period, pick.start.energy, "mark", "the orbit on the right");
   Plot orbit_plot;
   orbit_plot.Add("'fig16_orbit.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)),
-                 With(start_stable ? "three_stable" : "three_unstable", "lines"),
+                 With("orbit_three"),
                  Xc(c) + "(t), T = " + period_label.str() + (start_stable ? " (stable)" : " (unstable)"))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
   body << energies.str() << "set autoscale y\nset xrange [0:" << pick.start.period << "]\n"
