@@ -329,7 +329,8 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
   double dev_lo = INFINITY, dev_hi = 0.0;
   std::vector<std::pair<double, double>> x_range;
   for (std::size_t k = 0; k < orbits.size(); ++k) {
-    const auto& [label, o] = orbits[k];
+    const std::string& label = orbits[k].first;
+    const Orbit& o = orbits[k].second;  // (not a structured binding: the lambda below captures it)
     const Eigen::MatrixXd tr = OrbitTrajectory(c.b, o, kSamples);
     x_range.emplace_back(tr.col(1 + c.contact).minCoeff(), tr.col(1 + c.contact).maxCoeff());
     for (long r = 0; r < tr.rows(); ++r) out << k << ",analytic," << tr(r, 0) / o.period << "," << tr(r, 1 + c.contact) << "\n";

@@ -1157,8 +1157,9 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
                                      {"grazing", "grazing"},
                                      {"zero-velocity", "zero_velocity"},
                                      {"peak", "peak"}}) {
-      const long n = std::count_if(points.begin(), points.end(), [&](const SpecialPoint& p) {
-        return ToString(p.kind) == kind && p.orbit.admissible;
+      const std::string kind_name = kind;  // (a structured binding cannot be captured before C++20's clang 16)
+      const long n = std::count_if(points.begin(), points.end(), [&kind_name](const SpecialPoint& p) {
+        return ToString(p.kind) == kind_name && p.orbit.admissible;
       });
       plot.Add("'response_points.csv' using (strcol(3) eq '" + std::string(kind) + "' && $8 == 1 ? $" + x +
                    " : 1/0):" + std::to_string(pcol),
