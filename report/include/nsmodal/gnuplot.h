@@ -1,8 +1,10 @@
 #pragma once
 // Charts with gnuplot, started without a shell.
 //
-// DrawChart writes DIR/NAME.png.gp and DIR/NAME.svg.gp (pngcairo and svg
-// terminals, then `body`) and runs `gnuplot SCRIPT` in DIR through
+// DrawChart writes one script per format of report/style.toml,
+// DIR/NAME.png.gp, NAME.svg.gp, NAME.pdf.gp and NAME.column.pdf.gp (the
+// format's terminal, the style's chart set-up, then `body`) and runs
+// `gnuplot SCRIPT` in DIR through
 // posix_spawnp with an argument vector: no path, name or title ever passes
 // through a shell. Scripts name their data files relative to DIR, so
 // `gnuplot NAME.png.gp` run by hand from DIR redraws the chart. Each image is
