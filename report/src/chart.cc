@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <map>
 #include <tuple>
 
@@ -19,6 +20,12 @@ std::string VerticalLines(const std::string& name, const std::vector<double>& xs
   return os.str();
 }
 
+
+std::string Num(double x, int digits) {
+  std::ostringstream os;
+  os << std::setprecision(digits) << x;
+  return os.str();
+}
 
 std::string DofLabel(const char* symbol, int dof, const char* unit) {
   return std::string(symbol) + "_{" + std::to_string(dof + 1) + "} (" + unit + ")";
@@ -81,11 +88,7 @@ std::pair<double, double> EnergyRange(const Context& c) {
     }
   }
   double hi = 1.0;
-  if (!admissible.empty()) {
-    auto mid = admissible.begin() + static_cast<long>(admissible.size() / 2);
-    std::nth_element(admissible.begin(), mid, admissible.end());
-    hi = 30.0 * *mid;
-  }
+  if (!admissible.empty()) hi = EnergyTop(admissible);
   if (!std::isfinite(lo)) lo = 1e-3 * hi;
   return {0.5 * lo, std::min(hi, 1e4 * lo)};
 }
@@ -228,6 +231,13 @@ double NiceStep(double lo, double hi, int ticks) {
     if (m * decade >= raw) return m * decade;
   }
   return 10.0 * decade;
+}
+
+double EnergyTop(std::vector<double> energies) {
+  NSMODAL_CHECK(!energies.empty());
+  const auto mid = energies.begin() + static_cast<long>(energies.size() / 2);
+  std::nth_element(energies.begin(), mid, energies.end());
+  return 30.0 * *mid;
 }
 
 std::string EnergyAxes(const Context& c) {

@@ -89,6 +89,10 @@ struct Context {
   int drawn = 0, failed = 0;
 };
 
+// A number to `digits` significant digits, for keys, labels and notes (the
+// CSVs and the printout carry the full ones).
+std::string Num(double x, int digits = 4);
+
 // Axis labels, in the paper's SI units (gnuplot enhanced text).
 std::string DofLabel(const char* symbol, int dof, const char* unit);
 std::string XcLabel(const Context& c);
@@ -117,6 +121,8 @@ int XCol(const Context&, int dof);
 
 // Energy range and axes of a frequency-energy plot.
 std::pair<double, double> EnergyRange(const Context& c);
+// The top of an energy axis: 30 times the median of `energies` (not empty).
+double EnergyTop(std::vector<double> energies);
 // The labelled ticks of a log axis over [lo, hi]: 1, 2, 5 per decade on
 // up to a decade and a half, 1 and 3 on up to three and a half, powers of 10
 // beyond (a log axis with two labels is hard to read).

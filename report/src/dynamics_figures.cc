@@ -23,12 +23,6 @@
 namespace nsmodal::report {
 namespace {
 
-std::string Num(double x, int digits = 4) {
-  std::ostringstream os;
-  os << std::setprecision(digits) << x;
-  return os.str();
-}
-
 // The spring of a drawing: a zigzag from (x0, y) to (x1, y), flat ends, to
 // the datablock `os` (one block).
 void Zigzag(std::ostream& os, double x0, double x1, double y) {
@@ -237,7 +231,6 @@ void FigureTimeHistory(Context& c) {
   SimulateOptions opt;
   opt.t_end = periods * o->period;
   opt.sample_dt = o->period / kSamples;
-  Model model = *c.model;
   report::ResultFile out(c.dir, "time_history.csv");
   report::ResultFile jumps(c.dir, "time_history_impacts.csv");
   out << "t";
@@ -267,7 +260,7 @@ void FigureTimeHistory(Context& c) {
   Eigen::VectorXd y = o->y0;
   Flow(c.b, 0.5 * o->period, y);
   const Eigen::VectorXd z = PhysicalOf(c.b, y);
-  const SimulationSummary s = Simulate(model, z.head(n), z.tail(n), opt, observer);
+  const SimulationSummary s = Simulate(*c.model, z.head(n), z.tail(n), opt, observer);
   out.Commit();
   jumps.Commit();
   std::ostringstream body;

@@ -39,13 +39,6 @@
 namespace nsmodal::report {
 namespace {
 
-// A number to four digits, for keys (the printout has all of them).
-std::string Short(double x) {
-  std::ostringstream os;
-  os << std::setprecision(4) << x;
-  return os.str();
-}
-
 // A chart of x_c(t) over one period of one orbit (Figs. 2, 5, 9) drawn as
 // `role`: the orbit's samples to DIR/NAME.csv, the obstacle at d, the part
 // of x_c above d filled (an NC3 failure is seen, not read off a number).
@@ -66,7 +59,7 @@ void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const cha
   Plot plot;
   plot.Add("'" + name + ".csv' using " + xc, "with filledcurves above y=" + std::to_string(c.b.gap) + " " + style::Look("excess"),
            Xc(c) + " > d", above)
-      .Add("'' using " + xc, With(role), Xc(c) + "(t), T = " + Short(o.period))
+      .Add("'' using " + xc, With(role), Xc(c) + "(t), T = " + Num(o.period))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
   if (marks) marks(plot);
   Draw(c, name, body.str() + plot.str(), note);
@@ -161,10 +154,9 @@ void Figure4(Context& c, const ModalPick& m) {
   body << "set xlabel 'normalised time t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n";
   const std::string xc = std::to_string(XCol(c, c.contact));
   std::ostringstream in_title, mode_title, beyond_title;  // (periods to 4 digits: the note has them all)
-  for (std::ostringstream* os : {&in_title, &mode_title, &beyond_title}) *os << std::setprecision(4);
-  in_title << "T = " << in.period << " (admissible)";
-  mode_title << "T = " << m.period << " (grazing linear mode)";
-  beyond_title << "T = " << beyond.period << " (" << Xc(c) << " > d: not admissible)";
+  in_title << "T = " << Num(in.period) << " (admissible)";
+  mode_title << "T = " << Num(m.period) << " (grazing linear mode)";
+  beyond_title << "T = " << Num(beyond.period) << " (" << Xc(c) << " > d: not admissible)";
   Plot plot;
   plot.Add("'fig04_modal_transition.csv' using (strcol(1) eq 'admissible' ? $3/$2 : 1/0):" + xc, With("orbit"), in_title.str())
       .Add("'' using (strcol(1) eq 'modal' ? $3/$2 : 1/0):" + xc, With("limit"), mode_title.str())
@@ -790,8 +782,8 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
     if (o.admissible && o.period >= t_lo && o.period <= t_hi) e_lo = std::min(e_lo, o.energy);
   }
   if (!std::isfinite(e_lo) || !(e_lo < e_hi)) e_lo = 0.0;
-  std::ostringstream body, period_label;
-  period_label << std::setprecision(4) << pick.start.period;
+  std::ostringstream body;
+  const std::string period_label = Num(pick.start.period);
   body << "set multiplot layout 1,2\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key below\n"
        << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << 0.9 * e_lo << ":" << 1.5 * e_hi << "]\n"
@@ -809,7 +801,7 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   Plot orbit_plot;
   orbit_plot.Add("'fig16_orbit.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)),
                  With("orbit_three"),
-                 Xc(c) + "(t), T = " + period_label.str() + (start_stable ? " (stable)" : " (unstable)"))
+                 Xc(c) + "(t), T = " + period_label + (start_stable ? " (stable)" : " (unstable)"))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
   body << energies.str() << "set autoscale y\nset xrange [0:" << pick.start.period << "]\n"
        << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << "unset multiplot";
@@ -900,8 +892,7 @@ void Figure18(Context& c) {
   std::ostringstream body;
   // Up to 30 times the median energy, as the other frequency-energy plots:
   // the families fill the frame, their diverging ends leave it.
-  std::nth_element(energies.begin(), energies.begin() + static_cast<long>(energies.size() / 2), energies.end());
-  const double top = std::min(2.0 * hi, 30.0 * energies[energies.size() / 2]);
+  const double top = std::min(2.0 * hi, EnergyTop(energies));
   body << "set logscale y\n" << LogTics("y", 0.5 * lo, top) << "set yrange [" << 0.5 * lo << ":" << top << "]\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n"
        << "set key below\n";
