@@ -63,6 +63,8 @@ def means(role):
 
 def cycle(name):
     """The colours of a cycle of style.toml's [cycles], in order."""
+    if name not in _STYLE["cycles"]:
+        raise KeyError(f"nsmodal.style: no cycle {name!r} (one of {sorted(_STYLE['cycles'])})")
     return [colour(n) for n in _STYLE["cycles"][name]]
 
 
@@ -70,6 +72,8 @@ def colormap(name):
     """A matplotlib colormap of style.toml's [maps] (with its meaning as
     `.means`)."""
     from matplotlib.colors import LinearSegmentedColormap
+    if name not in _STYLE["maps"]:
+        raise KeyError(f"nsmodal.style: no colour map {name!r} (one of {sorted(_STYLE['maps'])})")
     m = _STYLE["maps"][name]
     cmap = LinearSegmentedColormap.from_list(f"nsmodal.{name}", [(p, c) for p, c in m["stops"]])
     cmap.means = m["means"]

@@ -59,6 +59,13 @@ def test_an_unknown_role_is_named():
         assert "no_such_role" in str(e)
     else:
         raise AssertionError("an unknown role was accepted")
+    for call, bad in ((style.colormap, "no_such_map"), (style.cycle, "no_such_cycle")):
+        try:
+            call(bad)
+        except KeyError as e:
+            assert bad in str(e)
+        else:
+            raise AssertionError(f"{bad} was accepted")
     assert nsmodal.__name__ == "nsmodal"
 
 
