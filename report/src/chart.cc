@@ -148,36 +148,55 @@ std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable:
   using Root = FepTable::Root;
   std::sort(roots.begin(), roots.end(),
             [](const Root& a, const Root& b) { return a.step != b.step ? a.step < b.step : a.t2 < b.t2; });
+  // A root in the plane (t2 / T, log E), where the branches are smooth
+  // curves of the step.
+  struct Point {
+    double u, v;
+  };
+  auto at = [](const Root& r) { return Point{r.t2 / r.period, std::log(r.energy)}; };
   std::vector<std::vector<Root>> done, open;
   for (std::size_t i = 0; i < roots.size();) {
     std::size_t j = i;
     while (j < roots.size() && roots[j].step == roots[i].step) ++j;
-    std::vector<bool> used(j - i, false);
-    std::vector<std::vector<Root>> next;
-    for (std::vector<Root>& branch : open) {
+    // Every (open branch, root) pair near enough, nearest first: a branch of
+    // two points or more is extrapolated (its next point predicted from its
+    // last two, so that a steep branch is followed), a branch of one point
+    // is compared with that point, with a looser bound.
+    struct Link {
+      double d;
+      std::size_t branch, root;
+    };
+    std::vector<Link> links;
+    for (std::size_t o = 0; o < open.size(); ++o) {
+      const std::vector<Root>& branch = open[o];
       const Root& last = branch.back();
-      std::size_t best = j;
-      double best_d = 0.05;  // beyond: not the same branch
-      if (last.step == roots[i].step - 1) {
-        for (std::size_t k = i; k < j; ++k) {
-          if (used[k - i] || !(roots[k].energy > 0.0 && last.energy > 0.0)) continue;
-          const double d = std::abs(roots[k].t2 - last.t2) / last.period + std::abs(std::log(roots[k].energy / last.energy));
-          if (d < best_d) {
-            best_d = d;
-            best = k;
-          }
-        }
-      }
-      if (best < j) {
-        used[best - i] = true;
-        branch.push_back(roots[best]);
-        next.push_back(std::move(branch));
-      } else {
-        done.push_back(std::move(branch));
+      if (last.step != roots[i].step - 1 || !(last.energy > 0.0)) continue;
+      const Point p = at(last);
+      const bool extrapolate = branch.size() >= 2 && branch[branch.size() - 2].step == last.step - 1;
+      const Point q = extrapolate ? at(branch[branch.size() - 2]) : p;
+      const Point predicted{2.0 * p.u - q.u, 2.0 * p.v - q.v};
+      const double bound = extrapolate ? 0.05 : 0.25;  // beyond: not the same branch
+      for (std::size_t k = i; k < j; ++k) {
+        if (!(roots[k].energy > 0.0)) continue;
+        const Point r = at(roots[k]);
+        const double d = std::abs(r.u - predicted.u) + std::abs(r.v - predicted.v);
+        if (d < bound) links.push_back({d, o, k});
       }
     }
+    std::sort(links.begin(), links.end(), [](const Link& a, const Link& b) { return a.d < b.d; });
+    std::vector<bool> root_used(j - i, false), branch_used(open.size(), false);
+    std::vector<std::vector<Root>> next;
+    for (const Link& l : links) {
+      if (root_used[l.root - i] || branch_used[l.branch]) continue;
+      root_used[l.root - i] = branch_used[l.branch] = true;
+      open[l.branch].push_back(roots[l.root]);
+      next.push_back(std::move(open[l.branch]));
+    }
+    for (std::size_t o = 0; o < open.size(); ++o) {
+      if (!branch_used[o]) done.push_back(std::move(open[o]));
+    }
     for (std::size_t k = i; k < j; ++k) {
-      if (!used[k - i]) next.push_back({roots[k]});
+      if (!root_used[k - i]) next.push_back({roots[k]});
     }
     open = std::move(next);
     i = j;

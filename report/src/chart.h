@@ -143,11 +143,6 @@ void WriteBridges(std::ostream& out, const std::vector<Bridge>& bridges);
 // fep_all_families name them alike).
 void BridgeLabels(const Context& c, std::ostream& body);
 
-// The step between the drawn points of a cloud of 2-impact roots over a
-// grid of `periods` periods (Fig. 18): about 500 columns of markers (fewer
-// lose the steep branches; more merge the markers into bands).
-inline int PointsEvery(std::size_t periods) { return std::max(1, static_cast<int>(periods / 500)); }
-
 // The rows of a frequency-energy plot's CSV (family,T,t2,energy,stable,
 // branch) of admissible orbits, grouped by family. A family with one orbit
 // per period (1-ipp; the 2-ipp root t2 = T/2; the one 3-ipp family drawn) is
@@ -230,11 +225,12 @@ class FepTable {
   long two_stable_ = 0, two_unstable_ = 0;
 };
 
-// The 2-ipp roots of consecutive steps joined into branches: each root
-// continues the branch ending at the step before whose last root is nearest
-// (|dt2| / T + |d log E| below 0.05, greedy in order of t2); a root left
-// over starts a branch. A fold in T, where two roots meet and vanish, ends
-// both branches (a gap of one step).
+// The 2-ipp roots of consecutive steps joined into branches, in the plane
+// (t2 / T, log E): a root continues the branch ending at the step before
+// whose predicted next point (extrapolated from its last two) is within 0.05
+// of it (|du| + |dv|; 0.25 of the last point for a branch of one point),
+// the nearest pairs joined first; a root left over starts a branch. A fold
+// in T, where two roots meet and vanish, ends both branches.
 std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable::Root> roots);
 
 // The transitions of the 1-ipp family on a frequency-energy plot, written

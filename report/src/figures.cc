@@ -818,8 +818,8 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
 // family of one and two impacts per period, one colour per impact sequence:
 // (j) for each contact, (j, j) and (j, k), j < k ((k, j) is (j, k) shifted
 // by t2). Admissible orbits only, over the atlas's grid; 1-impact families
-// as lines (solid stable, dashed unstable), 2-impact ones as points (filled
-// stable, open unstable). With a rigid-body mode (a free mass in a cavity)
+// as lines (solid stable, dashed unstable), 2-impact ones as branches
+// (TwoImpactBranches) marked every few points (filled stable, open unstable). With a rigid-body mode (a free mass in a cavity)
 // only the pairs (j, k), j < k, that can send the free motion back
 // (two_impact.h CheckTwoImpactSequence).
 void Figure18(Context& c) {
@@ -845,15 +845,14 @@ void Figure18(Context& c) {
   }
   report::ResultFile out(c.dir, "fig18_sequences_fep.csv");
   std::ostream& os = out.stream();
-  os << "sequence,index,T,t2,energy,stable,drawn\n";
-  // (2-impact families are clouds: drawn on every few periods, as Fig. 8's.)
-  const int every = PointsEvery(c.periods.size());
+  os << "sequence,index,T,t2,energy,stable,branch\n";
   std::vector<std::string> labels, titles;
   SweepOptions opt;
   opt.stability = StabilityPolicy::kAdmissible;
   double lo = INFINITY, hi = -INFINITY;
   std::vector<std::array<long, 2>> counts(sequences.size(), {0, 0});  // unstable, stable
   std::vector<double> energies;
+  bool first = true;
   for (std::size_t s = 0; s < sequences.size(); ++s) {
     const std::vector<int>& seq = sequences[s];
     // (A stream: GCC 12 warns falsely (-Wrestrict) on chains of string + literal.)
@@ -867,20 +866,37 @@ void Figure18(Context& c) {
     labels.push_back(label.str());
     titles.push_back(title.str());
     opt.sequence = seq;
-    int last = -2;
+    // The admissible orbits of the sequence at each period of the grid,
+    // joined into branches (a 1-impact family has one orbit per period: its
+    // branches are its runs of consecutive periods).
+    std::vector<FepTable::Root> roots;
     for (std::size_t i = 0; i < c.periods.size(); ++i) {
       for (const OrbitRecord& r : OrbitsAt(c.b, c.periods[i], static_cast<int>(seq.size()), opt)) {
         if (!r.orbit.admissible) continue;
-        // A 1-impact family is a line: broken where a period has no admissible orbit.
-        if (seq.size() == 1 && last >= 0 && static_cast<int>(i) != last + 1) os << "\n";
-        last = static_cast<int>(i);
-        const bool drawn = seq.size() == 1 || i % every == 0;
-        os << labels.back() << "," << s << "," << r.orbit.period << "," << (seq.size() == 1 ? 0.0 : r.orbit.times[0]) << ","
-           << r.orbit.energy << "," << IsStable(r.stability) << "," << drawn << "\n";
-        counts[s][IsStable(r.stability)] += drawn;
+        roots.push_back({static_cast<int>(i), r.orbit.period, seq.size() == 1 ? 0.0 : r.orbit.times[0], r.orbit.energy,
+                         IsStable(r.stability)});
+        counts[s][IsStable(r.stability)] += 1;
         energies.push_back(r.orbit.energy);
         lo = std::min(lo, r.orbit.energy);
         hi = std::max(hi, r.orbit.energy);
+      }
+    }
+    std::vector<std::vector<FepTable::Root>> branches;
+    if (seq.size() == 2) {
+      branches = TwoImpactBranches(std::move(roots));
+    } else {
+      for (const FepTable::Root& r : roots) {
+        if (branches.empty() || r.step != branches.back().back().step + 1) branches.emplace_back();
+        branches.back().push_back(r);
+      }
+    }
+    for (std::size_t b = 0; b < branches.size(); ++b) {
+      // (One blank line between branches: gnuplot breaks the line there.)
+      os << (first ? "" : "\n");
+      first = false;
+      for (const FepTable::Root& r : branches[b]) {
+        os << labels.back() << "," << s << "," << r.period << "," << r.t2 << "," << r.energy << "," << r.stable << ","
+           << b + 1 << "\n";
       }
     }
   }
@@ -903,11 +919,14 @@ void Figure18(Context& c) {
     const bool one = sequences[s].size() == 1;
     for (int stable : {1, 0}) {
       std::ostringstream spec;
-      spec << "'fig18_sequences_fep.csv' using 3:(strcol(1) eq '" << labels[s] << "' && $7 == 1 && $6 == " << stable
+      spec << "'fig18_sequences_fep.csv' using 3:(strcol(1) eq '" << labels[s] << "' && $6 == " << stable
            << " ? $5 : 1/0)";
       // The role gives the line or point; the sequence the colour.
       const std::string role = one ? (stable ? "one_stable" : "one_unstable") : (stable ? "two_stable" : "two_unstable");
-      plot.Add(spec.str(), With(role, "", style::CycleColour("sequences", s)), titles[s] + (stable ? " stable" : " unstable"),
+      // (pi: a marker every 12th point of a 2-impact branch, as Fig. 8's.)
+      const std::string with = one ? With(role, "", style::CycleColour("sequences", s))
+                                   : With(role, "linespoints", style::CycleColour("sequences", s)) + " pi 12";
+      plot.Add(spec.str(), with, titles[s] + (stable ? " stable" : " unstable"),
                counts[s][stable]);
     }
   }
