@@ -137,7 +137,8 @@ std::string FamilyBarTics(double lo, double hi) {
   os << "set cbtics (";
   bool first = true;
   for (double v = std::ceil(lo / step - 1e-9) * step; v <= hi + 1e-9 * std::abs(hi); v += step) {
-    os << (first ? "" : ", ") << "'" << v << "' " << (v - lo) / (hi - lo);
+    // (+ 0.0: a tick at zero reads 0, not -0.)
+    os << (first ? "" : ", ") << "'" << v + 0.0 << "' " << (v - lo) / (hi - lo) + 0.0;
     first = false;
   }
   os << ")\n";

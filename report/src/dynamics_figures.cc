@@ -188,7 +188,10 @@ void FigureMultipliers(Context& c) {
   marks << "EOD\n";
   const double m_top = std::min(m_hi, 1e3) * 1.5;
   std::ostringstream body;
-  body << marks.str() << "set multiplot layout 1,2\nset key below\nset xlabel 'period T (s)'\n"
+  // A wide canvas (height 0.6 width): the complex plane's square panel fills
+  // the lower four fifths of its half, the left panel's key above it.
+  body << marks.str() << "set multiplot\nset size 0.52, 1\nset origin 0, 0\n"
+       << "set key at screen 0.97, screen 0.99 right top\nset xlabel 'period T (s)'\n"
        << "set ylabel 'largest modulus max |{/Symbol m}|'\nset logscale y\nset yrange [0.9:" << m_top << "]\n"
        << "set xrange [" << t_lo << ":" << t_hi << "]\n";
   // |mu| = 1 first: the stable orbits' points sit on it, drawn over it.
@@ -201,9 +204,10 @@ void FigureMultipliers(Context& c) {
       .Add("$minus using 1:2", With("multiplier_minus_one"), "multipliers through -1", static_cast<long>(minus.size()));
   // The complex plane: the multipliers within 2.5 of 0 (the larger real ones
   // of the unstable orbits are on the left panel).
-  body << left.str() << "unset logscale y\nset size ratio -1\nset xrange [-2.5:2.5]\nset yrange [-2.5:2.5]\n"
+  body << left.str() << "unset logscale y\nset size 0.48, 0.8\nset origin 0.52, 0\nset size ratio -1\n"
+       << "set xrange [-2.5:2.5]\nset yrange [-2.5:2.5]\n"
        << "set xlabel 'Re {/Symbol m}'\nset ylabel 'Im {/Symbol m}'\n"
-       << style::Palette("family", "T (s) along the 1-ipp branch") << FamilyBarTics(t_lo, t_hi)
+       << style::Palette("family", "T (s) along the 1-ipp branch") << "set cblabel offset 1, 0\n" << FamilyBarTics(t_lo, t_hi)
        << "set cbrange [0:1]\nunset key\n";
   // The unit circle over the points (the line |mu| = 1 of the left panel).
   Plot right;
@@ -214,7 +218,8 @@ void FigureMultipliers(Context& c) {
   body << right.str() << "unset multiplot";
   Draw(c, "multipliers_one_impact", body.str(),
        std::to_string(stable + unstable) + " admissible orbits, T from " + Num(t_lo) + " to " + Num(t_hi) +
-           ", largest |mu| " + Num(m_hi));
+           ", largest |mu| " + Num(m_hi),
+       0.6);
 }
 
 // time_history: x and v of the contact dof (and x of the others) over three
