@@ -202,7 +202,9 @@ class FepTable {
         .Add(select("1-ipp", " && $5 == 0"), With("one_unstable"), "1-ipp, unstable", one_.unstable)
         .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp, t_2 = T/2 (1-ipp dilated)",
              half_.stable + half_.unstable)
-        .Add(select("3-ipp", " && $5 == 1"), With("three_stable"), "3-ipp, stable", three_.stable)
+        // (Marked: its stable stretch may be a few orbits, too short a line to see.)
+        .Add(select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints") + " pi 12", "3-ipp, stable",
+             three_.stable)
         .Add(select("3-ipp", " && $5 == 0"), With("three_unstable"), "3-ipp, unstable", three_.unstable)
         .Add("'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)", With("bridge"), "bridge", bridge_count);
   }

@@ -442,7 +442,8 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
        << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate\n"
        << "set view 62, 35\nset xyplane relative 0\nset key at screen 0.02, screen 0.99 left top\n"
-       << "set pm3d depthorder noborder\n"
+       // (A light from the viewer: the shading tells the surface's folds apart.)
+       << "set pm3d depthorder noborder lighting primary 0.4 specular 0.0\n"
        << "$plane << EOD\n"
        << lo[0] << "," << c.b.gap << "," << lo[2] << "\n" << lo[0] << "," << c.b.gap << "," << hi[2] << "\n\n"
        << hi[0] << "," << c.b.gap << "," << lo[2] << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\nEOD\n"
@@ -640,14 +641,26 @@ void Figures13To15(Context& c) {
       if (!o.admissible) break;
       one.trajectories.push_back(OrbitTrajectory(c.b, o, kSamples));
     }
+    // A bridge at grazing is symmetric about s_end / 2 (its orbit there the
+    // dilated one, t2 = T/2): orbit s_end - s is orbit s shifted in time
+    // (t2 -> T - t2), the same curve in the phase space. Both halves drawn
+    // would cover the surface twice and its depth-sorted facets would
+    // alternate in stripes: the first half alone where the energies say so.
+    std::vector<Orbit> orbits;
+    for (int k = 0; k <= 20; ++k) orbits.push_back(BridgeOrbit(c.b, *br, br->s_end * k / 20.0));
+    bool symmetric = true;
+    for (int k = 0; k <= 10; ++k) {
+      // (1e-9: the energies' agreement in the closed form, far below the
+      // bridge's energy range, 6 % of E.)
+      symmetric = symmetric && std::abs(orbits[k].energy - orbits[20 - k].energy) <= 1e-9 * orbits[k].energy;
+    }
     SectionFamily family{"s / s_{end}", {}};
-    for (int k = 0; k <= 20; ++k) {
-      family.orbits.emplace_back(k / 20.0,
-                                 OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, br->s_end * k / 20.0), kSurfaceSamples));
+    for (int k = 0; k <= (symmetric ? 10 : 20); ++k) {
+      family.orbits.emplace_back(k / 20.0, OrbitTrajectory(c.b, orbits[k], kSurfaceSamples));
     }
     DrawSection(c, "fig14_bridge_section", family,
                 {one, {"grazing 1-ipp orbit (s = 0)", "limit", {OrbitTrajectory(c.b, OneImpactOrbit(c.b, t), kSamples)}}},
-                "");
+                symmetric ? "the bridge's half s <= s_end / 2 (symmetric about it)" : "");
   }
   // Fig. 15: zoom of the frequency-energy plot on the bridge.
   {
@@ -791,7 +804,7 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   Plot energies;
   energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)", With("not_admissible"), "3-ipp, not admissible", three[0])
       .Add("'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0)", With("three_unstable"), "3-ipp, unstable", three[1])
-      .Add("'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0)", With("three_stable"), "3-ipp, stable", three[2])
+      .Add("'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0)", With("three_stable", "linespoints") + " pi 12", "3-ipp, stable", three[2])
       .Add("'fig16_one_impact.csv' using 1:($3 == 1 && $4 == 1 ? $2 : 1/0)", With("one_stable"), "1-ipp, stable", one_stable)
       .Add("'' using 1:($3 == 1 && $4 == 0 ? $2 : 1/0)", With("one_unstable"), "1-ipp, unstable", one_unstable)
       .Add("$ends using 1:2", With("range_end"), "ends of the admissible 3-ipp stretch");
@@ -914,8 +927,16 @@ void Figure18(Context& c) {
        << "set key below\n";
   // One colour per sequence (the sequences cycle); stability as everywhere:
   // a 1-impact family solid / dashed, a 2-impact one filled / open points.
+  // The 1-impact families last, over the 2-impact branches they meet.
   Plot plot;
+  std::vector<std::size_t> order;
   for (std::size_t s = 0; s < sequences.size(); ++s) {
+    if (sequences[s].size() == 2) order.push_back(s);
+  }
+  for (std::size_t s = 0; s < sequences.size(); ++s) {
+    if (sequences[s].size() == 1) order.push_back(s);
+  }
+  for (const std::size_t s : order) {
     const bool one = sequences[s].size() == 1;
     for (int stable : {1, 0}) {
       std::ostringstream spec;
@@ -923,9 +944,9 @@ void Figure18(Context& c) {
            << " ? $5 : 1/0)";
       // The role gives the line or point; the sequence the colour.
       const std::string role = one ? (stable ? "one_stable" : "one_unstable") : (stable ? "two_stable" : "two_unstable");
-      // (pi: a marker every 12th point of a 2-impact branch, as Fig. 8's.)
-      const std::string with = one ? With(role, "", style::CycleColour("sequences", s))
-                                   : With(role, "linespoints", style::CycleColour("sequences", s)) + " pi 12";
+      // (pi: a marker every 12th point of a branch, as Fig. 8's; the
+      // 1-impact families' too, whose stable stretches may be a few periods.)
+      const std::string with = With(role, "linespoints", style::CycleColour("sequences", s)) + " pi 12";
       plot.Add(spec.str(), with, titles[s] + (stable ? " stable" : " unstable"),
                counts[s][stable]);
     }
