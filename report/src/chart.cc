@@ -265,7 +265,7 @@ std::string EnergyAxes(const Context& c) {
   std::ostringstream os;
   os << "set logscale y\n" << LogTics("y", lo, hi) << "set yrange [" << lo << ":" << hi << "]\n"
      << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n"
-     << "set key below\n";
+     << "set key below maxrows 4\n";
   return os.str();
 }
 
@@ -311,11 +311,12 @@ void TransitionLayers(Context& c, const std::string& name, bool all, std::ostrea
        << VerticalLines(block + "_modal", all ? at[TransitionKind::kModal] : std::vector<double>{}, lo, hi);
   // A label per singular transition at the foot of its line (the families
   // crowd the top, where the energy diverges), each on a row of its own when
-  // the previous one is near (4 % of the axis).
+  // the previous one is near (7 % of the axis: a label's width in the column
+  // PDF, where the text is largest against the axis).
   double last_label = -INFINITY;
   int row = 0;
   for (double t : at[TransitionKind::kSingular]) {
-    row = t - last_label < 0.04 * c.periods.back() ? row + 1 : 0;
+    row = t - last_label < 0.07 * c.periods.back() ? row + 1 : 0;
     body << "set label 'T_S' at " << t << ", graph 0 offset 0.3, " << 0.8 + 1.1 * row << " front\n";
     last_label = t;
   }
@@ -330,13 +331,13 @@ void TransitionLayers(Context& c, const std::string& name, bool all, std::ostrea
   plot.Add("$" + block + "_singular using 1:2", With("singular"), "singular transition T_S",
            static_cast<long>(at[TransitionKind::kSingular].size()));
   if (all) {
-    plot.Add("$" + block + "_modal using 1:2", With("modal"), "linear modal transition k T_i",
+    plot.Add("$" + block + "_modal using 1:2", With("modal"), "modal transition k T_i",
              static_cast<long>(at[TransitionKind::kModal].size()));
   }
   for (const auto& [kind, role, title] :
        {std::tuple<TransitionKind, const char*, const char*>{TransitionKind::kGrazing, "grazing", "grazing transition T_G"},
         {TransitionKind::kMultiplierPlusOne, "multiplier_plus_one", "multipliers through +1"},
-        {TransitionKind::kMultiplierMinusOne, "multiplier_minus_one", "multipliers through -1 (period doubling)"}}) {
+        {TransitionKind::kMultiplierMinusOne, "multiplier_minus_one", "period doubling (through -1)"}}) {
     if (!all && kind != TransitionKind::kGrazing) continue;
     plot.Add("'" + name + "' using 1:(strcol(2) eq '" + ToString(kind) + "' ? $3 : 1/0)", With(role), title,
              static_cast<long>(at[kind].size()));

@@ -197,13 +197,6 @@ int DrawEvery(const Sweep& sweep) {
   return static_cast<int>(std::max<long>(1, (roots + kDrawnRoots - 1) / kDrawnRoots));
 }
 
-// A datablock $half: the line t2 = T/2 over the grid.
-std::string HalfPeriodLine(const Context& c) {
-  std::ostringstream os;
-  os << "$half << EOD\n0,0\n" << c.periods.back() << "," << 0.5 * c.periods.back() << "\nEOD\n";
-  return os.str();
-}
-
 // Fig. 6: det A_2(t2, T) against t2 for T = 1..10, with its roots.
 void Figure6(Context& c) {
   report::ResultFile out(c.dir, "fig06_det_a2.csv");
@@ -246,10 +239,14 @@ void Figure6(Context& c) {
         plot.Unkeyed(spec, With(role));
       }
     }
-    const double lo = std::min(range[period][0], 0.0), hi = range[period][1];
+    // det A_2 >= 0 (its roots are double, touching 0; the samples' values
+    // below 0 are rounding, 1e-32): the axis from just below 0, so that the
+    // roots sit on its foot and a near-root reads as one.
+    const double hi = range[period][1];
     body << "set title 'T = " << period << " s'\nset xrange [0:" << period << "]\nset xtics (0, " << period << ")\n"
          << "set xlabel '" << (period > 5 ? "t_2 (s)" : "") << "'\nset ylabel '" << (period % 5 == 1 ? "det A_2" : "")
-         << "'\nset ytics " << NiceStep(lo, hi, 2) << "\n" << plot.str();
+         << "'\nset yrange [" << -0.06 * hi << ":" << 1.06 * hi << "]\nset ytics 0, " << NiceStep(0.0, hi, 2) << "\n"
+         << plot.str();
   }
   body << "unset multiplot";
   out.Commit();
@@ -272,14 +269,15 @@ void Figure6(Context& c) {
   }
   curves.Commit();
   std::ostringstream plane;
-  plane << "set xlabel 'period T (s)'\nset ylabel 'time of the second impact t_2 (s)'\nset key below\n"
-        << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:" << c.periods.back() << "]\n"
-        << HalfPeriodLine(c);
+  // t2 / T in [0, 1]: the roots fill the frame (t2 < T leaves half of a
+  // (T, t2) frame empty), the trivial line is t2 / T = 1/2, drawn over them.
+  plane << "set xlabel 'period T (s)'\nset ylabel 'second impact time over the period t_2 / T'\nset key below\n"
+        << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:1]\n";
   Plot plot;
-  plot.Add("$half using 1:2", With("two_half"), "trivial root t_2 = T/2 (the dilated 1-ipp)")
-      .Add("'fig06_root_curves.csv' using 1:($4 == 1 && $3 == 0 ? $2 : 1/0)", With("root_cloud_other"),
+  plot.Add("'fig06_root_curves.csv' using 1:($4 == 1 && $3 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other"),
            "other root, not admissible", other)
-      .Add("'' using 1:($4 == 1 && $3 == 1 ? $2 : 1/0)", With("root_cloud"), "other root, admissible", admissible);
+      .Add("'' using 1:($4 == 1 && $3 == 1 ? $2 / $1 : 1/0)", With("root_cloud"), "other root, admissible", admissible)
+      .Add("0.5", With("two_half"), "trivial root t_2 = T/2 (the dilated 1-ipp)");
   Draw(c, "fig06_root_curves", plane.str() + plot.str());
 }
 
@@ -319,18 +317,19 @@ void Figure7(Context& c) {
   e_lo = std::max(e_lo, lo);
   e_hi = std::min(std::max(e_hi, 2 * e_lo), hi);
   std::ostringstream body;
-  body << "set xlabel 'period T (s)'\nset ylabel 'time of the second impact t_2 (s)'\nset key below\n"
-       << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:" << c.periods.back() << "]\n"
+  // t2 / T in [0, 1], as Fig. 6's root curves; one mark per admissible root
+  // coloured by its energy (their stability is Fig. 8's: filled and open
+  // marks this dense could not be told apart), the line t2 = T/2 over them.
+  body << "set xlabel 'period T (s)'\nset ylabel 'second impact time over the period t_2 / T'\nset key below\n"
+       << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:1]\n"
        << style::Palette("energy", "energy E (J)") << "set logscale cb\n" << LogTics("cb", e_lo, e_hi)
-       << "set cbrange [" << e_lo << ":" << e_hi << "]\n" << HalfPeriodLine(c);
+       << "set cbrange [" << e_lo << ":" << e_hi << "]\n";
   Plot plot;
-  plot.Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 0 ? $2 : 1/0)", With("potential", "points"),
+  plot.Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 0 ? $2 / $1 : 1/0)", With("potential", "points"),
            "potential, not admissible", grey)
-      .Add("$half using 1:2", With("two_half"), "t_2 = T/2")
-      .Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 1 && $6 == 1 ? $2 : 1/0):3", style::WithPalette("map_stable"),
-           "admissible, stable (filled)", stable)
-      .Add("'' using 1:($9 == 1 && $5 == 1 && $6 == 0 ? $2 : 1/0):3", style::WithPalette("map_unstable"),
-           "admissible, unstable (open)", unstable);
+      .Add("'' using 1:($9 == 1 && $5 == 1 ? $2 / $1 : 1/0):3", style::WithPalette("map_stable"),
+           "admissible (colour: its energy)", stable + unstable)
+      .Add("0.5", With("two_half"), "t_2 = T/2");
   Draw(c, "fig07_two_impact_energy", body.str() + plot.str());
 }
 

@@ -232,7 +232,7 @@ std::string CycleColour(std::string_view cycle, std::size_t k) {
 }
 
 std::string ChartSetup() {
-  return "set grid lt 1 lw 0.5 lc rgb '" + Colour("grid") + "'\nset key samplen 2 spacing 1 height 1 noautotitle\n";
+  return "set grid lt 1 lw 0.5 lc rgb '" + Colour("grid") + "'\nset key samplen 3 spacing 1 height 1 noautotitle\n";
 }
 
 std::string Json() {
