@@ -116,7 +116,9 @@ def split_top(text):
 
 def series(script):
     """Each plot command's layers: (title or None, kind, dash, colour or None,
-    palette?) in order (a gnuplot plot's curves, as `set table` lists them)."""
+    palette?, legend only?) in order (a gnuplot plot's curves, as `set table`
+    lists them). A legend-only layer plots NaN: a key entry for a multi-panel
+    chart's one key, drawn by its panels."""
     text = script.replace("\\\n", " ")
     plots = []
     for line in text.splitlines():
@@ -131,7 +133,8 @@ def series(script):
             dash = re.search(r"\bdt\s+(\d+)", part)
             keyed = title is not None and title.group(1) and not re.search(r"\bnotitle\b", part)
             items.append((title.group(1) if keyed else None, kind.group(1) if kind else "lines",
-                          dash.group(1) if dash else "1", colour.group(1) if colour else None, "palette" in part))
+                          dash.group(1) if dash else "1", colour.group(1) if colour else None, "palette" in part,
+                          part.strip().startswith("NaN ")))
         plots.append(items)
     return plots
 
@@ -221,9 +224,16 @@ def check(directory, keys=True, allowed="style"):
             elif len(tables) != len(plots):
                 failures.append(f"{name}: {len(plots)} plot commands but gnuplot tabulated {len(tables)}")
             else:
+                # The styles (kind, dash, colour) that draw a point somewhere.
+                drawn = {item[1:4] for items, table in zip(plots, tables)
+                         for item, (inside, _) in zip(items, table) if inside > 0}
                 for items, table in zip(plots, tables):
                     for item, (inside, _) in zip(items, table):
-                        if item[0] is not None and item[1] != "pm3d" and inside == 0:
+                        if item[0] is None or item[1] == "pm3d":
+                            continue
+                        if item[5] and item[1:4] not in drawn:
+                            failures.append(f"{name}: the key names '{item[0]}', whose style no panel draws")
+                        elif not item[5] and inside == 0:
                             failures.append(f"{name}: the key names '{item[0]}', which draws no point inside the axes")
         rows.append((name, sum(1 for p in plots for it in p if it[0] is not None), worst))
     for f in failures:

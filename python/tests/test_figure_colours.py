@@ -63,6 +63,18 @@ def test_a_key_that_names_nothing_drawn_fails(tmp_path):
     assert run(tmp_path, "set datafile separator ','\n" + empty, keys=True) == 1
 
 
+@pytest.mark.skipif(shutil.which("gnuplot") is None, reason="the key check runs gnuplot")
+def test_a_shared_key_names_only_what_a_panel_draws(tmp_path):
+    # A multi-panel chart's one key (legend-only NaN layers, Plot::Legend):
+    # an entry passes when a panel draws its style, fails when none does.
+    (tmp_path / "a.csv").write_text("1,2\n2,3\n3,4\n")
+    panel = "set datafile separator ','\nset multiplot\nplot 'a.csv' using 1:2 with lines lc rgb '#0072B2' notitle\n"
+    drawn = "set xrange [0:1]\nset yrange [0:1]\nplot NaN with lines lc rgb '#0072B2' title 'drawn'"
+    assert run(tmp_path, panel + drawn + "\nunset multiplot", keys=True) == 0
+    absent = drawn + ", NaN with lines dt 2 lc rgb '#56B4E9' title 'absent'"
+    assert run(tmp_path, panel + absent + "\nunset multiplot", keys=True) == 1
+
+
 def test_the_style_pairs_that_only_colour_tells_apart():
     # The style's stability pairs (report/style.toml), stable dark, unstable
     # light: 1-ipp blue and sky blue, 2-ipp vermillion (darkened) and orange,

@@ -28,17 +28,46 @@ using style::With;
 // many points it draws: with none it is left out, so that a key lists what
 // is drawn and nothing else (scripts/check_figure_colours.py checks the
 // scripts against gnuplot's own table of each plotted curve).
+//
+// A panel of a multi-panel chart may collect its key entries instead of
+// showing them (Keys::kCollected): the chart then shows one key for all its
+// panels, a plot of legend-only entries (Legend: "NaN" layers, which draw
+// nothing; the check accepts such an entry when another panel draws its
+// style).
 class Plot {
  public:
-  explicit Plot(std::string command = "plot") : command_(std::move(command)) {}
+  enum class Keys { kShown, kCollected };
+  struct Entry {
+    std::string title, style;
+  };
+  explicit Plot(std::string command = "plot", Keys keys = Keys::kShown) : command_(std::move(command)), keys_(keys) {}
   // `spec`: the data and its columns ("'f.csv' using 1:2"); `style`: the
   // "with ..." clause (With(role)).
   // A spec may start with '' (gnuplot's "the previous file"): it is
   // resolved here, since the layer before it may have been left out.
   Plot& Add(const std::string& spec, const std::string& style, const std::string& title, long points = 1) {
     const std::string layer = Resolve(spec);
-    if (points > 0) layers_.push_back(layer + " " + style + " title '" + title + "'");
+    if (points <= 0) return *this;
+    if (keys_ == Keys::kShown) {
+      layers_.push_back(layer + " " + style + " title '" + title + "'");
+    } else {
+      layers_.push_back(layer + " " + style + " notitle");
+      collected_.push_back({title, style});
+    }
     return *this;
+  }
+  // The key entries a Keys::kCollected plot drew.
+  const std::vector<Entry>& Collected() const { return collected_; }
+  // A plot of legend-only entries: each entry once, in order.
+  static std::string Legend(const std::vector<Entry>& entries) {
+    std::vector<std::string> seen;
+    Plot legend;
+    for (const Entry& e : entries) {
+      if (std::find(seen.begin(), seen.end(), e.title) != seen.end()) continue;
+      seen.push_back(e.title);
+      legend.layers_.push_back("NaN " + e.style + " title '" + e.title + "'");
+    }
+    return legend.str();
   }
   // A layer with no key entry (drawn whatever its count).
   Plot& Unkeyed(const std::string& spec, const std::string& style) {
@@ -65,7 +94,9 @@ class Plot {
     return spec;
   }
   std::string command_, last_source_;
+  Keys keys_ = Keys::kShown;
   std::vector<std::string> layers_;
+  std::vector<Entry> collected_;
 };
 
 // A datablock NAME of vertical segments x = x_k from y = lo to y = hi (one
@@ -202,8 +233,9 @@ class FepTable {
         .Add(select("1-ipp", " && $5 == 0"), With("one_unstable"), "1-ipp, unstable", one_.unstable)
         .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp, t_2 = T/2 (1-ipp dilated)",
              half_.stable + half_.unstable)
-        // (Marked: its stable stretch may be a few orbits, too short a line to see.)
-        .Add(select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints") + " pi 12", "3-ipp, stable",
+        // (A dot on every stable orbit: the stretch may be a few orbits, too
+        // short a line to see.)
+        .Add(select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints"), "3-ipp, stable",
              three_.stable)
         .Add(select("3-ipp", " && $5 == 0"), With("three_unstable"), "3-ipp, unstable", three_.unstable)
         .Add("'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)", With("bridge"), "bridge", bridge_count);

@@ -192,8 +192,10 @@ void FigureMultipliers(Context& c) {
   // the lower four fifths of its half, the left panel's key above it.
   body << marks.str() << "set multiplot\nset size 0.52, 1\nset origin 0, 0\n"
        << "set key at screen 0.97, screen 0.99 right top\nset xlabel 'period T (s)'\n"
-       << "set ylabel 'largest modulus max |{/Symbol m}|'\nset logscale y\nset yrange [0.9:" << m_top << "]\n"
-       << "set xrange [" << t_lo << ":" << t_hi << "]\n";
+       // (From 0.7 and 2 % beyond the branch's ends: the stable orbits, at
+       // |mu| = 1, and the ends' points clear of the frame.)
+       << "set ylabel 'largest modulus max |{/Symbol m}|'\nset logscale y\nset yrange [0.7:" << m_top << "]\n"
+       << "set xrange [" << t_lo - 0.02 * (t_hi - t_lo) << ":" << t_hi + 0.02 * (t_hi - t_lo) << "]\n";
   // |mu| = 1 first: the stable orbits' points sit on it, drawn over it.
   Plot left;
   left.Add("1", With("unit_circle"), "|{/Symbol m}| = 1")
@@ -207,7 +209,7 @@ void FigureMultipliers(Context& c) {
   body << left.str() << "unset logscale y\nset size 0.48, 0.8\nset origin 0.52, 0\nset size ratio -1\n"
        << "set xrange [-2.5:2.5]\nset yrange [-2.5:2.5]\n"
        << "set xlabel 'Re {/Symbol m}'\nset ylabel 'Im {/Symbol m}'\n"
-       << style::Palette("family", "T (s) along the 1-ipp branch") << "set cblabel offset 1, 0\n" << FamilyBarTics(t_lo, t_hi)
+       << style::Palette("family", "T (s) along the 1-ipp branch") << FamilyBarTics(t_lo, t_hi)
        << "set cbrange [0:1]\nunset key\n";
   // The unit circle over the points (the line |mu| = 1 of the left panel).
   Plot right;

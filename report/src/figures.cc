@@ -559,15 +559,20 @@ void Figures11And12(Context& c) {
   // arclength from the grazing mode (short: a long label is cut in print).
   std::ostringstream bar;
   bar << FamilyBarTics(0.0, std::abs(s1 - s0));
-  body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
+  // Against t / T: the orbits' periods differ (T spans the family), their
+  // first impacts at 0 and T align; each orbit's second impact t2 circled in
+  // its colour.
+  const std::string arc = "($" + std::to_string(6 + 2 * c.b.n) + " / " + std::to_string(std::abs(s1 - s0)) + ")";
+  const std::string xc = std::to_string(XCol(c, c.contact));
+  body << "set xlabel 'time over the period t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
        << style::Palette("family", "arclength s of the family") << bar.str() << "set cbrange [0:1]\n"
-       << "set xrange [0:" << tmax << "]\n";
+       << "set xrange [0:1]\n";
   Plot plot;
-  plot.Unkeyed("'fig11_two_impact_mode.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)) +
-                   ":($" + std::to_string(6 + 2 * c.b.n) + " / " + std::to_string(std::abs(s1 - s0)) + ")",
-               "with lines lw 1.5 lc palette")
-      .Add("'' using " + std::to_string(TCol()) + ":(strcol(1) eq '0' ? $" + std::to_string(XCol(c, c.contact)) + " : 1/0)",
-           With("limit"), "grazing linear mode")
+  plot.Unkeyed("'fig11_two_impact_mode.csv' using ($3 / $2):" + xc + ":" + arc, "with lines lw 1.5 lc palette")
+      .Add("'' using ($3 / $2):(strcol(1) eq '0' ? $" + xc + " : 1/0)", With("limit"), "grazing linear mode")
+      .Add("'' every ::0::0 using ($1 > 0 ? $" + std::to_string(4 + 2 * c.b.n) + " / $2 : 1/0):(" +
+               std::to_string(c.b.gap) + "):" + arc,
+           style::WithPalette("impact_map"), "second impact t_2", curves)
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
   body << plot.str();
   out.Commit();
@@ -707,9 +712,12 @@ void Figure17(Context& c) {
   // Each panel keys what it draws in a band of its own below it; the plot
   // areas are placed by hand so that they are the same size whatever the
   // length of their keys.
-  const double cw = 1.0 / cols, ch = 1.0 / rows;
-  body << "set multiplot\nset key samplen 1.5 spacing 0.85 vertical maxrows 4\n"
-       << "set xlabel 'period T (s)' offset 0, 0.3\n";
+  // The panels above one key for all of them (the series of the panels
+  // are the same kinds; a key per panel took a third of the height), each
+  // titled above its frame; the plot areas placed by hand.
+  const double key_band = 0.14, cw = 1.0 / cols, ch = (1.0 - key_band) / rows;
+  body << "set multiplot\nset xlabel 'period T (s)' offset 0, 0.3\nset ytics scale 0.5\n";
+  std::vector<Plot::Entry> entries;
   for (int k = 0; k < n; ++k) {
     const Bridge& br = c.bridges[k];
     const double w = 0.01 * br.period, height = br.energy_max - br.energy_min;
@@ -722,17 +730,24 @@ void Figure17(Context& c) {
     const double x0 = (k % cols) * cw, y0 = 1.0 - (k / cols + 1) * ch;
     // (The energy label on the left column only: the right one's would run
     // into its neighbour.)
-    body << "set lmargin at screen " << x0 + 0.22 * cw << "\nset rmargin at screen " << x0 + 0.97 * cw
-         << "\nset tmargin at screen " << y0 + 0.95 * ch << "\nset bmargin at screen " << y0 + 0.45 * ch
-         << "\nset key at screen " << x0 + 0.5 * cw << ", screen " << y0 + 0.26 * ch << " center top\n"
+    const double lo = br.energy_min - 0.5 * height, hi = br.energy_max + 0.5 * height;
+    body << "set lmargin at screen " << x0 + 0.2 * cw << "\nset rmargin at screen " << x0 + 0.97 * cw
+         << "\nset tmargin at screen " << y0 + 0.88 * ch << "\nset bmargin at screen " << y0 + 0.24 * ch << "\n"
          << "set ylabel '" << (k % cols == 0 ? "energy E (J)" : "") << "'\n"
-         << "set xtics " << NiceStep(br.period - w, br.period + w, 3) << "\n"
-         << "set xrange [" << br.period - w << ":" << br.period + w << "]\nset yrange ["
-         << br.energy_min - 0.5 * height << ":" << br.energy_max + 0.5 * height << "]\n"
-         << "set label 1 'B" << k + 1 << ": " << (IsGrazing(br) ? "grazing" : "period doubling") << ", T = "
-         << std::setprecision(6) << br.period << "' at graph 0.03, graph 0.93 front\n"
-         << table.Layers("fig17_bridges_fep.csv", "fig17_bridges.csv", 1, k);
+         << "set xtics " << NiceStep(br.period - w, br.period + w, 3) << "\nset ytics " << NiceStep(lo, hi, 4) << "\n"
+         << "set xrange [" << br.period - w << ":" << br.period + w << "]\nset yrange [" << lo << ":" << hi << "]\n"
+         << "set title 'B" << k + 1 << ": " << (IsGrazing(br) ? "grazing" : "period doubling") << ", T = "
+         << std::setprecision(6) << br.period << "' offset 0, -0.6\n";
+    Plot plot("plot", Plot::Keys::kCollected);
+    table.AddLayers(plot, "fig17_bridges_fep.csv", "fig17_bridges.csv", 1, k);
+    body << plot.str();
+    entries.insert(entries.end(), plot.Collected().begin(), plot.Collected().end());
   }
+  // The key: a plot of legend-only entries in an invisible frame.
+  body << "unset title\nunset border\nunset tics\nunset grid\nset xlabel ''\nset ylabel ''\n"
+       << "set lmargin at screen 0.1\nset rmargin at screen 0.9\nset tmargin at screen " << key_band
+       << "\nset bmargin at screen " << key_band - 0.01 << "\nset xrange [0:1]\nset yrange [0:1]\n"
+       << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 3\n" << Plot::Legend(entries);
   body << "unset multiplot";
   out.Commit();
   bo.Commit();
@@ -803,19 +818,29 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   Plot energies;
   energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)", With("not_admissible"), "3-ipp, not admissible", three[0])
       .Add("'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0)", With("three_unstable"), "3-ipp, unstable", three[1])
-      .Add("'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0)", With("three_stable", "linespoints") + " pi 12", "3-ipp, stable", three[2])
+      // (A dot on every stable orbit: the stretch may be two orbits long.)
+      .Add("'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0)", With("three_stable", "linespoints"), "3-ipp, stable", three[2])
       .Add("'fig16_one_impact.csv' using 1:($3 == 1 && $4 == 1 ? $2 : 1/0)", With("one_stable"), "1-ipp, stable", one_stable)
       .Add("'' using 1:($3 == 1 && $4 == 0 ? $2 : 1/0)", With("one_unstable"), "1-ipp, unstable", one_unstable)
       .Add("$ends using 1:2", With("range_end"), "ends of the admissible 3-ipp stretch");
   // The orbit drawn on the right is marked on its branch, and its stability named.
   const bool start_stable = OrbitStability(c.b, pick.start).stable;
   Mark(energies, pick.start.period, pick.start.energy, "mark", "the orbit on the right");
+  // Where the family ends on the 1-ipp branch: its grazing orbit at T_G.
+  const Orbit graze = OneImpactOrbit(c.b, pick.admissible_to);
+  Mark(energies, graze.period, graze.energy, "grazing", "grazing 1-ipp orbit at T_G");
+  // The right panel's impacts: t = 0 (and T), t2, t3.
+  std::ostringstream impacts;
+  impacts << "$impacts << EOD\n0," << c.b.gap << "\n";
+  for (const double t : pick.start.times) impacts << t << "," << c.b.gap << "\n";
+  impacts << pick.start.period << "," << c.b.gap << "\nEOD\n";
   Plot orbit_plot;
   orbit_plot.Add("'fig16_orbit.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)),
                  With("orbit_three"),
                  Xc(c) + "(t), T = " + period_label + (start_stable ? " (stable)" : " (unstable)"))
-      .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
-  body << energies.str() << "set autoscale y\nset xrange [0:" << pick.start.period << "]\n"
+      .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d")
+      .Add("$impacts using 1:2", With("mark"), "impacts");
+  body << energies.str() << impacts.str() << "set autoscale y\nset xrange [0:" << pick.start.period << "]\n"
        << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << "unset multiplot";
   out.Commit();
   one.Commit();

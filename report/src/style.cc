@@ -205,7 +205,8 @@ std::string Palette(std::string_view map, const std::string& label) {
        << (*pair)[1].value<std::string>().value() << "'";
     first = false;
   }
-  os << ")\nset cblabel '" << label << "'\n";
+  // (offset 1: gnuplot puts a rotated bar label on its tick labels.)
+  os << ")\nset cblabel '" << label << "' offset 1, 0\n";
   return os.str();
 }
 
