@@ -1161,36 +1161,31 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
         ++count[r.branch][r.orbit.admissible ? 1 + r.orbit.stable : 0];
       }
     }
+    // Each level in its colour, sampled on the level map (dark: the
+    // lowest): stable solid, unstable dashed, not admissible dotted; a
+    // level's first branch keys each, its other branches are the same. The
+    // keys in that order, level by level, on both charts.
     Plot plot;
     const std::string y = std::to_string(col);
-    bool grey_keyed = false;
-    std::vector<std::array<bool, 2>> level_keyed(levels.size(), {false, false});
-    for (const auto& [branch, n] : count) {
-      const std::string select = "'response.csv' using ($" + branch_col + " == " + std::to_string(branch) + " && $8 == ";
-      if (n[0] > 0) {
-        const std::string spec = select + "0 ? $" + x + " : 1/0):" + y;
-        if (grey_keyed) {
-          plot.Unkeyed(spec, With("not_admissible"));
-        } else {
-          plot.Add(spec, With("not_admissible"), "not admissible");
-          grey_keyed = true;
-        }
-      }
-      // Each level its colour, sampled on the level map (dark: the lowest).
-      const std::size_t k = level_of[branch];
+    for (std::size_t k = 0; k < levels.size(); ++k) {
       const std::string colour = style::MapColour("level", levels.size() < 2 ? 0.0 : k / (levels.size() - 1.0));
       std::ostringstream level;
       level << (frequency ? "a = " : "{/Symbol w} = ") << levels[k] << (frequency ? " N" : " rad/s");
-      for (int stable : {1, 0}) {
-        if (n[1 + stable] == 0) continue;
-        const std::string spec = select + "1 && $9 == " + std::to_string(stable) + " ? $" + x + " : 1/0):" + y;
-        const std::string look = With(stable ? "response_stable" : "response_unstable", "", colour);
-        // A level's first branch keys it; its other branches are the same.
-        if (!level_keyed[k][stable]) {
-          plot.Add(spec, look, level.str() + (stable ? ", stable" : ", unstable"));
-          level_keyed[k][stable] = true;
-        } else {
-          plot.Unkeyed(spec, look);
+      for (int what : {2, 1, 0}) {  // stable, unstable, not admissible (count's index)
+        bool keyed = false;
+        for (const auto& [branch, n] : count) {
+          if (level_of[branch] != k || n[what] == 0) continue;
+          const std::string spec = "'response.csv' using ($" + branch_col + " == " + std::to_string(branch) +
+                                   (what == 0 ? " && $8 == 0" : " && $8 == 1 && $9 == " + std::to_string(what - 1)) +
+                                   " ? $" + x + " : 1/0):" + y;
+          const char* role = what == 2 ? "response_stable" : what == 1 ? "response_unstable" : "not_admissible";
+          const std::string look = With(role, "lines", colour);
+          if (keyed) {
+            plot.Unkeyed(spec, look);
+          } else {
+            plot.Add(spec, look, level.str() + (what == 2 ? ", stable" : what == 1 ? ", unstable" : ", not admissible"));
+            keyed = true;
+          }
         }
       }
     }
