@@ -372,6 +372,9 @@ void Figure9(Context& c) {
 struct SectionFamily {
   std::string parameter;  // what the shade is, e.g. "period T (s)"
   std::vector<std::pair<double, Eigen::MatrixXd>> orbits;  // (shade, OrbitTrajectory)
+  // false: the orbits drawn as curves, not as a surface (a family whose
+  // outer orbits would hide the inner ones behind a surface).
+  bool surface = true;
 };
 struct SectionCurve {
   std::string title;
@@ -443,6 +446,8 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        << "set view 62, 35\nset xyplane relative 0\nset key at screen 0.02, screen 0.99 left top\n"
        // (A light from the viewer: the shading tells the surface's folds apart.)
        << "set pm3d depthorder noborder lighting primary 0.4 specular 0.0\n"
+       // (Curves: each orbit a line, not the grid's cross-lines between them.)
+       << (family.surface ? "" : "set surface explicit\n")
        << "$plane << EOD\n"
        << lo[0] << "," << c.b.gap << "," << lo[2] << "\n" << lo[0] << "," << c.b.gap << "," << hi[2] << "\n\n"
        << hi[0] << "," << c.b.gap << "," << lo[2] << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\nEOD\n"
@@ -451,7 +456,8 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\n" << hi[0] << "," << c.b.gap << "," << lo[2] << "\n"
        << lo[0] << "," << c.b.gap << "," << lo[2] << "\nEOD\n";
   Plot surface("splot");
-  surface.Unkeyed("'" + name + ".csv' index 0 using " + u + ":" + w + ":" + v + ":2", "with pm3d")
+  surface.Unkeyed("'" + name + ".csv' index 0 using " + u + ":" + w + ":" + v + ":2",
+                  family.surface ? "with pm3d" : "with lines lw 1 lc palette")
       .Unkeyed("$plane using 1:2:3", "with pm3d fillcolor rgb '" + style::Colour("plane") + "'")
       .Add("$edge using 1:2:3", With("obstacle"), "obstacle " + Xc(c) + " = d (the plane)");
   // The projection: every other orbit of a dense family (the curves overlap).
@@ -589,6 +595,9 @@ void Figures11And12(Context& c) {
     family.orbits.emplace_back(std::abs(p.arclength - branch[run.front()].arclength),
                                OrbitTrajectory(c.b, TwoImpactOrbitAt(c.b, p.t2, p.period), kSurfaceSamples));
   }
+  // As curves: the family winds inwards from the grazing mode, and a
+  // surface showed its outer orbits alone (the inner ones behind them).
+  family.surface = false;
   DrawSection(c, "fig12_two_impact_mode", family,
               {{"grazing linear mode", "limit", {OrbitTrajectory(c.b, linear, kSamples)}}}, "");
 }
