@@ -1,6 +1,7 @@
 #include "nsmodal/model_spec.h"
 
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "nsmodal/error.h"
@@ -136,6 +137,7 @@ Model AssembleModel(const ModelSpec& s, const FieldNames& names) {
     }
   }
   Validate(model);
+  model.source = std::make_shared<const ModelSource>(ModelSource{s, names});
   return model;
 }
 

@@ -15,6 +15,7 @@
 // conserves energy at e = 1. Several contacts struck at once: sim/'s
 // contact.h states the law.
 #include <Eigen/Dense>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,8 @@ Contact DofContact(int n, int dof, bool upper, double gap, double restitution);
 Contact BetweenContact(int n, int dof, int other, double gap, double restitution);
 Contact NormalContact(Eigen::VectorXd normal, double gap, double restitution);
 
+struct ModelSource;  // model_spec.h: the keys a model was assembled from
+
 struct Model {
   Eigen::MatrixXd mass;       // M, symmetric positive definite, N x N
   Eigen::MatrixXd stiffness;  // K, symmetric positive semi-definite, N x N (zero
@@ -78,6 +81,9 @@ struct Model {
   Eigen::MatrixXd damping;    // C, symmetric positive semi-definite N x N, or empty (none)
   Forcing forcing;            // none by default
   std::vector<Contact> contacts;  // at least one; contact j + 1 of the files is contacts[j]
+  // The keys it was assembled from (AssembleModel; null for a model built in
+  // code): parameter.h rebuilds the model from them at another value.
+  std::shared_ptr<const ModelSource> source;
 
   int dofs() const { return static_cast<int>(mass.rows()); }
   bool HasDamping() const { return damping.size() > 0 && damping.cwiseAbs().maxCoeff() > 0.0; }

@@ -56,6 +56,13 @@ struct ModelSpec {
 // "forcing.frequency" (one without the other; w not positive). The builders
 // (MakeChain, MakeBar, the damping forms) and Validate name the scene's
 // fields (system.masses, system.gap, forcing.amplitude, ...) for what they check.
+// The model keeps its spec and names (Model::source).
 Model AssembleModel(const ModelSpec& spec, const FieldNames& names);
+
+// What a model was assembled from: its keys and how a face names them.
+struct ModelSource {
+  ModelSpec spec;
+  FieldNames names;
+};
 
 }  // namespace nsmodal
