@@ -328,16 +328,16 @@ void TransitionLayers(Context& c, const std::string& name, bool all, std::ostrea
       body << "set label 'T_G' at " << t.period << ", " << t.energy << " right offset -0.8, 0 front\n";
     }
   }
-  plot.Add("$" + block + "_singular using 1:2", With("singular"), "singular transition T_S",
+  plot.Add("$" + block + "_singular using 1:2", With("singular"), "singular, T_S",
            static_cast<long>(at[TransitionKind::kSingular].size()));
   if (all) {
-    plot.Add("$" + block + "_modal using 1:2", With("modal"), "modal transition k T_i",
+    plot.Add("$" + block + "_modal using 1:2", With("modal"), "modal, k T_i",
              static_cast<long>(at[TransitionKind::kModal].size()));
   }
   for (const auto& [kind, role, title] :
-       {std::tuple<TransitionKind, const char*, const char*>{TransitionKind::kGrazing, "grazing", "grazing transition T_G"},
-        {TransitionKind::kMultiplierPlusOne, "multiplier_plus_one", "multipliers through +1"},
-        {TransitionKind::kMultiplierMinusOne, "multiplier_minus_one", "period doubling (through -1)"}}) {
+       {std::tuple<TransitionKind, const char*, const char*>{TransitionKind::kGrazing, "grazing", "grazing, T_G"},
+        {TransitionKind::kMultiplierPlusOne, "multiplier_plus_one", "{/Symbol m} through +1"},
+        {TransitionKind::kMultiplierMinusOne, "multiplier_minus_one", "{/Symbol m} through -1"}}) {
     if (!all && kind != TransitionKind::kGrazing) continue;
     plot.Add("'" + name + "' using 1:(strcol(2) eq '" + ToString(kind) + "' ? $3 : 1/0)", With(role), title,
              static_cast<long>(at[kind].size()));

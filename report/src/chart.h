@@ -231,7 +231,7 @@ class FepTable {
              two_unstable_)
         .Add(select("1-ipp", " && $5 == 1"), With("one_stable"), "1-ipp, stable", one_.stable)
         .Add(select("1-ipp", " && $5 == 0"), With("one_unstable"), "1-ipp, unstable", one_.unstable)
-        .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp, t_2 = T/2 (1-ipp dilated)",
+        .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp, t_2 = T/2",
              half_.stable + half_.unstable)
         // (A dot on every stable orbit: the stretch may be a few orbits, too
         // short a line to see.)

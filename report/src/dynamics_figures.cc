@@ -122,11 +122,13 @@ void FigureModel(Context& c) {
   lines << "EOD\n";
   body << "set arrow from " << left(n - 1) + size << ", -0.15 to " << wall << ", -0.15 heads size 0.1,25 "
        << style::Look("function") << "\nset label 'd = " << Num(m.FirstContact().gap) << " m' at "
-       << 0.5 * (left(n - 1) + size + wall) << ", -0.45 center\n"
-       << "set label 'restitution e = " << Num(stop.restitution) << "' at " << wall << ", 1.6 center\n";
+       // (Below the masses' labels, and e short: at the column's width the
+       // labels are a larger part of the drawing.)
+       << 0.5 * (left(n - 1) + size + wall) << ", -0.75 center\n"
+       << "set label 'e = " << Num(stop.restitution) << "' at " << wall << ", 1.6 center\n";
   std::ostringstream chart;
   // The canvas of the drawing's shape: no white bands around it.
-  const double x_lo = -0.6, x_hi = wall + 1.6, y_lo = -0.8, y_hi = 2.0;
+  const double x_lo = -0.6, x_hi = wall + 1.6, y_lo = -1.05, y_hi = 2.0;
   chart << "unset border\nunset tics\nunset grid\nunset key\nset size ratio -1\nset margins 0, 0, 0, 0\nset xrange ["
         << x_lo << ":" << x_hi << "]\nset yrange [" << y_lo << ":" << y_hi << "]\n" << lines.str() << body.str();
   Plot plot;
@@ -360,7 +362,8 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
   // One key at the top, above the panels' titles: the panels draw the same
   // series. (A multiplot panel's key is as wide as the panel: two short
   // entries; the obstacle, dashed at d as in every chart, is unkeyed.)
-  body << "set multiplot layout 2," << cols << " margins 0.11, 0.98, 0.09, 0.84 spacing 0.07, 0.14\n"
+  // (Margins and gaps wide enough for the column PDF's tick labels.)
+  body << "set multiplot layout 2," << cols << " margins 0.14, 0.96, 0.11, 0.84 spacing 0.09, 0.14\n"
        << "set key at screen 0.5, screen 0.995 center top\n";
   for (int k = 0; k < cols; ++k) {
     if (k == 1) body << "unset key\n";
@@ -382,9 +385,12 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
   const double decade_hi = std::ceil(std::log10(dev_hi > 0.0 ? dev_hi : 1e-15));
   body << "unset title\nset logscale y\nset format y '10^{%T}'\nset yrange [1e" << decade_lo << ":1e" << decade_hi
        << "]\nset ytics " << std::pow(10.0, std::max(1.0, std::ceil((decade_hi - decade_lo) / 4))) << "\nset xrange [0:"
-       << vopt.periods << "]\nset xtics " << vopt.periods / 2 << "\nset mxtics 2\nset xlabel 'periods k'\n";
+       << vopt.periods << "]\nset xtics 0, " << vopt.periods / 2 << ", " << vopt.periods / 2
+       << "\nset mxtics 2\nset mytics 1\nset xlabel 'periods k'\n";
   for (int k = 0; k < cols; ++k) {
-    body << "set ylabel '" << (k == 0 ? "deviation |z(kT) - z_0| / |z_0|" : "") << "'\n";
+    // One scale: its tick labels on the first panel only.
+    body << "set ylabel '" << (k == 0 ? "deviation |z(kT) - z_0| / |z_0|" : "") << "'\n"
+         << (k == 1 ? "set format y ''\n" : "");
     Plot p;
     p.Unkeyed("'validation_deviation.csv' index " + std::to_string(k) + " using 2:($3 > 0 ? $3 : 1/0)", With("function"));
     body << p.str();

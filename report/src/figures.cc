@@ -76,6 +76,19 @@ void Mark(Plot& plot, double t, double x, const char* role, const std::string& t
   }
 }
 
+// The set-up of a multi-panel chart's one key (Plot::Legend, the plot that
+// follows): an invisible frame, the key centred at the foot of the canvas in
+// up to three columns, in a band `height` high (screen fraction) that the
+// panels leave free.
+std::string LegendPanel(double height) {
+  std::ostringstream os;
+  os << "unset title\nunset border\nunset tics\nunset grid\nunset arrow\nunset label\nset xlabel ''\nset ylabel ''\n"
+     << "set lmargin at screen 0.01\nset rmargin at screen 0.99\nset tmargin at screen " << height
+     << "\nset bmargin at screen " << height - 0.01 << "\nset xrange [0:1]\nset yrange [0:1]\n"
+     << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 3\n";
+  return os.str();
+}
+
 // Layers circling the points (t, d) where an orbit grazes the obstacle.
 std::function<void(Plot&)> GrazeMarks(const Context& c, const std::vector<double>& times) {
   const double d = c.b.gap;
@@ -442,7 +455,7 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        << InnerTics("x", lo[0], hi[0], 5) << InnerTics("y", lo[1], hi[1], 5) << "set ztics " << NiceStep(lo[2], hi[2], 4)
        << "\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
-       << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate\n"
+       << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate offset 2.5, 0\n"
        << "set view 62, 35\nset xyplane relative 0\nset key at screen 0.02, screen 0.99 left top\n"
        // (A light from the viewer: the shading tells the surface's folds apart.)
        << "set pm3d depthorder noborder lighting primary 0.4 specular 0.0\n"
@@ -474,6 +487,8 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s") << "'\n"
        << "set xtics " << NiceStep(lo[1], hi[1], 3) << "\nset ytics " << NiceStep(lo[2], hi[2], 5) << "\n"
        << "set xrange [" << lo[1] - 0.05 * (hi[1] - lo[1]) << ":" << hi[1] + 0.05 * (hi[1] - lo[1]) << "]\n"
+       // (The data's range: autoscaling would extend it to the next ticks.)
+       << "set yrange [" << lo[2] - 0.05 * (hi[2] - lo[2]) << ":" << hi[2] + 0.05 * (hi[2] - lo[2]) << "]\n"
        << "set arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead " << style::Look("obstacle") << "\n"
        << projection.str() << "unset multiplot";
   Draw(c, name, body.str(), note);
@@ -693,7 +708,7 @@ void Figures13To15(Context& c) {
          << " offset -0.6, 1.1 front\n";
     Plot plot;
     table.AddLayers(plot, "fig15_bridge_fep.csv", "fig15_bridge.csv", 1);
-    Mark(plot, t, br->energy_max, "grazing", "grazing transition T_G");
+    Mark(plot, t, br->energy_max, "grazing", "grazing, T_G");
     body << plot.str();
     out.Commit();
     bo.Commit();
@@ -740,23 +755,19 @@ void Figure17(Context& c) {
     // (The energy label on the left column only: the right one's would run
     // into its neighbour.)
     const double lo = br.energy_min - 0.5 * height, hi = br.energy_max + 0.5 * height;
-    body << "set lmargin at screen " << x0 + 0.2 * cw << "\nset rmargin at screen " << x0 + 0.97 * cw
+    body << "set lmargin at screen " << x0 + 0.26 * cw << "\nset rmargin at screen " << x0 + 0.97 * cw
          << "\nset tmargin at screen " << y0 + 0.88 * ch << "\nset bmargin at screen " << y0 + 0.24 * ch << "\n"
          << "set ylabel '" << (k % cols == 0 ? "energy E (J)" : "") << "'\n"
          << "set xtics " << NiceStep(br.period - w, br.period + w, 3) << "\nset ytics " << NiceStep(lo, hi, 4) << "\n"
          << "set xrange [" << br.period - w << ":" << br.period + w << "]\nset yrange [" << lo << ":" << hi << "]\n"
          << "set title 'B" << k + 1 << ": " << (IsGrazing(br) ? "grazing" : "period doubling") << ", T = "
-         << std::setprecision(6) << br.period << "' offset 0, -0.6\n";
+         << std::setprecision(5) << br.period << "' offset 0, -0.6\n";
     Plot plot("plot", Plot::Keys::kCollected);
     table.AddLayers(plot, "fig17_bridges_fep.csv", "fig17_bridges.csv", 1, k);
     body << plot.str();
     entries.insert(entries.end(), plot.Collected().begin(), plot.Collected().end());
   }
-  // The key: a plot of legend-only entries in an invisible frame.
-  body << "unset title\nunset border\nunset tics\nunset grid\nset xlabel ''\nset ylabel ''\n"
-       << "set lmargin at screen 0.1\nset rmargin at screen 0.9\nset tmargin at screen " << key_band
-       << "\nset bmargin at screen " << key_band - 0.01 << "\nset xrange [0:1]\nset yrange [0:1]\n"
-       << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 3\n" << Plot::Legend(entries);
+  body << LegendPanel(key_band) << Plot::Legend(entries);
   body << "unset multiplot";
   out.Commit();
   bo.Commit();
@@ -819,38 +830,48 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   }
   if (!std::isfinite(e_lo) || !(e_lo < e_hi)) e_lo = 0.0;
   std::ostringstream body;
-  const std::string period_label = Num(pick.start.period);
-  body << "set multiplot layout 1,2\n"
-       << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key below\n"
-       << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << 0.9 * e_lo << ":" << 1.5 * e_hi << "]\n"
-       << VerticalLines("ends", {pick.admissible_from, pick.admissible_to}, 0.9 * e_lo, 1.5 * e_hi);
-  Plot energies;
+  // Two panels above one key for both (a key under each ran into the other
+  // panel at the column's width); the energy axis from 0.8 of the lowest
+  // orbit drawn, so that the lowest stretch clears the frame.
+  const double bottom = 0.8 * e_lo;
+  body << "set multiplot\nset tmargin at screen 0.97\nset bmargin at screen 0.36\n"
+       << "set lmargin at screen 0.13\nset rmargin at screen 0.47\n"
+       << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\n"
+       << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << bottom << ":" << 1.5 * e_hi << "]\n"
+       << VerticalLines("ends", {pick.admissible_from, pick.admissible_to}, bottom, 1.5 * e_hi);
+  Plot energies("plot", Plot::Keys::kCollected);
   energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)", With("not_admissible"), "3-ipp, not admissible", three[0])
       .Add("'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0)", With("three_unstable"), "3-ipp, unstable", three[1])
       // (A dot on every stable orbit: the stretch may be two orbits long.)
       .Add("'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0)", With("three_stable", "linespoints"), "3-ipp, stable", three[2])
       .Add("'fig16_one_impact.csv' using 1:($3 == 1 && $4 == 1 ? $2 : 1/0)", With("one_stable"), "1-ipp, stable", one_stable)
       .Add("'' using 1:($3 == 1 && $4 == 0 ? $2 : 1/0)", With("one_unstable"), "1-ipp, unstable", one_unstable)
-      .Add("$ends using 1:2", With("range_end"), "ends of the admissible 3-ipp stretch");
+      .Add("$ends using 1:2", With("range_end"), "ends of admissibility");
   // The orbit drawn on the right is marked on its branch, and its stability named.
   const bool start_stable = OrbitStability(c.b, pick.start).stable;
-  Mark(energies, pick.start.period, pick.start.energy, "mark", "the orbit on the right");
+  Mark(energies, pick.start.period, pick.start.energy, "mark",
+       std::string("orbit at right, ") + (start_stable ? "stable" : "unstable"));
   // Where the family ends on the 1-ipp branch: its grazing orbit at T_G.
   const Orbit graze = OneImpactOrbit(c.b, pick.admissible_to);
-  Mark(energies, graze.period, graze.energy, "grazing", "grazing 1-ipp orbit at T_G");
+  Mark(energies, graze.period, graze.energy, "grazing", "grazing orbit at T_G");
   // The right panel's impacts: t = 0 (and T), t2, t3.
   std::ostringstream impacts;
   impacts << "$impacts << EOD\n0," << c.b.gap << "\n";
   for (const double t : pick.start.times) impacts << t << "," << c.b.gap << "\n";
   impacts << pick.start.period << "," << c.b.gap << "\nEOD\n";
-  Plot orbit_plot;
-  orbit_plot.Add("'fig16_orbit.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)),
-                 With("orbit_three"),
-                 Xc(c) + "(t), T = " + period_label + (start_stable ? " (stable)" : " (unstable)"))
+  Plot orbit_plot("plot", Plot::Keys::kCollected);
+  // (The orbit unkeyed: the panel's axis names it, the left panel's circle
+  // and its branch's line say where it is and its stability.)
+  orbit_plot.Unkeyed("'fig16_orbit.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)),
+                     With("orbit_three"))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d")
       .Add("$impacts using 1:2", With("mark"), "impacts");
-  body << energies.str() << impacts.str() << "set autoscale y\nset xrange [0:" << pick.start.period << "]\n"
-       << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << "unset multiplot";
+  std::vector<Plot::Entry> entries = energies.Collected();
+  entries.insert(entries.end(), orbit_plot.Collected().begin(), orbit_plot.Collected().end());
+  body << energies.str() << impacts.str() << "set lmargin at screen 0.64\nset rmargin at screen 0.98\n"
+       << "set autoscale y\nset xrange [0:" << pick.start.period << "]\n"
+       << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << LegendPanel(0.2)
+       << Plot::Legend(entries) << "unset multiplot";
   out.Commit();
   one.Commit();
   orbit.Commit();
