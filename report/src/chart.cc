@@ -216,9 +216,11 @@ std::string FepChart(Context& c, const FepTable& table, const std::string& fep, 
   br.Commit();
   std::ostringstream body;
   body << EnergyAxes(c);
+  // The transition lines under the families, their marks over them.
   Plot plot;
+  TransitionLines(c, transitions, false, body, plot);
   table.AddLayers(plot, fep, bridges, static_cast<long>(c.bridges.size()));
-  TransitionLayers(c, transitions, false, body, plot);
+  TransitionMarks(c, transitions, false, plot);
   BridgeLabels(c, body);
   body << plot.str();
   return body.str();
@@ -296,7 +298,7 @@ std::pair<double, double> AddOrbitsNear(const Context& c, double t, double w, Fe
   return {lo, hi};
 }
 
-void TransitionLayers(Context& c, const std::string& name, bool all, std::ostream& body, Plot& plot) {
+void TransitionLines(Context& c, const std::string& name, bool all, std::ostream& body, Plot& plot) {
   report::ResultFile tr(c.dir, name);
   tr << "T,kind,energy\n";
   std::map<TransitionKind, std::vector<double>> at;
@@ -334,13 +336,18 @@ void TransitionLayers(Context& c, const std::string& name, bool all, std::ostrea
     plot.Add("$" + block + "_modal using 1:2", With("modal"), "modal, k T_i",
              static_cast<long>(at[TransitionKind::kModal].size()));
   }
+}
+
+void TransitionMarks(const Context& c, const std::string& name, bool all, Plot& plot) {
+  std::map<TransitionKind, long> count;
+  for (const Transition& t : c.transitions) ++count[t.kind];
   for (const auto& [kind, role, title] :
        {std::tuple<TransitionKind, const char*, const char*>{TransitionKind::kGrazing, "grazing", "grazing, T_G"},
         {TransitionKind::kMultiplierPlusOne, "multiplier_plus_one", "{/Symbol m} through +1"},
         {TransitionKind::kMultiplierMinusOne, "multiplier_minus_one", "{/Symbol m} through -1"}}) {
     if (!all && kind != TransitionKind::kGrazing) continue;
     plot.Add("'" + name + "' using 1:(strcol(2) eq '" + ToString(kind) + "' ? $3 : 1/0)", With(role), title,
-             static_cast<long>(at[kind].size()));
+             count[kind]);
   }
 }
 

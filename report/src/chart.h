@@ -269,10 +269,12 @@ std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable:
 
 // The transitions of the 1-ipp family on a frequency-energy plot, written
 // to CSV `name` (T,kind,energy): singular ones (T_S) and, if `all`, modal
-// ones as vertical lines, grazing ones (T_G) and, if `all`, the stability
-// changes as marks on the branch; T_S and T_G labelled where they are (the
-// paper's captions name them).
-void TransitionLayers(Context& c, const std::string& name, bool all, std::ostream& body, Plot& plot);
+// ones as vertical lines (TransitionLines, drawn first: under the families),
+// grazing ones (T_G) and, if `all`, the stability changes as marks on the
+// branch (TransitionMarks, drawn last: over them); T_S and T_G labelled
+// where they are (the paper's captions name them).
+void TransitionLines(Context& c, const std::string& name, bool all, std::ostream& body, Plot& plot);
+void TransitionMarks(const Context& c, const std::string& name, bool all, Plot& plot);
 
 // The pictures the dynamics needs, beside the paper's (dynamics_figures.cc):
 // fig01_model, multipliers_one_impact, time_history, validation_orbits,

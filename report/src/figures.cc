@@ -139,11 +139,13 @@ void Figure3(Context& c) {
   }
   std::ostringstream body;
   body << EnergyAxes(c);
+  // The transition lines under the family, their marks over it.
   Plot plot;
+  TransitionLines(c, "fig03_transitions.csv", true, body, plot);
   plot.Add("'fig03_one_impact.csv' using 1:($3 == 1 ? $2 : 1/0)", With("potential"), "potential", potential)
       .Add("'' using 1:($4 == 1 && $5 == 1 ? $2 : 1/0)", With("one_stable"), "admissible, stable", stable)
       .Add("'' using 1:($4 == 1 && $5 == 0 ? $2 : 1/0)", With("one_unstable"), "admissible, unstable", unstable);
-  TransitionLayers(c, "fig03_transitions.csv", true, body, plot);
+  TransitionMarks(c, "fig03_transitions.csv", true, plot);
   out.Commit();
   Draw(c, "fig03_one_impact_energy", body.str() + plot.str());
 }
