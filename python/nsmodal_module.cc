@@ -1300,7 +1300,7 @@ Returns {"rows": arrays keyed as response.csv (w, amplitude, period, impacts,
 energy, max_xc, impact_velocity, admissible, stable, max_multiplier, t_impact,
 x1.., v1.., branch, periods, residual), "points": arrays keyed as
 response_points.csv (w, amplitude, kind in fold | period-doubling | grazing |
-zero-velocity | peak, energy, ...; with "mode_w", the nonsmooth mode's
+zero-velocity | peak | torus, energy, ...; with "mode_w", the nonsmooth mode's
 frequency at a peak's energy, to compare with w / periods, when a backbone
 is computed), "branch_ends",
 "notes", and for a frequency sweep with backbone=True "backbone": arrays

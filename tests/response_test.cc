@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "nsmodal/error.h"
+#include "nsmodal/parameter.h"
 #include "nsmodal/response.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/two_impact.h"
@@ -308,6 +309,64 @@ TEST(Response, ATwoContactSequenceHasTheSymmetricFamilyAsItsBackbone) {
   o.impacts = 3;
   o.sequence = {0, 1, 1};
   EXPECT_NE(NoBackbone(m, o)->find("neither on one contact nor two contacts"), std::string::npos);
+}
+
+// Continuation in a model parameter (issue 26): the gap. x -> s x maps the
+// response of (gap d, force a) onto that of (s d, s a) (the flight is linear,
+// the impact law and the conditions n . x = d homogeneous), so following the
+// gap d at fixed a is following the amplitude a / d at gap 1, the energies
+// scaled by d^2: two continuations in two parameters, through different
+// code (WithParameter's model at each d; the amplitude's ForcedProblem),
+// must place every special point at d* = a / a*.
+TEST(Response, AGapContinuationIsTheAmplitudeContinuationRescaled) {
+  const Model m = Forced();
+  const double w = 0.6, a = 0.3;
+  ResponseOptions gap;
+  gap.impacts = 1;
+  gap.parameter = ResponseParameter::kModel;
+  gap.model_parameter = ParseModelParameter(m, "gap");
+  gap.grid = {0.6, 6.0, 0.02};
+  Model at_w = m;
+  at_w.forcing.frequency = w;
+  const ResponseCurve by_gap = ComputeResponse(at_w, gap);
+  ResponseOptions amp;
+  amp.impacts = 1;
+  amp.parameter = ResponseParameter::kAmplitude;
+  amp.grid = {a / 6.0, a / 0.6, 0.001};
+  amp.fixed = w;
+  const ResponseCurve by_amplitude = ComputeResponse(m, amp);
+  // Over this window: the zero-velocity point where the impacts begin and a
+  // Neimark-Sacker point (a complex pair leaving the unit circle).
+  ASSERT_EQ(Of(by_gap, SpecialKind::kZeroVelocity).size(), 1u);
+  ASSERT_EQ(Of(by_gap, SpecialKind::kTorus).size(), 1u);
+  EXPECT_EQ(by_gap.points.size(), by_amplitude.points.size());
+  for (const SpecialPoint& p : by_gap.points) {
+    // (The impact condition x_2(t_1-) = d holds at the point's gap.)
+    const double d_star = p.parameter;
+    EXPECT_NEAR(p.orbit.before.front()[1], d_star, 1e-12);
+    double best = 1e300, energy = 0.0;
+    for (const SpecialPoint& q : by_amplitude.points) {
+      if (q.kind != p.kind) continue;
+      const double rel = std::abs(a / q.orbit.amplitude - d_star) / d_star;
+      if (rel < best) {
+        best = rel;
+        energy = q.orbit.energy * d_star * d_star;
+      }
+    }
+    // 1e-8: both located by Brent to ~1e-12 in their parameter, on orbits
+    // solved to 1e-13 of the gap; the comparison passes through a / a*.
+    EXPECT_LT(best, 1e-8) << ToString(p.kind) << " at d = " << d_star;
+    EXPECT_NEAR(p.orbit.energy, energy, 1e-8 * energy) << ToString(p.kind) << " at d = " << d_star;
+  }
+  // At the torus point a complex pair is on the unit circle (1e-7: the
+  // point's parameter to ~1e-12 moves |mu| by that times d|mu|/dd).
+  const SpecialPoint& torus = *Of(by_gap, SpecialKind::kTorus).front();
+  double closest = 1e300;
+  for (int i = 0; i < torus.orbit.multipliers.size(); ++i) {
+    const std::complex<double> mu = torus.orbit.multipliers[i];
+    if (std::abs(mu.imag()) > 1e-6) closest = std::min(closest, std::abs(std::abs(mu) - 1.0));
+  }
+  EXPECT_LT(closest, 1e-7);
 }
 
 }  // namespace

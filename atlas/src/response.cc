@@ -23,13 +23,40 @@ std::string ToString(SpecialKind kind) {
     case SpecialKind::kGrazing: return "grazing";
     case SpecialKind::kZeroVelocity: return "zero-velocity";
     case SpecialKind::kPeak: return "peak";
+    case SpecialKind::kTorus: return "torus";
   }
   return "?";
 }
 
+std::string ResponseOptions::ParameterName() const {
+  switch (parameter) {
+    case ResponseParameter::kFrequency: return "w";
+    case ResponseParameter::kAmplitude: return "a";
+    case ResponseParameter::kModel: break;
+  }
+  NSMODAL_CHECK(model_parameter.has_value());
+  return model_parameter->name;
+}
+
 void ResponseOptions::Validate(const FieldNames& names) const {
   const bool frequency = parameter == ResponseParameter::kFrequency;
-  grid.Validate(names(frequency ? "frequency" : "amplitude"));
+  if (parameter == ResponseParameter::kModel) {
+    // The grid may start at 0 (a damping ratio, a restitution): the model's
+    // own checks say which values are valid (ComputeResponse checks both ends).
+    if (!model_parameter) throw InputError(names("parameter"), "is missing: the model parameter to follow");
+    const std::string field = names("range");
+    if (!std::isfinite(grid.from) || !std::isfinite(grid.to) || !std::isfinite(grid.step) || !(grid.to > grid.from) ||
+        !(grid.step > 0.0)) {
+      throw InputError(field, "must be FROM:TO[:STEP] with TO > FROM and STEP > 0, all finite, got " +
+                                  FormatValue(grid.from) + ":" + FormatValue(grid.to) + ":" + FormatValue(grid.step));
+    }
+    if ((grid.to - grid.from) / grid.step >= static_cast<double>(PeriodGrid::kMaxPeriods)) {
+      throw InputError(field, "asks for " + FormatValue(std::floor((grid.to - grid.from) / grid.step) + 1) +
+                                  " values; at most " + std::to_string(PeriodGrid::kMaxPeriods));
+    }
+  } else {
+    grid.Validate(names(frequency ? "frequency" : "amplitude"));
+  }
   if (impacts < 0 || impacts > kMaxResponseImpacts) {
     throw InputError(names("impacts"), "must be between 0 (the linear response) and " +
                                            std::to_string(kMaxResponseImpacts) + ", got " + std::to_string(impacts));
@@ -40,7 +67,7 @@ void ResponseOptions::Validate(const FieldNames& names) const {
                                                     : "must be between 1 and " + std::to_string(kMaxResponsePeriods) +
                                                           ", got " + std::to_string(periods));
   }
-  if (!(fixed > 0.0) || !std::isfinite(fixed)) {
+  if (parameter != ResponseParameter::kModel && (!(fixed > 0.0) || !std::isfinite(fixed))) {
     throw InputError(names(frequency ? "amplitude" : "frequency"), "must be positive and finite, got " + FormatValue(fixed));
   }
   if (max_steps < 1 || max_branches < 1) throw InputError(names("max_steps"), "bounds must be positive");
@@ -63,7 +90,9 @@ class Tracer {
   Tracer(const Model& model, const ResponseOptions& opt)
       : model_(model), opt_(opt), m_(opt.impacts), k_(opt.impacts + RigidBodyModes(model.stiffness)) {
     const double mid = 0.5 * (opt.grid.from + opt.grid.to);
-    const double w_mid = opt.parameter == ResponseParameter::kFrequency ? mid : opt.fixed;
+    const double w_mid = opt.parameter == ResponseParameter::kFrequency ? mid
+                         : opt.parameter == ResponseParameter::kAmplitude ? opt.fixed
+                                                                         : ModelAt(mid)->forcing.frequency;
     period_scale_ = opt.periods * 2.0 * M_PI / w_mid;
     lambda_scale_ = std::max(opt.grid.to - opt.grid.from, opt.grid.step);
     gap_scale_ = LeastGapStruck(model, opt.sequence);
@@ -71,14 +100,42 @@ class Tracer {
   int dim() const { return k_ + 1; }
   double Lambda(const Vec& xi) const { return xi[k_] * lambda_scale_; }
   double LambdaScale() const { return lambda_scale_; }
-  // Frequency and amplitude at lambda.
-  double Frequency(double lambda) const { return opt_.parameter == ResponseParameter::kFrequency ? lambda : opt_.fixed; }
-  double Amplitude(double lambda) const { return opt_.parameter == ResponseParameter::kFrequency ? opt_.fixed : lambda; }
+  // The model at lambda (kModel: null where the value leaves the valid
+  // model, the continuation's domain; else the model itself).
+  std::optional<Model> ModelAt(double lambda) const {
+    if (opt_.parameter != ResponseParameter::kModel) return model_;
+    try {
+      return WithParameter(model_, *opt_.model_parameter, lambda);
+    } catch (const InputError&) {
+      return std::nullopt;
+    }
+  }
+  // Frequency and amplitude at lambda, of the model at lambda.
+  double Frequency(const Model& m, double lambda) const {
+    switch (opt_.parameter) {
+      case ResponseParameter::kFrequency: return lambda;
+      case ResponseParameter::kAmplitude: return opt_.fixed;
+      case ResponseParameter::kModel: break;
+    }
+    return m.forcing.frequency;
+  }
+  double Amplitude(const Model& m, double lambda) const {
+    switch (opt_.parameter) {
+      case ResponseParameter::kFrequency: return opt_.fixed;
+      case ResponseParameter::kAmplitude: return lambda;
+      case ResponseParameter::kModel: break;
+    }
+    return m.ForceAmplitude().cwiseAbs().maxCoeff();
+  }
+  // The problem at lambda; null outside the continuation's domain (a w or a
+  // <= 0; a model parameter's value that leaves the valid model).
   std::unique_ptr<ForcedProblem> Problem(double lambda) const {
-    return opt_.sequence.empty()
-               ? std::make_unique<ForcedProblem>(model_, m_, opt_.periods, Frequency(lambda), Amplitude(lambda))
-               : std::make_unique<ForcedProblem>(model_, opt_.sequence, opt_.periods, Frequency(lambda),
-                                                 Amplitude(lambda));
+    if (opt_.parameter != ResponseParameter::kModel && !(lambda > 0.0)) return nullptr;
+    const std::optional<Model> m = ModelAt(lambda);
+    if (!m) return nullptr;
+    const double w = Frequency(*m, lambda), a = Amplitude(*m, lambda);
+    return opt_.sequence.empty() ? std::make_unique<ForcedProblem>(*m, m_, opt_.periods, w, a)
+                                 : std::make_unique<ForcedProblem>(*m, opt_.sequence, opt_.periods, w, a);
   }
   Vec U(const Vec& xi) const {
     Vec u = xi.head(k_);
@@ -98,25 +155,31 @@ class Tracer {
   }
   // H(xi) = (n_j . x(t_i-) - d_j) / gap_scale (d for one contact).
   bool H(const Vec& xi, Vec& r) const {
-    const double lambda = Lambda(xi);
-    if (!(lambda > 0.0)) return false;
-    const std::unique_ptr<ForcedProblem> p = Problem(lambda);
-    if (!p->Residual(U(xi), r)) return false;
+    const std::unique_ptr<ForcedProblem> p = Problem(Lambda(xi));
+    if (!p || !p->Residual(U(xi), r)) return false;
     r /= p->gap_scale();
     return true;
   }
   // dH/dxi, k x (k + 1) (k = m + r), by central differences (h = 1e-7:
-  // truncation ~1e-14, round-off ~1e-9 relative; Newton needs no more).
+  // truncation ~1e-14, round-off ~1e-9 relative; Newton needs no more). On
+  // the edge of the domain (a model parameter at the end of its valid
+  // range: e = 1), one-sided on the side inside (truncation ~1e-7).
   bool Jacobian(const Vec& xi, Eigen::MatrixXd& j) const {
     j.resize(k_, k_ + 1);
-    Vec rp, rm;
+    Vec rp, rm, r0;
     for (int k = 0; k <= k_; ++k) {
       const double h = 1e-7;
       Vec a = xi, b = xi;
       a[k] += h;
       b[k] -= h;
-      if (!H(a, rp) || !H(b, rm)) return false;
-      j.col(k) = (rp - rm) / (2.0 * h);
+      const bool up = H(a, rp), down = H(b, rm);
+      if (up && down) {
+        j.col(k) = (rp - rm) / (2.0 * h);
+      } else if ((up || down) && (r0.size() > 0 || H(xi, r0))) {
+        j.col(k) = up ? (rp - r0) / h : (r0 - rm) / h;
+      } else {
+        return false;
+      }
     }
     return true;
   }
@@ -152,11 +215,17 @@ class Tracer {
   // The orbit at fixed lambda from a guess.
   std::optional<Vec> SolveAt(double lambda, const Vec& guess) const {
     const std::unique_ptr<ForcedProblem> p = Problem(lambda);
+    if (!p) return std::nullopt;
     const std::optional<Vec> u = p->Solve(U(guess));
     if (!u) return std::nullopt;
     return Xi(*u, lambda);
   }
-  ForcedOrbit Orbit(const Vec& xi) const { return Problem(Lambda(xi))->Orbit(U(xi)); }
+  // (At a solution: inside the domain.)
+  ForcedOrbit Orbit(const Vec& xi) const {
+    const std::unique_ptr<ForcedProblem> p = Problem(Lambda(xi));
+    NSMODAL_CHECK(p != nullptr);
+    return p->Orbit(U(xi));
+  }
 
  private:
   const Model& model_;
@@ -171,6 +240,30 @@ struct Node {
   ForcedOrbit orbit;
   bool grid = false;  // solved at a grid value
 };
+
+// The complex pairs of multipliers (Im mu > 0 counts each pair once;
+// |Im| <= 1e-10 |mu| is real).
+int ComplexPairs(const ForcedOrbit& o) {
+  int n = 0;
+  for (int i = 0; i < o.multipliers.size(); ++i) {
+    n += o.multipliers[i].imag() > 1e-10 * std::abs(o.multipliers[i]);
+  }
+  return n;
+}
+
+// Neimark-Sacker: prod over the complex pairs of (|mu|^2 - 1), nullopt with
+// no complex pair.
+std::optional<double> TorusTest(const ForcedOrbit& o) {
+  double p = 1.0;
+  bool any = false;
+  for (int i = 0; i < o.multipliers.size(); ++i) {
+    if (o.multipliers[i].imag() > 1e-10 * std::abs(o.multipliers[i])) {
+      p *= std::norm(o.multipliers[i]) - 1.0;
+      any = true;
+    }
+  }
+  return any ? std::optional<double>(p) : std::nullopt;
+}
 
 double PeriodDoublingTest(const ForcedOrbit& o) {
   std::complex<double> p = 1.0;
@@ -228,6 +321,10 @@ class Responder {
       ThrowIfStopRequested();
       if (opt_.progress) opt_.progress(static_cast<long>(g), static_cast<long>(grid.size()));
       const std::unique_ptr<ForcedProblem> p = tr_.Problem(grid[g]);
+      if (!p) {
+        curve_.notes.push_back("no model at " + Name() + " = " + FormatValue(grid[g]) + ": skipped");
+        continue;
+      }
       for (const Vec& u : p->FindAll()) {
         const Vec xi = tr_.Xi(u, grid[g]);
         if (Covered(*p, xi, grid[g])) continue;
@@ -244,7 +341,7 @@ class Responder {
   }
 
  private:
-  std::string Name() const { return opt_.parameter == ResponseParameter::kFrequency ? "w" : "a"; }
+  std::string Name() const { return opt_.ParameterName(); }
 
   // A start is covered when a branch has a grid node at the same value with
   // the same orbit.
@@ -291,7 +388,10 @@ class Responder {
     nodes.insert(nodes.end(), forward.begin(), forward.end());
     ResponseBranch branch;
     branch.end = end_up == kClosed ? end_up : "down: " + end_down + "; up: " + end_up;
-    for (const Node& n : nodes) branch.points.push_back(n.orbit);
+    for (const Node& n : nodes) {
+      branch.points.push_back(n.orbit);
+      branch.parameter.push_back(tr_.Lambda(n.xi));
+    }
     curve_.branches.push_back(std::move(branch));
     Special(nodes, index);
   }
@@ -319,6 +419,9 @@ class Responder {
       const Node& cur = nodes.back();
       const Vec pred = cur.xi + h * cur.tangent;
       const std::optional<Vec> next = tr_.Correct(pred, pred, cur.tangent);
+      // A step past the range into values where the model is not valid (a
+      // restitution past 1): the branch ends on the range's edge, solved there.
+      if (!next && EndOnEdge(cur, pred, nodes, end)) return nodes;
       // A step must move forward along the branch and not jump to another.
       if (!next || (*next - cur.xi).dot(cur.tangent) <= 0.0 || (*next - pred).norm() > 0.5 * h) {
         h *= 0.5;
@@ -370,6 +473,30 @@ class Responder {
     }
   }
 
+  // The branch's end on the range's edge when `pred` is past it: the grid
+  // values before the edge and the edge get nodes. False when pred is inside
+  // the range or the edge cannot be solved.
+  bool EndOnEdge(const Node& cur_node, const Vec& pred, std::vector<Node>& nodes, std::string* end) {
+    const int last = tr_.dim() - 1;
+    const double lo = opt_.grid.from / tr_.LambdaScale(), hi = opt_.grid.to / tr_.LambdaScale();
+    const double lp = pred[last], l0 = cur_node.xi[last];
+    if (!(lp > hi + 1e-12 || lp < lo - 1e-12) || lp == l0) return false;
+    const double edge = lp > hi ? hi : lo;
+    const Vec cur_xi = cur_node.xi, cur_t = cur_node.tangent;  // (nodes grows below)
+    const std::optional<Vec> at = tr_.SolveAt(edge * tr_.LambdaScale(), cur_xi + (edge - l0) / (lp - l0) * (pred - cur_xi));
+    if (!at) return false;
+    for (double g : GridBetween(l0, edge)) {
+      if (const std::optional<Vec> x = tr_.SolveAt(g * tr_.LambdaScale(), cur_xi + (g - l0) / (edge - l0) * (*at - cur_xi))) {
+        nodes.push_back(MakeNode(*x, cur_t, true));
+        grid_nodes_.back().push_back(*x);
+      }
+    }
+    if (std::abs(nodes.back().xi[last] - edge) > 1e-12) nodes.push_back(MakeNode(*at, cur_t, true));
+    grid_nodes_.back().push_back(*at);
+    *end = "left the range at " + Name() + " = " + FormatValue(edge * tr_.LambdaScale());
+    return true;
+  }
+
   std::vector<double> GridBetween(double l0, double l1) const {
     std::vector<double> out;
     const double from = opt_.grid.from / tr_.LambdaScale(), step = opt_.grid.step / tr_.LambdaScale();
@@ -387,7 +514,10 @@ class Responder {
     return out;
   }
 
-  void Record(SpecialKind kind, int branch, const ForcedOrbit& o) { curve_.points.push_back({kind, branch, o}); }
+  void Record(SpecialKind kind, int branch, const ForcedOrbit& o, double parameter) {
+    curve_.points.push_back({kind, branch, o, parameter});
+  }
+  void Record(SpecialKind kind, int branch, const Vec& xi) { Record(kind, branch, tr_.Orbit(xi), tr_.Lambda(xi)); }
 
   // Special points on consecutive nodes of a branch.
   void Special(const std::vector<Node>& nodes, int branch) {
@@ -398,7 +528,7 @@ class Responder {
       const SegmentLocator seg(tr_, a, b);
       auto locate = [&](SpecialKind kind, const std::function<double(const Vec&, const Vec&)>& test) {
         if (const std::optional<Vec> xi = seg.Root(test)) {
-          Record(kind, branch, tr_.Orbit(*xi));
+          Record(kind, branch, *xi);
         } else {
           curve_.notes.push_back(ToString(kind) + " between " + Name() + " = " + FormatValue(tr_.Lambda(a.xi)) +
                                  " and " + FormatValue(tr_.Lambda(b.xi)) + " on branch " +
@@ -413,12 +543,20 @@ class Responder {
         // impact the saltation's 1 / v_c sends the multipliers through a pole).
         if (const std::optional<Vec> xi = seg.Root([&](const Vec& x, const Vec&) { return PeriodDoublingTest(tr_.Orbit(x)); })) {
           const ForcedOrbit o = tr_.Orbit(*xi);
-          if ((o.multipliers.array() + 1.0).abs().minCoeff() <= 1e-6) Record(SpecialKind::kPeriodDoubling, branch, o);
+          if ((o.multipliers.array() + 1.0).abs().minCoeff() <= 1e-6) {
+            Record(SpecialKind::kPeriodDoubling, branch, o, tr_.Lambda(*xi));
+          }
         }
       }
       if (std::isfinite(a.orbit.max_interior_gap) && std::isfinite(b.orbit.max_interior_gap) &&
           (a.orbit.max_interior_gap < 0.0) != (b.orbit.max_interior_gap < 0.0)) {
         locate(SpecialKind::kGrazing, [&](const Vec& xi, const Vec&) { return tr_.Orbit(xi).max_interior_gap; });
+      }
+      const std::optional<double> ta = TorusTest(a.orbit), tb = TorusTest(b.orbit);
+      if (ta && tb && (*ta < 0.0) != (*tb < 0.0) && ComplexPairs(a.orbit) == ComplexPairs(b.orbit)) {
+        locate(SpecialKind::kTorus, [&](const Vec& xi, const Vec&) {
+          return TorusTest(tr_.Orbit(xi)).value_or(std::numeric_limits<double>::quiet_NaN());
+        });
       }
       if ((a.orbit.min_impact_velocity < 0.0) != (b.orbit.min_impact_velocity < 0.0)) {
         locate(SpecialKind::kZeroVelocity,
@@ -437,7 +575,7 @@ class Responder {
         return xi ? -tr_.Orbit(*xi).energy : std::numeric_limits<double>::quiet_NaN();
       };
       const double sigma = MinimizeOn(minus_energy, 0.0, mid, 1.0);
-      if (const std::optional<Vec> xi = seg.At(sigma)) Record(SpecialKind::kPeak, branch, tr_.Orbit(*xi));
+      if (const std::optional<Vec> xi = seg.At(sigma)) Record(SpecialKind::kPeak, branch, *xi);
     }
   }
 
@@ -445,20 +583,27 @@ class Responder {
   // grazing points and peaks located in lambda.
   void Linear(const std::vector<double>& grid) {
     ResponseBranch branch;
-    auto at = [&](double l) { return LinearResponse(model_, tr_.Frequency(l), tr_.Amplitude(l)); };
-    for (double l : grid) branch.points.push_back(at(l));
+    auto at = [&](double l) {
+      const std::optional<Model> m = tr_.ModelAt(l);
+      NSMODAL_CHECK(m.has_value());  // (the grid's values: the range's ends are checked)
+      return LinearResponse(*m, tr_.Frequency(*m, l), tr_.Amplitude(*m, l));
+    };
+    for (double l : grid) {
+      branch.points.push_back(at(l));
+      branch.parameter.push_back(l);
+    }
     branch.end = "the grid";
     const std::vector<ForcedOrbit>& pts = branch.points;
     for (std::size_t k = 0; k + 1 < pts.size(); ++k) {
       if ((pts[k].max_interior_gap < 0.0) != (pts[k + 1].max_interior_gap < 0.0)) {
         const double l = PolishRoot([&](double x) { return at(x).max_interior_gap; }, grid[k], grid[k + 1]);
-        Record(SpecialKind::kGrazing, 0, at(l));
+        Record(SpecialKind::kGrazing, 0, at(l), l);
       }
     }
     for (std::size_t k = 1; k + 1 < pts.size(); ++k) {
       if (pts[k].admissible && pts[k].energy > pts[k - 1].energy && pts[k].energy > pts[k + 1].energy) {
         const double l = MinimizeOn([&](double x) { return -at(x).energy; }, grid[k - 1], grid[k], grid[k + 1]);
-        Record(SpecialKind::kPeak, 0, at(l));
+        Record(SpecialKind::kPeak, 0, at(l), l);
       }
     }
     curve_.branches.push_back(std::move(branch));
@@ -542,10 +687,22 @@ std::optional<double> BackboneFrequency(const Model& model, const Sweep& backbon
 ResponseCurve ComputeResponse(const Model& model, const ResponseOptions& options) {
   Validate(model);
   options.Validate();
+  if (options.parameter == ResponseParameter::kModel) {
+    // The model at both ends of the range, checked (an error names the
+    // scene's field and the value: a negative mass, e > 1). The checks are
+    // convex in each parameter: the values between are valid too.
+    WithParameter(model, *options.model_parameter, options.grid.from);
+    WithParameter(model, *options.model_parameter, options.grid.to);
+    if (!model.forcing.HasHarmonic()) {
+      throw InputError("forcing.amplitude", "is needed: a response follows the model's harmonic force");
+    }
+  }
   // The longest response period of the request within what ForcedProblem
   // honours (1e5 shortest linear periods), checked once here rather than
   // failing midway.
-  const double w_min = options.parameter == ResponseParameter::kFrequency ? options.grid.from : options.fixed;
+  const double w_min = options.parameter == ResponseParameter::kFrequency ? options.grid.from
+                       : options.parameter == ResponseParameter::kAmplitude ? options.fixed
+                                                                           : model.forcing.frequency;
   const double shortest = MakeModalBasis(model).Periods().minCoeff();
   if (options.periods * 2.0 * M_PI / w_min > AnalysisBasis::kMaxPeriodRatio * shortest) {
     throw InputError("frequency",

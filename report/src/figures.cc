@@ -1238,7 +1238,8 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
                                      {"period-doubling", "multiplier_minus_one"},
                                      {"grazing", "grazing"},
                                      {"zero-velocity", "zero_velocity"},
-                                     {"peak", "peak"}}) {
+                                     {"peak", "peak"},
+                                     {"torus", "torus"}}) {
       const std::string kind_name = kind;  // (a structured binding cannot be captured before C++20's clang 16)
       const long n = std::count_if(points.begin(), points.end(), [&kind_name](const SpecialPoint& p) {
         return ToString(p.kind) == kind_name && p.orbit.admissible;

@@ -24,7 +24,11 @@
 //                   a family with more impacts takes over);
 //   zero-velocity   an impact velocity v_c(t_i-) reaches 0;
 //   peak            the largest energy of an admissible stretch of a branch
-//                   (Brent's minimiser on -energy; lambda to ~1e-10).
+//                   (Brent's minimiser on -energy; lambda to ~1e-10);
+//   torus           a complex pair of multipliers crosses the unit circle
+//                   (Neimark-Sacker): prod over the complex pairs of
+//                   (|mu|^2 - 1) changes sign, the number of pairs the same
+//                   at both ends.
 // For m = 0 (the linear, non-impacting response, in closed form at each grid
 // value) the grazing points (max x_c = d) and the peaks are located alike.
 #include <functional>
@@ -36,10 +40,14 @@
 #include "nsmodal/field_names.h"
 #include "nsmodal/forced_orbit.h"
 #include "nsmodal/model.h"
+#include "nsmodal/parameter.h"
 
 namespace nsmodal {
 
-enum class ResponseParameter { kFrequency, kAmplitude };
+// What a response is followed in: the forcing frequency w, its amplitude a,
+// or any scalar parameter of the model (issue 26: parameter.h, the others
+// held; w and a are then the model's own at each value).
+enum class ResponseParameter { kFrequency, kAmplitude, kModel };
 
 struct ResponseOptions {
   int impacts = 1;  // m (0: the linear response)
@@ -48,30 +56,40 @@ struct ResponseOptions {
   std::vector<int> sequence;
   int periods = 1;  // n
   ResponseParameter parameter = ResponseParameter::kFrequency;
-  PeriodGrid grid;  // values of the parameter (w, or a)
-  double fixed = 0.0;  // the other one: a when sweeping w, w when sweeping a
+  PeriodGrid grid;  // values of the parameter (w, a, or the model's parameter)
+  double fixed = 0.0;  // the other one: a when sweeping w, w when sweeping a (unused for kModel)
+  // kModel: the parameter (ParseModelParameter of the model the response is
+  // computed for). Its grid may start at 0 (a damping ratio, e); the model
+  // at both ends must be valid.
+  std::optional<ModelParameter> model_parameter;
   // Bounds: continuation steps per branch, and branches.
   long max_steps = 200000;
   int max_branches = 64;
   std::function<void(long done, long count)> progress;  // grid values scanned
 
   // Throws InputError naming "impacts", "periods", the grid's field
-  // ("frequency" or "amplitude") or the fixed parameter's, as `names` says
-  // (the CLI: "--impacts", ...).
+  // ("frequency" or "amplitude"; "range" for kModel) or the fixed
+  // parameter's, as `names` says (the CLI: "--impacts", ...).
   void Validate(const FieldNames& names = FieldNames()) const;
+  // The parameter's name in messages and columns: "w", "a", or the model
+  // parameter's as written ("masses[1]").
+  std::string ParameterName() const;
 };
 
-enum class SpecialKind { kFold, kPeriodDoubling, kGrazing, kZeroVelocity, kPeak };
-std::string ToString(SpecialKind kind);  // fold, period-doubling, grazing, zero-velocity, peak
+enum class SpecialKind { kFold, kPeriodDoubling, kGrazing, kZeroVelocity, kPeak, kTorus };
+// fold, period-doubling, grazing, zero-velocity, peak, torus
+std::string ToString(SpecialKind kind);
 
 struct SpecialPoint {
   SpecialKind kind;
   int branch = 0;
   ForcedOrbit orbit;  // at the point (frequency, amplitude, energy, ...)
+  double parameter = 0.0;  // the followed parameter's value there
 };
 
 struct ResponseBranch {
   std::vector<ForcedOrbit> points;  // in continuation order
+  std::vector<double> parameter;    // the followed parameter's value at each point
   std::string end;                  // how the branch ended
 };
 
