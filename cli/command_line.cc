@@ -143,6 +143,19 @@ CommandLine::CommandLine() {
   c_resp->add_option("--integrators", response.integrators, "Integrators of --validate: exact, cvode, moreau-jean")->expected(1, 3);
   c_resp->add_option("--threads", response.threads, "Worker threads of --validate (0: all cores)")->default_val(0)->check(CLI::Range(0, kMaxThreads));
 
+  c_cont = app.add_subcommand("continue", "A forced response followed in any parameter of the scene (gap, masses[1], "
+                                          "restitution, ...), with its special points (CSV)");
+  c_cont->add_option("scene", cont.scene, "Scene file (TOML) with damping or e < 1 and a [forcing] table")->required();
+  c_cont->add_option("--parameter", cont.parameter, "The parameter, by its scene key: frequency, amplitude, gap, "
+                     "restitution, contact[j].gap, contact[j].restitution, masses[i], springs[i], damping_ratios[i], "
+                     "rayleigh_damping[k]")->required();
+  c_cont->add_option("--range", cont.range, "FROM:TO or FROM:TO:STEP of the parameter (STEP: the largest step and the "
+                     "spacing of the fixed values solved; default (TO - FROM) / 300)")->required();
+  c_cont->add_option("--out", cont.out, "Output directory")->required();
+  c_cont->add_option("--impacts", cont.impacts, "Impacts per response period m (0: the linear response)")->default_val(1);
+  c_cont->add_option("--sequence", cont.sequence, "The contact of each impact, e.g. 1,2 (sets --impacts)");
+  c_cont->add_option("--periods", cont.periods, "Forcing periods per response period n")->default_val(1);
+
   c_bench = app.add_subcommand("bench", "Speed against accuracy of the integrators, and grazing failures");
   c_bench->add_option("scene", bench.scene, "Scene file (the paper's system: configs/paper.toml)")->required();
   c_bench->add_option("--out", bench.out, "Output directory")->required();
@@ -177,6 +190,7 @@ int CommandLine::Run() const {
     ImpactsGivenAgree(c_orbit, orbit.impacts, orbit.sequence);
     ImpactsGivenAgree(c_explore, explore.impacts, explore.sequence);
     ImpactsGivenAgree(c_resp, response.impacts, response.sequence);
+    ImpactsGivenAgree(c_cont, cont.impacts, cont.sequence);
     int status = 1;
     if (*c_orbits) status = RunOrbits(orbits);
     if (*c_orbit) status = RunOrbit(orbit);
@@ -185,6 +199,7 @@ int CommandLine::Run() const {
     if (*c_val) status = RunValidate(validate);
     if (*c_bench) status = RunBench(bench);
     if (*c_resp) status = RunResponse(response);
+    if (*c_cont) status = RunContinue(cont);
     if (*c_fig) status = RunFigures(figures);
     if (*c_settings) status = RunSettings(settings);
     report::CheckStdout();

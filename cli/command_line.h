@@ -73,7 +73,16 @@ struct ResponseArgs {
   int threads = 0;
 };
 
+// Flags of `continue` (commands.cc, issue 26): the response followed in one
+// parameter of the scene over a range, the others held.
+struct ContinueArgs {
+  std::string scene, out, parameter, range;
+  int impacts = 1, periods = 1;
+  std::optional<std::string> sequence;
+};
+
 int RunResponse(const ResponseArgs& a);
+int RunContinue(const ContinueArgs& a);
 int RunFigures(const FiguresArgs& a);
 int RunOrbits(const OrbitsArgs& a);
 int RunBench(const BenchArgs& a);
@@ -101,10 +110,12 @@ struct CommandLine {
   ValidateArgs validate;
   BenchArgs bench;
   ResponseArgs response;
+  ContinueArgs cont;
   FiguresArgs figures;
   SettingsArgs settings;
   CLI::App *c_orbits = nullptr, *c_orbit = nullptr, *c_explore = nullptr, *c_sim = nullptr, *c_val = nullptr,
-           *c_bench = nullptr, *c_fig = nullptr, *c_resp = nullptr, *c_settings = nullptr;
+           *c_bench = nullptr, *c_fig = nullptr, *c_resp = nullptr, *c_cont = nullptr,
+           *c_settings = nullptr;
 };
 
 // Parses argv and runs; CLI11's own errors exit 2 (0 for --help, --version).

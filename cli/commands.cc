@@ -326,4 +326,21 @@ int RunResponse(const ResponseArgs& a) {
   return 0;
 }
 
+int RunContinue(const ContinueArgs& a) {
+  const Model model = LoadScene(a.scene).model;
+  const ResponseRequest request =
+      MakeContinuationRequest(model, a.parameter, a.range, a.impacts, a.periods, FieldNames("--"), a.sequence);
+  const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"continuation.csv", "continuation_points.csv"});
+  const ResponseLevels r = ComputeResponseLevels(
+      model, request.options, request.levels,
+      [&a](double) { return ProgressBar("continuation in " + a.parameter); },
+      [](const ResponseCurve& curve, int first_branch) { report::PrintResponseCurve(std::cout, curve, first_branch); });
+  report::WriteCsvFile(dir, "continuation.csv", report::ContinuationColumns(model.dofs(), a.parameter), r.rows);
+  report::WriteCsvFile(dir, "continuation_points.csv", report::ContinuationPointColumns(a.parameter), r.points);
+  std::cout << "wrote " << r.rows.size() << " points on " << r.branches << " branches to " << a.out
+            << "/continuation.csv, " << r.points.size() << " special points to " << a.out
+            << "/continuation_points.csv\n";
+  return 0;
+}
+
 }  // namespace nsmodal::cli

@@ -1311,5 +1311,57 @@ validate > 0: every point simulated that many periods with each of
 `integrators`; "validation": arrays keyed as response_validation.csv (the
 verdicts of validate: consistent, reason, deviation_end, measured_growth...).)doc"));
 
+  mod.def(
+      "continue_parameter",
+      [](const Model& model, const std::string& parameter, const py::object& range, Integer<"impacts"> impacts,
+         Integer<"periods"> periods, const py::object& sequence) {
+        // The range as text: 'FROM:TO[:STEP]' as given, a tuple (from, to[,
+        // step]) written to 17 digits (read back exactly).
+        std::string text;
+        if (py::isinstance<py::str>(range)) {
+          text = range.cast<std::string>();
+        } else {
+          if (!py::isinstance<py::sequence>(range) || IsBool(range)) {
+            throw InputError("range", "must be (from, to), (from, to, step) or 'FROM:TO[:STEP]', got " + Repr(range));
+          }
+          const py::sequence seq = range.cast<py::sequence>();
+          for (std::size_t k = 0; k < seq.size(); ++k) {
+            const py::object v = seq[k];
+            if (IsBool(v) || !(py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v))) {
+              throw InputError("range", "must hold numbers, got " + Repr(range));
+            }
+            text += (k ? ":" : "") + FormatValue(v.cast<double>());
+          }
+        }
+        const ResponseRequest request =
+            MakeContinuationRequest(model, parameter, text, impacts, periods, FieldNames(), SequenceText(sequence));
+        ResponseLevels r;
+        Interruptible([&] { r = ComputeResponseLevels(model, request.options, request.levels); });
+        py::dict d;
+        d["rows"] = TableDict(report::ContinuationColumns(model.dofs(), parameter), Pointers(r.rows));
+        d["points"] = TableDict(report::ContinuationPointColumns(parameter), Pointers(r.points));
+        d["branch_ends"] = r.ends;
+        d["notes"] = r.notes;
+        return d;
+      },
+      py::arg("model"), py::arg("parameter"), py::arg("range"), py::arg("impacts") = 1, py::arg("periods") = 1,
+      py::arg("sequence") = py::none(),
+      Signed("continue_parameter(model, parameter, range, impacts=1, periods=1, sequence=None)", R"doc(A forced response followed in one parameter of the model, the others held:
+parameter by its scene key, 'gap', 'restitution', 'contact[2].gap',
+'masses[1]', 'springs[2]', 'damping_ratios[1]', 'rayleigh_damping[2]',
+'amplitude' (max |f_i|, the force's shape kept) or 'frequency'; range
+(from, to), (from, to, step) or 'FROM:TO[:STEP]' (step: the largest step and
+the spacing of the values solved at fixed parameter; default (to - from) /
+300). The model is rebuilt at each value from its keywords (a mass or spring
+changes its modal damping as the keywords would); a range that leaves the
+valid model (a negative mass, e > 1) is refused naming the field. Folds,
+period doublings, torus points, grazings, zero-velocity impacts and peaks
+are located on the branches.
+
+Returns {"rows": arrays keyed as continuation.csv (the parameter's column,
+named as given, then response.csv's), "points": arrays keyed as
+continuation_points.csv (the parameter, then response_points.csv's),
+"branch_ends", "notes"}.)doc"));
+
   mod.attr("__version__") = NSMODAL_VERSION;
 }

@@ -339,6 +339,32 @@ assert any(r['admissible'] == '1' and r['stable'] == '1' for r in rows)
 else
   bad "response failed: $(cat "$tmp/resp.log")"
 fi
+# continue (issue 26): the response followed in a scene parameter; the
+# CSVs' first column is named as the parameter; a bad name, a range that
+# leaves the valid scene and a scene without a force are refused, naming them.
+if "$bin" continue "$forced" --parameter springs[2] --range 1.5:2.5:0.01 --out "$tmp/cont" >"$tmp/cont.log" 2>&1; then
+  head -1 "$tmp/cont/continuation.csv" | grep -q '^springs\[2\],w,amplitude,period,impacts,energy,' && ok ||
+    bad "continuation.csv header: $(head -1 "$tmp/cont/continuation.csv")"
+  head -1 "$tmp/cont/continuation_points.csv" | grep -q '^springs\[2\],w,amplitude,kind,energy,' && ok ||
+    bad "continuation_points.csv header"
+  python3 -c "
+import csv
+rows = list(csv.DictReader(open('$tmp/cont/continuation.csv')))
+k = [float(r['springs[2]']) for r in rows]
+assert len(rows) > 100 and min(k) >= 1.5 - 1e-12 and max(k) <= 2.5 + 1e-12, (len(rows), min(k), max(k))
+assert all(float(r['residual']) < 1e-12 for r in rows)
+" && ok || bad "continuation.csv rows"
+else
+  bad "continue failed: $(cat "$tmp/cont.log")"
+fi
+expect_error "\-\-parameter: 'stiffness' is not a parameter" "$bin" continue "$forced" --parameter stiffness --range 1:2 --out "$tmp/c2"
+expect_error "\-\-parameter: 'masses\[3\]': the model has 2 masses" "$bin" continue "$forced" --parameter masses[3] --range 1:2 --out "$tmp/c2"
+expect_error "system.restitution" "$bin" continue "$forced" --parameter restitution --range 0.5:1.5 --out "$tmp/c2"
+expect_error "system.masses" "$bin" continue "$forced" --parameter masses[1] --range -1:2 --out "$tmp/c2"
+expect_error "\-\-range" "$bin" continue "$forced" --parameter gap --range 2:1 --out "$tmp/c2"
+expect_error "\-\-range" "$bin" continue "$forced" --parameter gap --range 1:x --out "$tmp/c2"
+expect_error "forcing.amplitude" "$bin" continue "$src/configs/paper.toml" --parameter gap --range 1:2 --out "$tmp/c2"
+[ ! -e "$tmp/c2" ] && ok || bad "a refused continue left $tmp/c2"
 expect_error "\-\-frequency" "$bin" response "$forced" --frequency 0.4:1:0.1 --amplitude 0.1:0.2:0.1 --out "$tmp/r2"
 expect_error "\-\-amplitude" "$bin" response "$forced" --amplitude 0.3 --out "$tmp/r2"
 expect_error "\-\-amplitude" "$bin" response "$forced" --frequency 0.4:1:0.1 --amplitude -1 --out "$tmp/r2"

@@ -713,6 +713,47 @@ ResponseCurve ComputeResponse(const Model& model, const ResponseOptions& options
   return Responder(model, options).Run();
 }
 
+namespace {
+
+// The impacts of a request: m, or the sequence's contacts (which set m).
+void SetImpacts(const Model& model, int impacts, const std::optional<std::string>& sequence, const FieldNames& names,
+                ResponseOptions& o) {
+  o.impacts = impacts;
+  if (sequence) {
+    o.sequence = ParseSequence(*sequence, static_cast<int>(model.contacts.size()), names("sequence"), kMaxResponseImpacts);
+    const int m = static_cast<int>(o.sequence.size());
+    CheckImpactsAgree(impacts, m, *sequence, names("impacts"), true);
+    o.impacts = m;
+  }
+}
+
+// "FROM:TO" or "FROM:TO:STEP" (numbers; STEP by default (TO - FROM) / 300).
+PeriodGrid ParseRange(const std::string& text, const std::string& field) {
+  std::vector<double> v;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t colon = text.find(':', start);
+    const std::string part = text.substr(start, colon == std::string::npos ? std::string::npos : colon - start);
+    std::size_t used = 0;
+    double x = 0.0;
+    try {
+      x = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (part.empty() || used != part.size()) {
+      throw InputError(field, "must be FROM:TO or FROM:TO:STEP (numbers), got '" + text + "'");
+    }
+    v.push_back(x);
+    if (colon == std::string::npos) break;
+    start = colon + 1;
+  }
+  if (v.size() != 2 && v.size() != 3) throw InputError(field, "must be FROM:TO or FROM:TO:STEP, got '" + text + "'");
+  return {v[0], v[1], v.size() == 3 ? v[2] : (v[1] - v[0]) / 300.0};
+}
+
+}  // namespace
+
 ResponseRequest MakeResponseRequest(const Model& model, ResponseParameter swept, const PeriodGrid& grid,
                                     std::vector<double> levels, int impacts, int periods, const FieldNames& names,
                                     const std::optional<std::string>& sequence) {
@@ -722,20 +763,46 @@ ResponseRequest MakeResponseRequest(const Model& model, ResponseParameter swept,
                                                             : model.forcing.frequency);
   }
   ResponseRequest r;
-  r.options.impacts = impacts;
-  if (sequence) {
-    r.options.sequence = ParseSequence(*sequence, static_cast<int>(model.contacts.size()), names("sequence"),
-                                       kMaxResponseImpacts);
-    const int m = static_cast<int>(r.options.sequence.size());
-    CheckImpactsAgree(impacts, m, *sequence, names("impacts"), true);
-    r.options.impacts = m;
-  }
+  SetImpacts(model, impacts, sequence, names, r.options);
   r.options.periods = periods;
   r.options.parameter = swept;
   r.options.grid = grid;
   r.options.fixed = levels.front();
   r.levels = std::move(levels);
   r.options.Validate(names);
+  return r;
+}
+
+ResponseRequest MakeContinuationRequest(const Model& model, const std::string& parameter, const std::string& range,
+                                        int impacts, int periods, const FieldNames& names,
+                                        const std::optional<std::string>& sequence) {
+  if (!model.forcing.HasHarmonic()) {
+    throw InputError("forcing.amplitude", "is needed: a continuation follows a forced response (the scene's "
+                                          "[forcing] amplitude and frequency)");
+  }
+  const ModelParameter p = ParseModelParameter(model, parameter, names("parameter"));
+  const PeriodGrid grid = ParseRange(range, names("range"));
+  if (p.kind == ModelParameter::Kind::kFrequency || p.kind == ModelParameter::Kind::kAmplitude) {
+    // As `response` follows them, the other held at the model's value.
+    FieldNames as_range = names;
+    as_range.Set("frequency", names("range")).Set("amplitude", names("range"));
+    return MakeResponseRequest(model,
+                               p.kind == ModelParameter::Kind::kFrequency ? ResponseParameter::kFrequency
+                                                                          : ResponseParameter::kAmplitude,
+                               grid, {}, impacts, periods, as_range, sequence);
+  }
+  ResponseRequest r;
+  SetImpacts(model, impacts, sequence, names, r.options);
+  r.options.periods = periods;
+  r.options.parameter = ResponseParameter::kModel;
+  r.options.model_parameter = p;
+  r.options.grid = grid;
+  r.levels = {0.0};  // (one curve: `fixed` is unused)
+  r.options.Validate(names);
+  // The model at both ends of the range (a negative mass, e > 1: an error
+  // naming the scene's field and the value), before any work.
+  WithParameter(model, p, grid.from);
+  WithParameter(model, p, grid.to);
   return r;
 }
 
@@ -750,7 +817,10 @@ ResponseLevels ComputeResponseLevels(const Model& model, const ResponseOptions& 
     if (progress) opt.progress = progress(level);
     const ResponseCurve curve = ComputeResponse(model, opt);
     for (std::size_t b = 0; b < curve.branches.size(); ++b) {
-      for (const ForcedOrbit& o : curve.branches[b].points) out.rows.push_back({out.branches + static_cast<int>(b) + 1, o});
+      const ResponseBranch& branch = curve.branches[b];
+      for (std::size_t k = 0; k < branch.points.size(); ++k) {
+        out.rows.push_back({out.branches + static_cast<int>(b) + 1, branch.points[k], branch.parameter[k]});
+      }
       out.ends.push_back(curve.branches[b].end);
     }
     for (SpecialPoint p : curve.points) {

@@ -181,3 +181,11 @@ def response(
     threads: int = 0,
     sequence: Optional[Sequence[int]] = None,
 ) -> dict[str, Any]: ...
+def continue_parameter(
+    model: Model,
+    parameter: str,
+    range: Union[tuple[float, float], tuple[float, float, float], str],
+    impacts: int = 1,
+    periods: int = 1,
+    sequence: Optional[Sequence[int]] = None,
+) -> dict[str, Any]: ...

@@ -245,6 +245,37 @@ def test_response_bad_requests_name_the_field(paper):
                       forcing_frequency=1.0)
 
 
+def test_continue_parameter_follows_a_scene_key():
+    # Issue 26: the (1,1) response of configs/forced.toml followed in the gap.
+    # Its points solve the impact condition at their own gap: x2(t_impact)
+    # = gap (the state just after the impact is on the wall).
+    m = nsmodal.load_scene(FORCED)
+    r = nsmodal.continue_parameter(m, "gap", (0.5, 2.0))
+    rows, pts = r["rows"], r["points"]
+    assert list(rows)[:3] == ["gap", "w", "amplitude"] and list(pts)[:4] == ["gap", "w", "amplitude", "kind"]
+    assert len(rows["gap"]) > 300 and rows["gap"].min() >= 0.5 - 1e-12 and rows["gap"].max() <= 2.0 + 1e-12
+    # (1e-12: the corrector's tolerance on the impact condition, in gaps.)
+    assert np.max(np.abs(rows["x2"] - rows["gap"])) < 1e-12 * 2.0
+    assert {"fold", "zero-velocity", "torus"} <= set(pts["kind"])
+    # The same from the scene's text as a string range, with a step.
+    s = nsmodal.continue_parameter(m, "gap", "0.5:2:0.05")
+    assert len(s["rows"]["gap"]) < len(rows["gap"])
+
+
+def test_continue_parameter_bad_requests_name_the_field():
+    m = nsmodal.load_scene(FORCED)
+    with pytest.raises(ValueError, match="parameter: 'stiffness' is not a parameter"):
+        nsmodal.continue_parameter(m, "stiffness", (1, 2))
+    with pytest.raises(ValueError, match="restitution"):
+        nsmodal.continue_parameter(m, "restitution", (0.5, 1.5))
+    with pytest.raises(ValueError, match="range"):
+        nsmodal.continue_parameter(m, "gap", (2, 1))
+    with pytest.raises(ValueError, match="range"):
+        nsmodal.continue_parameter(m, "gap", ("a", 1))
+    with pytest.raises(ValueError, match="range"):
+        nsmodal.continue_parameter(m, "gap", True)
+
+
 def test_verdict_only_multipliers_of_a_chain():
     # Issue 12: a 20-mass chain; the verdict-only spectrum keeps the verdict
     # and the largest modulus of the full one (to round-off of the same roots).

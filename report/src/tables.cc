@@ -104,6 +104,20 @@ Columns<ResponseRow> ResponseColumns(int dofs) {
   return c;
 }
 
+Columns<ResponseRow> ContinuationColumns(int dofs, const std::string& parameter) {
+  Columns<ResponseRow> c{{parameter, K::kReal, [](const ResponseRow& r) -> Cell { return r.parameter; }}};
+  const Columns<ResponseRow> rest = ResponseColumns(dofs);
+  c.insert(c.end(), rest.begin(), rest.end());
+  return c;
+}
+
+Columns<SpecialPoint> ContinuationPointColumns(const std::string& parameter) {
+  Columns<SpecialPoint> c{{parameter, K::kReal, [](const SpecialPoint& p) -> Cell { return p.parameter; }}};
+  const Columns<SpecialPoint> rest = ResponsePointColumns();
+  c.insert(c.end(), rest.begin(), rest.end());
+  return c;
+}
+
 Columns<SpecialPoint> ResponsePointColumns() {
   using P = SpecialPoint;
   return {{"w", K::kReal, [](const P& p) -> Cell { return p.orbit.frequency; }},

@@ -139,11 +139,27 @@ ResponseRequest MakeResponseRequest(const Model& model, ResponseParameter swept,
                                     const FieldNames& names = FieldNames(),
                                     const std::optional<std::string>& sequence = std::nullopt);
 
+// A continuation request (issue 26: `nsmodal continue`, Python's
+// continue_parameter): the response of `impacts` impacts (or `sequence`) in
+// `periods` forcing periods followed in the parameter `parameter`
+// (ParseModelParameter: "gap", "masses[1]", ...; frequency and amplitude
+// followed as `response` follows them, the other held at the model's) over
+// `range`, "FROM:TO" or "FROM:TO:STEP" (STEP, the largest step and the
+// spacing of the points solved at fixed values: (TO - FROM) / 300 by
+// default). Throws InputError naming, through `names`, "parameter", "range",
+// "impacts", "periods", "sequence", or the scene's field when the model at
+// an end of the range is not valid; "forcing.amplitude" for a model without
+// a harmonic force.
+ResponseRequest MakeContinuationRequest(const Model& model, const std::string& parameter, const std::string& range,
+                                        int impacts, int periods, const FieldNames& names = FieldNames(),
+                                        const std::optional<std::string>& sequence = std::nullopt);
+
 // A point of a response with the number of its branch (1-based): a row of
 // response.csv (report/tables.h), of Python's response()["rows"].
 struct ResponseRow {
   int branch = 0;
   ForcedOrbit orbit;
+  double parameter = 0.0;  // the followed parameter's value (w, a, or the model's)
 };
 
 // The curves of one grid at each value of the fixed parameter (the CLI's

@@ -61,6 +61,11 @@ Columns<ResponseRow> ResponseColumns(int dofs);
 // response_points.csv: w,amplitude,kind,energy,branch,max_xc,impact_velocity,
 // admissible,stable,max_multiplier.
 Columns<SpecialPoint> ResponsePointColumns();
+// continuation.csv and continuation_points.csv (issue 26): a column named as
+// the followed parameter ("gap", "masses[1]"), then response.csv's, or
+// response_points.csv's, columns.
+Columns<ResponseRow> ContinuationColumns(int dofs, const std::string& parameter);
+Columns<SpecialPoint> ContinuationPointColumns(const std::string& parameter);
 
 // response_validation.csv, one row per orbit and integrator: w,amplitude,
 // branch,integrator,admissible,stable,max_multiplier,periods_run,deviation_1,
