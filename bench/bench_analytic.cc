@@ -271,6 +271,26 @@ void BM_ResponseCurve300(benchmark::State& state) {
 }
 BENCHMARK(BM_ResponseCurve300)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(1);
 
+// Issue 26's target: a 300-step continuation of configs/forced.toml's (1,1)
+// response (the paper's chain, 2 % damping, e = 0.8) in the forcing
+// amplitude (arg 0: a in [0.05, 0.5] at w = 0.5) or in the gap (arg 1: d in
+// [0.5, 2], the model rebuilt at each value), stability and special points
+// included: under 1 s.
+void BM_Continuation300(benchmark::State& state) {
+  const Model m = LoadScene(NSMODAL_SOURCE_DIR "/configs/forced.toml").model;
+  const bool gap = state.range(0) == 1;
+  const ResponseRequest r = MakeContinuationRequest(m, gap ? "gap" : "amplitude", gap ? "0.5:2" : "0.05:0.5", 1, 1);
+  ResponseLevels c;
+  for (auto _ : state) c = ComputeResponseLevels(m, r.options, r.levels);
+  double residual = 0.0;
+  for (const ResponseRow& row : c.rows) residual = std::max(residual, row.orbit.residual);
+  state.counters["steps"] = static_cast<double>(r.options.grid.Count() - 1);
+  state.counters["points"] = static_cast<double>(c.rows.size());
+  state.counters["special_points"] = static_cast<double>(c.points.size());
+  state.counters["worst_residual"] = residual;
+}
+BENCHMARK(BM_Continuation300)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
 }  // namespace
 }  // namespace nsmodal
 

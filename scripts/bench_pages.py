@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """The benchmark pages, regenerated from measured runs.
 
-  python3 scripts/bench_pages.py run [--build build] [--repetitions 3]
+  python3 scripts/bench_pages.py run [--build build] [--repetitions 3] [--program P]
       runs the Google Benchmark programs (bench_sim, bench_analytic,
-      bench_report) with JSON output into docs/bench/results/<program>.json,
-      then renders the page;
+      bench_report; --program: one of them) with JSON output into
+      docs/bench/results/<program>.json, then renders the page;
   python3 scripts/bench_pages.py render
       writes docs/source/benchmark_results.md from those JSON files alone;
   python3 scripts/bench_pages.py check
@@ -59,6 +59,8 @@ def build_type(build):
 def run(args):
     os.makedirs(RESULTS, exist_ok=True)
     for program, _ in PROGRAMS:
+        if args.program and program != args.program:
+            continue  # (its stored JSON kept)
         exe = os.path.join(args.build, "bench", program)
         if not os.access(exe, os.X_OK):
             sys.exit(f"bench_pages: {exe} is missing: build with NSMODAL_BUILD_BENCH=ON (the default)")
@@ -154,6 +156,8 @@ def main():
     r = sub.add_parser("run", help="measure, then render")
     r.add_argument("--build", default=os.path.join(ROOT, "build"), help="the CMake build directory")
     r.add_argument("--repetitions", type=int, default=3, help="repetitions of each case (the median is shown)")
+    r.add_argument("--program", choices=[p for p, _ in PROGRAMS],
+                   help="run this program only (the others' stored results are kept)")
     sub.add_parser("render", help="write the page from the stored JSON")
     sub.add_parser("check", help="fail when the page differs from a render of the stored JSON")
     args = parser.parse_args()
