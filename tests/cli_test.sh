@@ -342,7 +342,7 @@ fi
 # continue (issue 26): the response followed in a scene parameter; the
 # CSVs' first column is named as the parameter; a bad name, a range that
 # leaves the valid scene and a scene without a force are refused, naming them.
-if "$bin" continue "$forced" --parameter springs[2] --range 1.5:2.5:0.01 --out "$tmp/cont" >"$tmp/cont.log" 2>&1; then
+if "$bin" continue "$forced" --parameter 'springs[2]' --range 1.5:2.5:0.01 --out "$tmp/cont" >"$tmp/cont.log" 2>&1; then
   head -1 "$tmp/cont/continuation.csv" | grep -q '^springs\[2\],w,amplitude,period,impacts,energy,' && ok ||
     bad "continuation.csv header: $(head -1 "$tmp/cont/continuation.csv")"
   head -1 "$tmp/cont/continuation_points.csv" | grep -q '^springs\[2\],w,amplitude,kind,energy,' && ok ||
@@ -358,9 +358,14 @@ else
   bad "continue failed: $(cat "$tmp/cont.log")"
 fi
 expect_error "\-\-parameter: 'stiffness' is not a parameter" "$bin" continue "$forced" --parameter stiffness --range 1:2 --out "$tmp/c2"
-expect_error "\-\-parameter: 'masses\[3\]': the model has 2 masses" "$bin" continue "$forced" --parameter masses[3] --range 1:2 --out "$tmp/c2"
+expect_error "\-\-parameter: 'masses\[3\]': the model has 2 masses" "$bin" continue "$forced" --parameter 'masses[3]' --range 1:2 --out "$tmp/c2"
 expect_error "system.restitution" "$bin" continue "$forced" --parameter restitution --range 0.5:1.5 --out "$tmp/c2"
-expect_error "system.masses" "$bin" continue "$forced" --parameter masses[1] --range -1:2 --out "$tmp/c2"
+expect_error "system.masses" "$bin" continue "$forced" --parameter 'masses[1]' --range -1:2 --out "$tmp/c2"
+# A spring at 0 frees a rigid-body mode; an undamped scene at e = 1 has no
+# isolated response: refused naming --range and the value, before any file.
+expect_error "\-\-range: at springs\[1\] = 0: the model has 1 rigid-body modes" "$bin" continue "$forced" --parameter 'springs[1]' --range 0:1 --out "$tmp/c2"
+expect_error "\-\-range: at restitution = 1: " "$bin" continue "$(scene undamped '[system]\nmasses=[1,1]\nsprings=[0.85,2]\ngap=1\nrestitution=0.8\n[forcing]\namplitude=[0.3,0]\nfrequency=0.5\n')" --parameter restitution --range 0.5:1 --out "$tmp/c2"
+expect_error "\-\-range" "$bin" continue "$forced" --parameter gap --range ' 1:2' --out "$tmp/c2"
 expect_error "\-\-range" "$bin" continue "$forced" --parameter gap --range 2:1 --out "$tmp/c2"
 expect_error "\-\-range" "$bin" continue "$forced" --parameter gap --range 1:x --out "$tmp/c2"
 expect_error "forcing.amplitude" "$bin" continue "$src/configs/paper.toml" --parameter gap --range 1:2 --out "$tmp/c2"

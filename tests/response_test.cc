@@ -343,7 +343,8 @@ TEST(Response, AGapContinuationIsTheAmplitudeContinuationRescaled) {
   for (const SpecialPoint& p : by_gap.points) {
     // (The impact condition x_2(t_1-) = d holds at the point's gap.)
     const double d_star = p.parameter;
-    EXPECT_NEAR(p.orbit.before.front()[1], d_star, 1e-12);
+    // (1e-12 d: the corrector's tolerance on the impact condition, in gaps.)
+    EXPECT_NEAR(p.orbit.before.front()[1], d_star, 1e-12 * d_star);
     double best = 1e300, energy = 0.0;
     for (const SpecialPoint& q : by_amplitude.points) {
       if (q.kind != p.kind) continue;
@@ -367,6 +368,37 @@ TEST(Response, AGapContinuationIsTheAmplitudeContinuationRescaled) {
     if (std::abs(mu.imag()) > 1e-6) closest = std::min(closest, std::abs(std::abs(mu) - 1.0));
   }
   EXPECT_LT(closest, 1e-7);
+}
+
+// A model parameter's range up to the end of its valid values: the
+// restitution to 1 (the model damped, so the response is posed there). The
+// branch ends on the edge, solved at e = 1 exactly (the last grid value is
+// clamped to it, the Jacobian one-sided in e there), and a range past it is
+// refused naming the field before any work.
+TEST(Response, ARestitutionContinuationEndsOnTheEdgeOfItsRange) {
+  const Model m = Forced();
+  ResponseOptions o;
+  o.impacts = 1;
+  o.parameter = ResponseParameter::kModel;
+  o.model_parameter = ParseModelParameter(m, "restitution");
+  o.grid = {0.2, 1.0, 0.8 / 300};
+  const ResponseCurve c = ComputeResponse(m, o);
+  ASSERT_FALSE(c.branches.empty());
+  double top = 0.0;
+  bool ended = false;
+  for (const ResponseBranch& b : c.branches) {
+    for (const double e : b.parameter) top = std::max(top, e);
+    ended = ended || b.end.find("left the range at restitution = 1") != std::string::npos;
+  }
+  EXPECT_EQ(top, 1.0);
+  EXPECT_TRUE(ended) << c.branches.front().end;
+  o.grid.to = 1.1;
+  try {
+    ComputeResponse(m, o);
+    ADD_FAILURE() << "a range past e = 1 was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("system.restitution"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -32,6 +32,7 @@ Model ScaledModel(const Model& model, double frequency, double amplitude) {
                                               FormatValue(amplitude));
   }
   Model m = model;
+  m.source.reset();  // (edited below: its keys are no longer the model's)
   m.forcing.amplitude = model.forcing.amplitude * (amplitude / model.forcing.amplitude.cwiseAbs().maxCoeff());
   m.forcing.frequency = frequency;
   if (amplitude == 0.0) {

@@ -129,13 +129,27 @@ class Tracer {
   }
   // The problem at lambda; null outside the continuation's domain (a w or a
   // <= 0; a model parameter's value that leaves the valid model).
+  // For a model parameter, a value where the problem cannot be posed (an
+  // undamped model at e = 1, a period beyond ForcedProblem's bound) or has
+  // another number of unknowns (a spring at 0: a rigid-body mode) is outside
+  // the domain too.
   std::unique_ptr<ForcedProblem> Problem(double lambda) const {
     if (opt_.parameter != ResponseParameter::kModel && !(lambda > 0.0)) return nullptr;
     const std::optional<Model> m = ModelAt(lambda);
     if (!m) return nullptr;
     const double w = Frequency(*m, lambda), a = Amplitude(*m, lambda);
-    return opt_.sequence.empty() ? std::make_unique<ForcedProblem>(*m, m_, opt_.periods, w, a)
-                                 : std::make_unique<ForcedProblem>(*m, opt_.sequence, opt_.periods, w, a);
+    auto make = [&] {
+      return opt_.sequence.empty() ? std::make_unique<ForcedProblem>(*m, m_, opt_.periods, w, a)
+                                   : std::make_unique<ForcedProblem>(*m, opt_.sequence, opt_.periods, w, a);
+    };
+    if (opt_.parameter != ResponseParameter::kModel) return make();
+    std::unique_ptr<ForcedProblem> p;
+    try {
+      p = make();
+    } catch (const InputError&) {
+      return nullptr;
+    }
+    return p->unknowns() == k_ ? std::move(p) : nullptr;
   }
   Vec U(const Vec& xi) const {
     Vec u = xi.head(k_);
@@ -162,8 +176,8 @@ class Tracer {
   }
   // dH/dxi, k x (k + 1) (k = m + r), by central differences (h = 1e-7:
   // truncation ~1e-14, round-off ~1e-9 relative; Newton needs no more). On
-  // the edge of the domain (a model parameter at the end of its valid
-  // range: e = 1), one-sided on the side inside (truncation ~1e-7).
+  // the edge of a model parameter's domain (the end of its valid range:
+  // e = 1), its column one-sided, on the side inside (truncation ~1e-7).
   bool Jacobian(const Vec& xi, Eigen::MatrixXd& j) const {
     j.resize(k_, k_ + 1);
     Vec rp, rm, r0;
@@ -175,7 +189,8 @@ class Tracer {
       const bool up = H(a, rp), down = H(b, rm);
       if (up && down) {
         j.col(k) = (rp - rm) / (2.0 * h);
-      } else if ((up || down) && (r0.size() > 0 || H(xi, r0))) {
+      } else if (k == k_ && opt_.parameter == ResponseParameter::kModel && (up || down) &&
+                 (r0.size() > 0 || H(xi, r0))) {
         j.col(k) = up ? (rp - r0) / h : (r0 - rm) / h;
       } else {
         return false;
@@ -312,7 +327,12 @@ class Responder {
   }
 
   ResponseCurve Run() {
-    const std::vector<double> grid = opt_.grid.Values();
+    std::vector<double> grid = opt_.grid.Values();
+    // (A model parameter's last value no further than TO: from + k step may
+    // pass it by an ulp, out of the valid range when TO is its end, e = 1.)
+    if (opt_.parameter == ResponseParameter::kModel) {
+      for (double& g : grid) g = std::min(g, opt_.grid.to);
+    }
     if (opt_.impacts == 0) {
       Linear(grid);
       return curve_;
@@ -349,7 +369,7 @@ class Responder {
     const Vec c = p.Canonical(tr_.U(xi));
     for (const auto& nodes : grid_nodes_) {
       for (const Vec& other : nodes) {
-        if (std::abs(tr_.Lambda(other) - lambda) > 1e-12 * tr_.LambdaScale()) continue;
+        if (std::abs(tr_.Lambda(other) - lambda) > 1e-12 * std::max(tr_.LambdaScale(), std::abs(lambda))) continue;
         Vec d = p.Canonical(tr_.U(other)) - c;
         d[0] = std::remainder(d[0], 2.0 * M_PI);
         if (d.cwiseAbs().maxCoeff() <= 1e-6 * std::max(1.0, p.period())) return true;
@@ -481,10 +501,13 @@ class Responder {
     const double lo = opt_.grid.from / tr_.LambdaScale(), hi = opt_.grid.to / tr_.LambdaScale();
     const double lp = pred[last], l0 = cur_node.xi[last];
     if (!(lp > hi + 1e-12 || lp < lo - 1e-12) || lp == l0) return false;
+    if (tr_.Problem(tr_.Lambda(pred))) return false;  // (inside the domain: the corrector's own failure)
     const double edge = lp > hi ? hi : lo;
     const Vec cur_xi = cur_node.xi, cur_t = cur_node.tangent;  // (nodes grows below)
-    const std::optional<Vec> at = tr_.SolveAt(edge * tr_.LambdaScale(), cur_xi + (edge - l0) / (lp - l0) * (pred - cur_xi));
-    if (!at) return false;
+    const Vec guess = cur_xi + (edge - l0) / (lp - l0) * (pred - cur_xi);
+    const std::optional<Vec> at = tr_.SolveAt(edge * tr_.LambdaScale(), guess);
+    // (Not a jump to another branch: within half the step of the predictor.)
+    if (!at || (*at - guess).norm() > 0.5 * (pred - cur_xi).norm()) return false;
     for (double g : GridBetween(l0, edge)) {
       if (const std::optional<Vec> x = tr_.SolveAt(g * tr_.LambdaScale(), cur_xi + (g - l0) / (edge - l0) * (*at - cur_xi))) {
         nodes.push_back(MakeNode(*x, cur_t, true));
@@ -535,7 +558,7 @@ class Responder {
                                  std::to_string(branch + 1) + " could not be located");
         }
       };
-      if ((a.tangent[last] < 0.0) != (b.tangent[last] < 0.0)) {
+      if (a.tangent.size() > 0 && b.tangent.size() > 0 && (a.tangent[last] < 0.0) != (b.tangent[last] < 0.0)) {
         locate(SpecialKind::kFold, [&](const Vec&, const Vec& t) { return t[last]; });
       }
       if ((PeriodDoublingTest(a.orbit) < 0.0) != (PeriodDoublingTest(b.orbit) < 0.0)) {
@@ -554,9 +577,27 @@ class Responder {
       }
       const std::optional<double> ta = TorusTest(a.orbit), tb = TorusTest(b.orbit);
       if (ta && tb && (*ta < 0.0) != (*tb < 0.0) && ComplexPairs(a.orbit) == ComplexPairs(b.orbit)) {
-        locate(SpecialKind::kTorus, [&](const Vec& xi, const Vec&) {
-          return TorusTest(tr_.Orbit(xi)).value_or(std::numeric_limits<double>::quiet_NaN());
+        // Recorded only when the point has a complex pair on the unit circle
+        // (1e-6: Brent's ~1e-12 in the parameter moves |mu| far less; a pair
+        // that left the real axis or a pole inside the segment fails it).
+        const std::optional<Vec> xi = seg.Root([&](const Vec& x, const Vec&) {
+          return TorusTest(tr_.Orbit(x)).value_or(std::numeric_limits<double>::quiet_NaN());
         });
+        const std::optional<ForcedOrbit> o = xi ? std::optional<ForcedOrbit>(tr_.Orbit(*xi)) : std::nullopt;
+        bool on_circle = false;
+        if (o && o->multipliers.allFinite()) {
+          for (int i = 0; i < o->multipliers.size(); ++i) {
+            const std::complex<double> mu = o->multipliers[i];
+            on_circle = on_circle || (mu.imag() > 1e-6 && std::abs(std::abs(mu) - 1.0) <= 1e-6);
+          }
+        }
+        if (on_circle) {
+          Record(SpecialKind::kTorus, branch, *o, tr_.Lambda(*xi));
+        } else {
+          curve_.notes.push_back("torus between " + Name() + " = " + FormatValue(tr_.Lambda(a.xi)) + " and " +
+                                 FormatValue(tr_.Lambda(b.xi)) + " on branch " + std::to_string(branch + 1) +
+                                 " could not be located");
+        }
       }
       if ((a.orbit.min_impact_velocity < 0.0) != (b.orbit.min_impact_velocity < 0.0)) {
         locate(SpecialKind::kZeroVelocity,
@@ -620,6 +661,7 @@ class Responder {
 
 Model ConservativeTwin(const Model& model) {
   Model twin = model;
+  twin.source.reset();  // (edited below: its keys are no longer the model's)
   twin.damping.resize(0, 0);
   twin.forcing = Forcing{};
   for (Contact& c : twin.contacts) c.restitution = AnalysisBasis::kRestitution;
@@ -684,19 +726,48 @@ std::optional<double> BackboneFrequency(const Model& model, const Sweep& backbon
   return best;
 }
 
+namespace {
+
+// The model and the response problem at both ends of a model parameter's
+// range: an end that leaves the valid model throws WithParameter's error
+// (the scene's field and the value: a negative mass, e > 1); one where the
+// response cannot be posed (an undamped model at e = 1, a spring at 0 that
+// frees a rigid-body mode) throws naming `range`. The model's own checks are
+// intervals in each parameter; inside the range, a value where the problem
+// cannot be posed ends the branch there (Tracer::Problem).
+void CheckRangeEnds(const Model& model, const ResponseOptions& o, const std::string& range) {
+  if (!model.forcing.HasHarmonic()) {
+    throw InputError("forcing.amplitude", "is needed: a response follows the model's harmonic force");
+  }
+  const int rigid = RigidBodyModes(model.stiffness);
+  for (const double v : {o.grid.from, o.grid.to}) {
+    const Model m = WithParameter(model, *o.model_parameter, v);
+    const std::string at = "at " + o.model_parameter->name + " = " + FormatValue(v) + ": ";
+    if (RigidBodyModes(m.stiffness) != rigid) {
+      throw InputError(range, at + "the model has " + std::to_string(RigidBodyModes(m.stiffness)) +
+                                  " rigid-body modes, " + std::to_string(rigid) + " at the scene's value: a range "
+                                  "on one side of that value");
+    }
+    if (o.impacts == 0) continue;  // (the linear response: posed wherever the model is valid)
+    try {
+      const double w = m.forcing.frequency, a = m.ForceAmplitude().cwiseAbs().maxCoeff();
+      if (o.sequence.empty()) {
+        ForcedProblem(m, o.impacts, o.periods, w, a);
+      } else {
+        ForcedProblem(m, o.sequence, o.periods, w, a);
+      }
+    } catch (const InputError& e) {
+      throw InputError(range, at + e.what());
+    }
+  }
+}
+
+}  // namespace
+
 ResponseCurve ComputeResponse(const Model& model, const ResponseOptions& options) {
   Validate(model);
   options.Validate();
-  if (options.parameter == ResponseParameter::kModel) {
-    // The model at both ends of the range, checked (an error names the
-    // scene's field and the value: a negative mass, e > 1). The checks are
-    // convex in each parameter: the values between are valid too.
-    WithParameter(model, *options.model_parameter, options.grid.from);
-    WithParameter(model, *options.model_parameter, options.grid.to);
-    if (!model.forcing.HasHarmonic()) {
-      throw InputError("forcing.amplitude", "is needed: a response follows the model's harmonic force");
-    }
-  }
+  if (options.parameter == ResponseParameter::kModel) CheckRangeEnds(model, options, "range");
   // The longest response period of the request within what ForcedProblem
   // honours (1e5 shortest linear periods), checked once here rather than
   // failing midway.
@@ -736,12 +807,14 @@ PeriodGrid ParseRange(const std::string& text, const std::string& field) {
     const std::string part = text.substr(start, colon == std::string::npos ? std::string::npos : colon - start);
     std::size_t used = 0;
     double x = 0.0;
+    // Plain decimal numbers only (stod would take " 1" and hex "0x1p-2").
+    const bool plain = !part.empty() && part.find_first_not_of("0123456789.eE+-") == std::string::npos;
     try {
-      x = std::stod(part, &used);
+      if (plain) x = std::stod(part, &used);
     } catch (const std::exception&) {
       used = 0;
     }
-    if (part.empty() || used != part.size()) {
+    if (!plain || used != part.size()) {
       throw InputError(field, "must be FROM:TO or FROM:TO:STEP (numbers), got '" + text + "'");
     }
     v.push_back(x);
@@ -799,10 +872,7 @@ ResponseRequest MakeContinuationRequest(const Model& model, const std::string& p
   r.options.grid = grid;
   r.levels = {0.0};  // (one curve: `fixed` is unused)
   r.options.Validate(names);
-  // The model at both ends of the range (a negative mass, e > 1: an error
-  // naming the scene's field and the value), before any work.
-  WithParameter(model, p, grid.from);
-  WithParameter(model, p, grid.to);
+  CheckRangeEnds(model, r.options, names("range"));  // (before any work or file)
   return r;
 }
 

@@ -1,7 +1,6 @@
 #include "nsmodal/parameter.h"
 
 #include <cmath>
-#include <regex>
 
 #include "nsmodal/check.h"
 #include "nsmodal/error.h"
@@ -46,15 +45,33 @@ const char* SpecKey(Kind kind) {
 }  // namespace
 
 ModelParameter ParseModelParameter(const Model& model, const std::string& name, const std::string& field) {
-  // key, [index], .member
-  static const std::regex kGrammar(R"(([a-z_]+)(?:\[([0-9]{1,6})\])?(?:\.([a-z_]+))?)");
-  std::smatch m;
-  if (!std::regex_match(name, m, kGrammar)) {
+  // key, then [index] (1 to 6 digits), then .member; keys and members are
+  // lower-case words. (By hand: GCC 12 warns falsely inside std::regex.)
+  auto word = [&](std::size_t& at) {
+    const std::size_t from = at;
+    while (at < name.size() && ((name[at] >= 'a' && name[at] <= 'z') || name[at] == '_')) ++at;
+    return name.substr(from, at - from);
+  };
+  std::size_t at = 0;
+  const std::string key = word(at);
+  bool indexed = false, ok = !key.empty();
+  int index = 0;
+  if (ok && at < name.size() && name[at] == '[') {
+    const std::size_t from = ++at;
+    while (at < name.size() && name[at] >= '0' && name[at] <= '9' && at - from < 6) index = 10 * index + (name[at++] - '0');
+    ok = at > from && at < name.size() && name[at] == ']';
+    ++at;
+    indexed = true;
+  }
+  std::string member;
+  if (ok && at < name.size() && name[at] == '.') {
+    ++at;
+    member = word(at);
+    ok = !member.empty();
+  }
+  if (!ok || at != name.size()) {
     throw InputError(field, "'" + name + "' is not a parameter: name one of " + kNames);
   }
-  const std::string key = m[1], member = m[3];
-  const bool indexed = m[2].matched;
-  const int index = indexed ? std::stoi(m[2]) : 0;
   ModelParameter p;
   p.name = name;
   auto need_index = [&](bool want) {
@@ -96,9 +113,11 @@ ModelParameter ParseModelParameter(const Model& model, const std::string& name, 
     need_index(true);
     const std::optional<std::vector<double>>* values = model.source ? SpecVector(model.source->spec, kind) : nullptr;
     if (values == nullptr || !values->has_value()) {
-      throw InputError(field, "'" + name + "': the model was not given " + key +
-                                  (kind == Kind::kMass || kind == Kind::kSpring ? " (it is not a chain of masses and springs)"
-                                                                                : ""));
+      throw InputError(field, "'" + name + "': the model carries no " + key + " key" +
+                                  (kind == Kind::kMass || kind == Kind::kSpring
+                                       ? " (not a chain of masses and springs, or built from matrices, in code, or "
+                                         "unpickled)"
+                                       : ""));
     }
     in_range(static_cast<int>((*values)->size()), key == "rayleigh_damping" ? "coefficients (a, b)" : key);
     p.kind = kind;

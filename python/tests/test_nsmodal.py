@@ -262,6 +262,25 @@ def test_continue_parameter_follows_a_scene_key():
     assert len(s["rows"]["gap"]) < len(rows["gap"])
 
 
+def test_continue_parameter_rebuilds_the_model_from_its_keys():
+    # springs[2] followed to 2.5 must reach the responses of the model built
+    # with springs=[0.85, 2.5] (its modal damping rebuilt on the new modes):
+    # the latter followed in the amplitude through the scene's 0.3 gives, at
+    # a = 0.3, the orbits the former has at k2 = 2.5.
+    m = nsmodal.load_scene(FORCED)
+    k = nsmodal.continue_parameter(m, "springs[2]", (1.5, 2.5, 0.01))
+    at_end = np.isclose(k["rows"]["springs[2]"], 2.5, rtol=0, atol=1e-12)
+    assert at_end.any()
+    stiffer = nsmodal.Model(masses=[1, 1], springs=[0.85, 2.5], gap=1, restitution=0.8,
+                            damping_ratios=[0.02, 0.02], forcing_amplitude=[0.3, 0], forcing_frequency=0.5)
+    a = nsmodal.continue_parameter(stiffer, "amplitude", (0.25, 0.35, 0.05))
+    at_03 = np.isclose(a["rows"]["amplitude"], 0.3, rtol=0, atol=1e-12)
+    mine, theirs = np.sort(k["rows"]["energy"][at_end]), np.sort(a["rows"]["energy"][at_03])
+    assert len(mine) == len(theirs) > 0, (mine, theirs)
+    # (1e-10: both orbits solved to 1e-13 of the gap; the energy follows.)
+    assert np.max(np.abs(mine - theirs) / theirs) < 1e-10, (mine, theirs)
+
+
 def test_continue_parameter_bad_requests_name_the_field():
     m = nsmodal.load_scene(FORCED)
     with pytest.raises(ValueError, match="parameter: 'stiffness' is not a parameter"):

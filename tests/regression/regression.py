@@ -138,7 +138,7 @@ COST_COUNTER_RTOL = 0.25
 UNSTABLE_ROW_FIELDS = {"deviation_1", "deviation_10", "deviation_100", "deviation_final", "deviation_end",
                        "measured_growth", "reason", "impacts", "manifold_distance", "perturbed_manifold_distance"}
 SHIFT_FIELDS = {"t2", "impact_times", "x", "v", "reason"}
-CROSSING_KINDS = {"period-doubling", "fold", "grazing", "zero-velocity"}
+CROSSING_KINDS = {"period-doubling", "fold", "grazing", "zero-velocity", "torus"}
 CROSSING_FIELDS = {"admissible", "stable", "max_multiplier"}
 REASON_FIELDS = {"reason", "message"}
 MULTIPLIER_COLUMN = re.compile(r"mu(\d+)_(re|im)")

@@ -82,7 +82,9 @@ struct Model {
   Forcing forcing;            // none by default
   std::vector<Contact> contacts;  // at least one; contact j + 1 of the files is contacts[j]
   // The keys it was assembled from (AssembleModel; null for a model built in
-  // code): parameter.h rebuilds the model from them at another value.
+  // code or unpickled): parameter.h rebuilds the model from them at another
+  // value. Code that edits a model in place drops them (source.reset()):
+  // they would rebuild the model before the edit.
   std::shared_ptr<const ModelSource> source;
 
   int dofs() const { return static_cast<int>(mass.rows()); }
