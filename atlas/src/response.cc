@@ -322,7 +322,7 @@ constexpr const char* kClosed = "closed on itself";
 
 class Responder {
  public:
-  Responder(const Model& model, const ResponseOptions& opt) : model_(model), opt_(opt), tr_(model, opt) {
+  Responder(const Model& model, const ResponseOptions& opt) : opt_(opt), tr_(model, opt) {
     curve_.options = opt;
   }
 
@@ -650,7 +650,6 @@ class Responder {
     curve_.branches.push_back(std::move(branch));
   }
 
-  const Model& model_;
   const ResponseOptions& opt_;
   Tracer tr_;
   ResponseCurve curve_;
