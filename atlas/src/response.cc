@@ -256,13 +256,13 @@ struct Node {
   bool grid = false;  // solved at a grid value
 };
 
-// The complex pairs of multipliers (Im mu > 0 counts each pair once;
-// |Im| <= 1e-10 |mu| is real).
+// The upper member of a complex pair of multipliers (Im mu > 0 counts each
+// pair once; |Im| <= 1e-10 |mu| is real).
+bool UpperOfPair(const std::complex<double>& mu) { return mu.imag() > 1e-10 * std::abs(mu); }
+
 int ComplexPairs(const ForcedOrbit& o) {
   int n = 0;
-  for (int i = 0; i < o.multipliers.size(); ++i) {
-    n += o.multipliers[i].imag() > 1e-10 * std::abs(o.multipliers[i]);
-  }
+  for (int i = 0; i < o.multipliers.size(); ++i) n += UpperOfPair(o.multipliers[i]);
   return n;
 }
 
@@ -272,7 +272,7 @@ std::optional<double> TorusTest(const ForcedOrbit& o) {
   double p = 1.0;
   bool any = false;
   for (int i = 0; i < o.multipliers.size(); ++i) {
-    if (o.multipliers[i].imag() > 1e-10 * std::abs(o.multipliers[i])) {
+    if (UpperOfPair(o.multipliers[i])) {
       p *= std::norm(o.multipliers[i]) - 1.0;
       any = true;
     }
@@ -549,13 +549,16 @@ class Responder {
       const Node& a = nodes[k];
       const Node& b = nodes[k + 1];
       const SegmentLocator seg(tr_, a, b);
+      auto not_located = [&](SpecialKind kind) {
+        curve_.notes.push_back(ToString(kind) + " between " + Name() + " = " + FormatValue(tr_.Lambda(a.xi)) +
+                               " and " + FormatValue(tr_.Lambda(b.xi)) + " on branch " + std::to_string(branch + 1) +
+                               " could not be located");
+      };
       auto locate = [&](SpecialKind kind, const std::function<double(const Vec&, const Vec&)>& test) {
         if (const std::optional<Vec> xi = seg.Root(test)) {
           Record(kind, branch, *xi);
         } else {
-          curve_.notes.push_back(ToString(kind) + " between " + Name() + " = " + FormatValue(tr_.Lambda(a.xi)) +
-                                 " and " + FormatValue(tr_.Lambda(b.xi)) + " on branch " +
-                                 std::to_string(branch + 1) + " could not be located");
+          not_located(kind);
         }
       };
       if (a.tangent.size() > 0 && b.tangent.size() > 0 && (a.tangent[last] < 0.0) != (b.tangent[last] < 0.0)) {
@@ -594,9 +597,7 @@ class Responder {
         if (on_circle) {
           Record(SpecialKind::kTorus, branch, *o, tr_.Lambda(*xi));
         } else {
-          curve_.notes.push_back("torus between " + Name() + " = " + FormatValue(tr_.Lambda(a.xi)) + " and " +
-                                 FormatValue(tr_.Lambda(b.xi)) + " on branch " + std::to_string(branch + 1) +
-                                 " could not be located");
+          not_located(SpecialKind::kTorus);
         }
       }
       if ((a.orbit.min_impact_velocity < 0.0) != (b.orbit.min_impact_velocity < 0.0)) {
