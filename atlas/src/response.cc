@@ -13,6 +13,7 @@
 #include "nsmodal/two_impact.h"
 #include "nsmodal/roots.h"
 #include "nsmodal/stop.h"
+#include "tracer.h"
 
 namespace nsmodal {
 
@@ -79,27 +80,18 @@ void ResponseOptions::Validate(const FieldNames& names) const {
 
 namespace {
 
-using Vec = Eigen::VectorXd;
+using detail::ComplexPairs;
+using detail::PeriodDoublingTest;
+using detail::SegmentLocator;
+using detail::TorusTest;
+using detail::Tracer;
+using detail::Vec;
 
-// Continuation of the (m, n) family in scaled coordinates
-// xi = (phi / 2 pi, tau_1 / P0, ..., tau_{m-1} / P0, c_1 / d, ..., c_r / d,
-// lambda / L), with the shifts c of the r rigid-body modes (forced_orbit.h)
-// scaled by the least gap struck d.
-class Tracer {
+// The parameter a response is followed in: the model, frequency, amplitude
+// and response problem at each of its values.
+class ResponseAxis {
  public:
-  Tracer(const Model& model, const ResponseOptions& opt)
-      : model_(model), opt_(opt), m_(opt.impacts), k_(opt.impacts + RigidBodyModes(model.stiffness)) {
-    const double mid = 0.5 * (opt.grid.from + opt.grid.to);
-    const double w_mid = opt.parameter == ResponseParameter::kFrequency ? mid
-                         : opt.parameter == ResponseParameter::kAmplitude ? opt.fixed
-                                                                         : ModelAt(mid)->forcing.frequency;
-    period_scale_ = opt.periods * 2.0 * M_PI / w_mid;
-    lambda_scale_ = std::max(opt.grid.to - opt.grid.from, opt.grid.step);
-    gap_scale_ = LeastGapStruck(model, opt.sequence);
-  }
-  int dim() const { return k_ + 1; }
-  double Lambda(const Vec& xi) const { return xi[k_] * lambda_scale_; }
-  double LambdaScale() const { return lambda_scale_; }
+  ResponseAxis(const Model& model, const ResponseOptions& opt) : model_(model), opt_(opt) {}
   // The model at lambda (kModel: null where the value leaves the valid
   // model, the continuation's domain; else the model itself).
   std::optional<Model> ModelAt(double lambda) const {
@@ -133,13 +125,13 @@ class Tracer {
   // undamped model at e = 1, a period beyond ForcedProblem's bound) or has
   // another number of unknowns (a spring at 0: a rigid-body mode) is outside
   // the domain too.
-  std::unique_ptr<ForcedProblem> Problem(double lambda) const {
+  std::unique_ptr<ForcedProblem> Problem(double lambda, int unknowns) const {
     if (opt_.parameter != ResponseParameter::kModel && !(lambda > 0.0)) return nullptr;
     const std::optional<Model> m = ModelAt(lambda);
     if (!m) return nullptr;
     const double w = Frequency(*m, lambda), a = Amplitude(*m, lambda);
     auto make = [&] {
-      return opt_.sequence.empty() ? std::make_unique<ForcedProblem>(*m, m_, opt_.periods, w, a)
+      return opt_.sequence.empty() ? std::make_unique<ForcedProblem>(*m, opt_.impacts, opt_.periods, w, a)
                                    : std::make_unique<ForcedProblem>(*m, opt_.sequence, opt_.periods, w, a);
     };
     if (opt_.parameter != ResponseParameter::kModel) return make();
@@ -149,104 +141,37 @@ class Tracer {
     } catch (const InputError&) {
       return nullptr;
     }
-    return p->unknowns() == k_ ? std::move(p) : nullptr;
+    return p->unknowns() == unknowns ? std::move(p) : nullptr;
   }
-  Vec U(const Vec& xi) const {
-    Vec u = xi.head(k_);
-    u[0] *= 2.0 * M_PI;
-    for (int i = 1; i < m_; ++i) u[i] *= period_scale_;
-    for (int i = m_; i < k_; ++i) u[i] *= gap_scale_;
-    return u;
+  // The linear response (m = 0) at lambda; nullopt outside the domain.
+  std::optional<ForcedOrbit> Linear(double lambda) const {
+    const std::optional<Model> m = ModelAt(lambda);
+    if (!m) return std::nullopt;
+    return LinearResponse(*m, Frequency(*m, lambda), Amplitude(*m, lambda));
   }
-  Vec Xi(const Vec& u, double lambda) const {
-    Vec xi(k_ + 1);
-    xi.head(k_) = u;
-    xi[0] /= 2.0 * M_PI;
-    for (int i = 1; i < m_; ++i) xi[i] /= period_scale_;
-    for (int i = m_; i < k_; ++i) xi[i] /= gap_scale_;
-    xi[k_] = lambda / lambda_scale_;
-    return xi;
-  }
-  // H(xi) = (n_j . x(t_i-) - d_j) / gap_scale (d for one contact).
-  bool H(const Vec& xi, Vec& r) const {
-    const std::unique_ptr<ForcedProblem> p = Problem(Lambda(xi));
-    if (!p || !p->Residual(U(xi), r)) return false;
-    r /= p->gap_scale();
-    return true;
-  }
-  // dH/dxi, k x (k + 1) (k = m + r), by central differences (h = 1e-7:
-  // truncation ~1e-14, round-off ~1e-9 relative; Newton needs no more). On
-  // the edge of a model parameter's domain (the end of its valid range:
-  // e = 1), its column one-sided, on the side inside (truncation ~1e-7).
-  bool Jacobian(const Vec& xi, Eigen::MatrixXd& j) const {
-    j.resize(k_, k_ + 1);
-    Vec rp, rm, r0;
-    for (int k = 0; k <= k_; ++k) {
-      const double h = 1e-7;
-      Vec a = xi, b = xi;
-      a[k] += h;
-      b[k] -= h;
-      const bool up = H(a, rp), down = H(b, rm);
-      if (up && down) {
-        j.col(k) = (rp - rm) / (2.0 * h);
-      } else if (k == k_ && opt_.parameter == ResponseParameter::kModel && (up || down) &&
-                 (r0.size() > 0 || H(xi, r0))) {
-        j.col(k) = up ? (rp - r0) / h : (r0 - rm) / h;
-      } else {
-        return false;
-      }
-    }
-    return true;
-  }
-  // The unit kernel vector of J, oriented along `along`.
-  static Vec Tangent(const Eigen::MatrixXd& j, const Vec& along) {
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(j.transpose());
-    Vec t = qr.householderQ() * Vec::Unit(j.cols(), j.cols() - 1);
-    if (t.dot(along) < 0.0) t = -t;
-    return t;
-  }
-  // Newton on [H(xi); n'(xi - xi0)] = 0: the branch's crossing of the
-  // hyperplane through xi0 normal to n.
-  std::optional<Vec> Correct(Vec xi, const Vec& xi0, const Vec& n) const {
-    Vec r;
-    Eigen::MatrixXd j;
-    for (int it = 0; it < 12; ++it) {
-      if (!H(xi, r) || !Jacobian(xi, j)) return std::nullopt;
-      Eigen::MatrixXd a(k_ + 1, k_ + 1);
-      a << j, n.transpose();
-      Vec f(k_ + 1);
-      f << r, n.dot(xi - xi0);
-      const Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
-      if (!lu.isInvertible()) return std::nullopt;
-      const Vec step = lu.solve(-f);
-      xi += step;
-      if (!xi.allFinite()) return std::nullopt;
-      if (step.norm() <= 1e-12 * (1.0 + xi.norm())) {
-        if (H(xi, r) && r.cwiseAbs().maxCoeff() <= 1e-12) return xi;
-      }
-    }
-    return std::nullopt;
-  }
-  // The orbit at fixed lambda from a guess.
-  std::optional<Vec> SolveAt(double lambda, const Vec& guess) const {
-    const std::unique_ptr<ForcedProblem> p = Problem(lambda);
-    if (!p) return std::nullopt;
-    const std::optional<Vec> u = p->Solve(U(guess));
-    if (!u) return std::nullopt;
-    return Xi(*u, lambda);
-  }
-  // (At a solution: inside the domain.)
-  ForcedOrbit Orbit(const Vec& xi) const {
-    const std::unique_ptr<ForcedProblem> p = Problem(Lambda(xi));
-    NSMODAL_CHECK(p != nullptr);
-    return p->Orbit(U(xi));
+  // The continuation of the (m, n) family in xi = (phi / 2 pi, tau_i / P0,
+  // c / d, lambda / L): P0 the response period at the range's middle, d the
+  // least gap struck, L the range's width.
+  detail::TracerSetup Setup() const {
+    detail::TracerSetup s;
+    s.impacts = opt_.impacts;
+    s.unknowns = opt_.impacts == 0 ? 0 : opt_.impacts + RigidBodyModes(model_.stiffness);
+    s.problem = [this, k = s.unknowns](const Vec& l) { return Problem(l[0], k); };
+    s.linear = [this](const Vec& l) { return Linear(l[0]); };
+    const double mid = 0.5 * (opt_.grid.from + opt_.grid.to);
+    const double w_mid = opt_.parameter == ResponseParameter::kFrequency ? mid
+                         : opt_.parameter == ResponseParameter::kAmplitude ? opt_.fixed
+                                                                          : ModelAt(mid)->forcing.frequency;
+    s.period_scale = opt_.periods * 2.0 * M_PI / w_mid;
+    s.lambda_scale = Vec::Constant(1, std::max(opt_.grid.to - opt_.grid.from, opt_.grid.step));
+    s.gap_scale = LeastGapStruck(model_, opt_.sequence);
+    s.one_sided = opt_.parameter == ResponseParameter::kModel;
+    return s;
   }
 
  private:
   const Model& model_;
   const ResponseOptions& opt_;
-  int m_, k_;  // impacts; unknowns (impacts plus rigid-body modes)
-  double period_scale_ = 1.0, lambda_scale_ = 1.0, gap_scale_ = 1.0;
 };
 
 // A point of a branch with its test functions.
@@ -256,73 +181,11 @@ struct Node {
   bool grid = false;  // solved at a grid value
 };
 
-// The upper member of a complex pair of multipliers (Im mu > 0 counts each
-// pair once; |Im| <= 1e-10 |mu| is real).
-bool UpperOfPair(const std::complex<double>& mu) { return mu.imag() > 1e-10 * std::abs(mu); }
-
-int ComplexPairs(const ForcedOrbit& o) {
-  int n = 0;
-  for (int i = 0; i < o.multipliers.size(); ++i) n += UpperOfPair(o.multipliers[i]);
-  return n;
-}
-
-// Neimark-Sacker: prod over the complex pairs of (|mu|^2 - 1), nullopt with
-// no complex pair.
-std::optional<double> TorusTest(const ForcedOrbit& o) {
-  double p = 1.0;
-  bool any = false;
-  for (int i = 0; i < o.multipliers.size(); ++i) {
-    if (UpperOfPair(o.multipliers[i])) {
-      p *= std::norm(o.multipliers[i]) - 1.0;
-      any = true;
-    }
-  }
-  return any ? std::optional<double>(p) : std::nullopt;
-}
-
-double PeriodDoublingTest(const ForcedOrbit& o) {
-  std::complex<double> p = 1.0;
-  for (int i = 0; i < o.multipliers.size(); ++i) p *= 1.0 + o.multipliers[i];
-  return p.real();
-}
-
-// The location of a special point between two nodes: Brent on a test
-// function along the chord's hyperplanes.
-class SegmentLocator {
- public:
-  SegmentLocator(const Tracer& tr, const Node& a, const Node& b) : tr_(tr), a_(a.xi), chord_(b.xi - a.xi) {
-    n_ = chord_.normalized();
-  }
-  std::optional<Vec> At(double sigma) const { return tr_.Correct(a_ + sigma * chord_, a_ + sigma * chord_, n_); }
-  // The root of test(xi, tangent) on (0, 1); nullopt if the corrector fails.
-  std::optional<Vec> Root(const std::function<double(const Vec&, const Vec&)>& test) const {
-    bool failed = false;
-    auto g = [&](double sigma) {
-      const std::optional<Vec> xi = At(sigma);
-      Eigen::MatrixXd j;
-      if (!xi || !tr_.Jacobian(*xi, j)) {
-        failed = true;
-        return std::numeric_limits<double>::quiet_NaN();
-      }
-      return test(*xi, Tracer::Tangent(j, n_));
-    };
-    const double g0 = g(0.0), g1 = g(1.0);
-    if (failed || !((g0 < 0.0) != (g1 < 0.0))) return std::nullopt;
-    const double sigma = PolishRoot(g, 0.0, 1.0);
-    if (failed) return std::nullopt;
-    return At(sigma);
-  }
-
- private:
-  const Tracer& tr_;
-  Vec a_, chord_, n_;
-};
-
 constexpr const char* kClosed = "closed on itself";
 
 class Responder {
  public:
-  Responder(const Model& model, const ResponseOptions& opt) : opt_(opt), tr_(model, opt) {
+  Responder(const Model& model, const ResponseOptions& opt) : opt_(opt), axis_(model, opt), tr_(axis_.Setup()) {
     curve_.options = opt;
   }
 
@@ -548,7 +411,7 @@ class Responder {
     for (std::size_t k = 0; k + 1 < nodes.size(); ++k) {
       const Node& a = nodes[k];
       const Node& b = nodes[k + 1];
-      const SegmentLocator seg(tr_, a, b);
+      const SegmentLocator seg(tr_, a.xi, b.xi);
       auto not_located = [&](SpecialKind kind) {
         curve_.notes.push_back(ToString(kind) + " between " + Name() + " = " + FormatValue(tr_.Lambda(a.xi)) +
                                " and " + FormatValue(tr_.Lambda(b.xi)) + " on branch " + std::to_string(branch + 1) +
@@ -609,7 +472,7 @@ class Responder {
     for (std::size_t k = 1; k + 1 < nodes.size(); ++k) {
       const ForcedOrbit &p = nodes[k - 1].orbit, &c = nodes[k].orbit, &q = nodes[k + 1].orbit;
       if (!(p.admissible && c.admissible && q.admissible && c.energy > p.energy && c.energy > q.energy)) continue;
-      const SegmentLocator seg(tr_, nodes[k - 1], nodes[k + 1]);
+      const SegmentLocator seg(tr_, nodes[k - 1].xi, nodes[k + 1].xi);
       const Vec chord = nodes[k + 1].xi - nodes[k - 1].xi;
       const double mid = (nodes[k].xi - nodes[k - 1].xi).dot(chord) / chord.squaredNorm();
       auto minus_energy = [&](double sigma) {
@@ -626,9 +489,9 @@ class Responder {
   void Linear(const std::vector<double>& grid) {
     ResponseBranch branch;
     auto at = [&](double l) {
-      const std::optional<Model> m = tr_.ModelAt(l);
-      NSMODAL_CHECK(m.has_value());  // (the grid's values: the range's ends are checked)
-      return LinearResponse(*m, tr_.Frequency(*m, l), tr_.Amplitude(*m, l));
+      const std::optional<ForcedOrbit> o = axis_.Linear(l);
+      NSMODAL_CHECK(o.has_value());  // (the grid's values: the range's ends are checked)
+      return *o;
     };
     for (double l : grid) {
       branch.points.push_back(at(l));
@@ -652,6 +515,7 @@ class Responder {
   }
 
   const ResponseOptions& opt_;
+  ResponseAxis axis_;
   Tracer tr_;
   ResponseCurve curve_;
   std::vector<std::vector<Vec>> grid_nodes_;  // per branch, its nodes at grid values
