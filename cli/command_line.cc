@@ -155,6 +155,11 @@ CommandLine::CommandLine() {
   c_cont->add_option("--impacts", cont.impacts, "Impacts per response period m (0: the linear response)")->default_val(1);
   c_cont->add_option("--sequence", cont.sequence, "The contact of each impact, e.g. 1,2 (sets --impacts)");
   c_cont->add_option("--periods", cont.periods, "Forcing periods per response period n")->default_val(1);
+  c_cont->add_option("--second", cont.second, "A second parameter: the curves of the --follow points in both "
+                     "(curve.csv instead of continuation.csv)");
+  c_cont->add_option("--second-range", cont.second_range, "FROM:TO or FROM:TO:STEP of the second parameter");
+  c_cont->add_option("--follow", cont.follow, "With --second: the special point followed: fold, period-doubling "
+                     "or grazing");
 
   c_bench = app.add_subcommand("bench", "Speed against accuracy of the integrators, and grazing failures");
   c_bench->add_option("scene", bench.scene, "Scene file (the paper's system: configs/paper.toml)")->required();

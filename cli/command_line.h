@@ -75,10 +75,12 @@ struct ResponseArgs {
 
 // Flags of `continue` (commands.cc, issue 26): the response followed in one
 // parameter of the scene over a range, the others held.
+// With --second: the curves of a special point in the two parameters.
 struct ContinueArgs {
   std::string scene, out, parameter, range;
   int impacts = 1, periods = 1;
   std::optional<std::string> sequence;
+  std::optional<std::string> second, second_range, follow;
 };
 
 int RunResponse(const ResponseArgs& a);

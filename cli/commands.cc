@@ -4,8 +4,10 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "nsmodal/atlas.h"
+#include "nsmodal/curve.h"
 #include "nsmodal/console.h"
 #include "nsmodal/error.h"
 #include "nsmodal/explore.h"
@@ -326,8 +328,43 @@ int RunResponse(const ResponseArgs& a) {
   return 0;
 }
 
+namespace {
+
+// continue --second: the curves of the --follow points in both parameters.
+int RunCurves(const ContinueArgs& a, const Model& model) {
+  if (!a.second_range) throw InputError("--second-range", "is needed with --second");
+  if (!a.follow) throw InputError("--follow", "is needed with --second (fold, period-doubling or grazing)");
+  CurveOptions o = MakeCurveRequest(model, a.parameter, a.range, *a.second, *a.second_range, *a.follow, a.impacts,
+                                    a.periods, FieldNames("--").Set("second_range", "--second-range"), a.sequence);
+  const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"curve.csv"});
+  o.progress = ProgressBar(*a.follow + " curves in (" + a.parameter + ", " + *a.second + ")");
+  const CurveSet set = FollowCurves(model, o);
+  for (std::size_t c = 0; c < set.ends.size(); ++c) {
+    long points = 0;
+    for (const CurvePoint& p : set.rows) points += p.curve == static_cast<int>(c) && p.kind == *a.follow;
+    std::cout << "curve " << c + 1 << ": " << points << " points; " << set.ends[c] << "\n";
+  }
+  for (const CurvePoint& p : set.rows) {
+    if (p.kind != *a.follow) {
+      std::cout << "curve " << p.curve + 1 << " meets " << p.kind << " at " << a.parameter << " = "
+                << FormatValue(p.first) << ", " << *a.second << " = " << FormatValue(p.second) << "\n";
+    }
+  }
+  for (const std::string& n : set.notes) std::cout << "note: " << n << "\n";
+  report::WriteCsvFile(dir, "curve.csv", report::CurveColumns(model.dofs(), a.parameter, *a.second), set.rows);
+  std::cout << "wrote " << set.rows.size() << " points on " << set.curves << " curves to " << a.out << "/curve.csv\n";
+  return 0;
+}
+
+}  // namespace
+
 int RunContinue(const ContinueArgs& a) {
   const Model model = LoadScene(a.scene).model;
+  if (a.second) return RunCurves(a, model);
+  for (const auto& [given, flag] : {std::pair{a.second_range.has_value(), "--second-range"},
+                                    std::pair{a.follow.has_value(), "--follow"}}) {
+    if (given) throw InputError(flag, "is given without --second (the second parameter of a curve)");
+  }
   const ResponseRequest request =
       MakeContinuationRequest(model, a.parameter, a.range, a.impacts, a.periods, FieldNames("--"), a.sequence);
   const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"continuation.csv", "continuation_points.csv"});

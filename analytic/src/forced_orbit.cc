@@ -399,6 +399,44 @@ std::vector<Eigen::VectorXd> ForcedProblem::FindAll() const {
   return found;
 }
 
+double ForcedProblem::InteriorMaximum(const DampedSignal& g, double tau) const {
+  // Interior maxima: g' from + to - between samples 1/16 of the fastest
+  // time scale apart, polished by Brent on g'.
+  double most = -std::numeric_limits<double>::infinity();
+  const int samples = 16 + static_cast<int>(std::ceil(tau * fastest_ * 16.0 / (2.0 * M_PI)));
+  double prev_s = 0.0, prev_v = g.Velocity(0.0);
+  for (int k = 1; k <= samples; ++k) {
+    const double s = tau * k / samples;
+    const double v = g.Velocity(s);
+    if (prev_v > 0.0 && v <= 0.0 && k < samples) {
+      const double smax = PolishRoot([&](double x) { return g.Velocity(x); }, prev_s, s);
+      most = std::max(most, g.Position(smax));
+    }
+    prev_s = s;
+    prev_v = v;
+  }
+  return most;
+}
+
+std::optional<double> ForcedProblem::MaxInteriorGap(const Eigen::VectorXd& u) const {
+  Pass pass;
+  if (!Run(u, pass)) return std::nullopt;
+  const int n = model_.dofs();
+  double most = -std::numeric_limits<double>::infinity();
+  DampedSignal g;
+  Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(2 * n);
+  for (int i = 0; i < m_; ++i) {
+    const double t0 = pass.times[i];
+    const double tau = (i + 1 < m_ ? pass.times[i + 1] : pass.times[0] + period_) - t0;
+    for (const Contact& contact : model_.contacts) {
+      row.head(n) = contact.normal.transpose();
+      flow_.Observe(t0, pass.after[i], row, -contact.gap, 0.0, g);
+      most = std::max(most, InteriorMaximum(g, tau));
+    }
+  }
+  return most;
+}
+
 ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
   Pass pass;
   const bool ok = Run(u, pass);
@@ -463,22 +501,9 @@ ForcedOrbit ForcedProblem::Orbit(const Eigen::VectorXd& u) const {
       const Contact& contact = model_.contacts[j];
       const double d = contact.gap;
       flow_.Observe(t0, z0, gap_row[j], -d, 0.0, g);
-      // Interior maxima: g' from + to - between samples 1/16 of the fastest
-      // time scale apart, polished by Brent on g'.
-      const int samples = 16 + static_cast<int>(std::ceil(tau * fastest_ * 16.0 / (2.0 * M_PI)));
-      double prev_s = 0.0, prev_v = g.Velocity(0.0);
-      for (int k = 1; k <= samples; ++k) {
-        const double s = tau * k / samples;
-        const double v = g.Velocity(s);
-        if (prev_v > 0.0 && v <= 0.0 && k < samples) {
-          const double smax = PolishRoot([&](double x) { return g.Velocity(x); }, prev_s, s);
-          const double excess = g.Position(smax);
-          o.max_interior_gap = std::max(o.max_interior_gap, excess);
-          if (j == 0) max_x1 = std::max(max_x1, d + excess);
-        }
-        prev_s = s;
-        prev_v = v;
-      }
+      const double excess = InteriorMaximum(g, tau);
+      o.max_interior_gap = std::max(o.max_interior_gap, excess);
+      if (j == 0) max_x1 = std::max(max_x1, d + excess);
       // NC3, exactly: the guaranteed search finds the first time the flight
       // meets contact j; only the contact struck at its end may be met, and
       // only there.

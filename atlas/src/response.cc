@@ -713,12 +713,19 @@ ResponseRequest MakeResponseRequest(const Model& model, ResponseParameter swept,
 ResponseRequest MakeContinuationRequest(const Model& model, const std::string& parameter, const std::string& range,
                                         int impacts, int periods, const FieldNames& names,
                                         const std::optional<std::string>& sequence) {
+  return MakeContinuationRequest(model, ParseModelParameter(model, parameter, names("parameter")),
+                                 ParseRange(range, names("range")), impacts, periods, names, sequence);
+}
+
+PeriodGrid ParseParameterRange(const std::string& text, const std::string& field) { return ParseRange(text, field); }
+
+ResponseRequest MakeContinuationRequest(const Model& model, const ModelParameter& p, const PeriodGrid& grid,
+                                        int impacts, int periods, const FieldNames& names,
+                                        const std::optional<std::string>& sequence) {
   if (!model.forcing.HasHarmonic()) {
     throw InputError("forcing.amplitude", "is needed: a continuation follows a forced response (the scene's "
                                           "[forcing] amplitude and frequency)");
   }
-  const ModelParameter p = ParseModelParameter(model, parameter, names("parameter"));
-  const PeriodGrid grid = ParseRange(range, names("range"));
   if (p.kind == ModelParameter::Kind::kFrequency || p.kind == ModelParameter::Kind::kAmplitude) {
     // As `response` follows them, the other held at the model's value.
     FieldNames as_range = names;

@@ -65,6 +65,13 @@ std::optional<double> Tracer::Value(Condition c, const Vec& xi, const ForcedOrbi
     }
     case Condition::kPeriodDoubling:
     case Condition::kGrazing: {
+      if (!orbit && c == Condition::kGrazing && m_ > 0) {
+        // (Only the interior maxima: the rest of the orbit is not needed.)
+        const std::unique_ptr<ForcedProblem> p = Problem(Lambdas(xi));
+        const std::optional<double> gap = p ? p->MaxInteriorGap(U(xi)) : std::nullopt;
+        if (!gap || !std::isfinite(*gap)) return std::nullopt;
+        return *gap / s_.gap_scale;
+      }
       std::optional<ForcedOrbit> own;
       if (!orbit) {
         if (m_ == 0) {
@@ -85,8 +92,6 @@ std::optional<double> Tracer::Value(Condition c, const Vec& xi, const ForcedOrbi
   }
   return std::nullopt;
 }
-
-std::optional<double> Tracer::ConditionAt(Condition c, const Vec& xi) const { return Value(c, xi, nullptr); }
 
 bool Tracer::H(const Vec& xi, Vec& r) const {
   if (m_ == 0 && !s_.linear(Lambdas(xi))) return false;

@@ -85,7 +85,11 @@ class Tracer {
   // A defining condition's value at xi (any of them, whichever one the
   // tracer follows): nullopt outside the domain or where it is undefined
   // (fold with no unknowns; grazing with no interior maximum).
-  std::optional<double> ConditionAt(Condition c, const Vec& xi) const;
+  std::optional<double> ConditionAt(Condition c, const Vec& xi) const { return Value(c, xi, nullptr); }
+  // The same with the orbit at xi known.
+  std::optional<double> ConditionAt(Condition c, const Vec& xi, const ForcedOrbit& orbit) const {
+    return Value(c, xi, &orbit);
+  }
 
  private:
   bool Residual(const Vec& xi, Vec& r) const;  // the impact conditions only

@@ -118,6 +118,21 @@ Columns<SpecialPoint> ContinuationPointColumns(const std::string& parameter) {
   return c;
 }
 
+Columns<CurvePoint> CurveColumns(int dofs, const std::string& first, const std::string& second) {
+  using P = CurvePoint;
+  Columns<P> c{{first, K::kReal, [](const P& p) -> Cell { return p.first; }},
+               {second, K::kReal, [](const P& p) -> Cell { return p.second; }},
+               {"kind", K::kText, [](const P& p) -> Cell { return p.kind; }}};
+  for (Column<ResponseRow>& r : ResponseColumns(dofs)) {
+    const bool branch = r.name == "branch";
+    c.push_back({branch ? "curve" : r.name, r.kind, [cell = std::move(r.cell)](const P& p) {
+                   return cell(ResponseRow{p.curve + 1, p.orbit, 0.0});
+                 }});
+  }
+  c.push_back({"condition", K::kReal, [](const P& p) { return Real(p.condition); }});
+  return c;
+}
+
 Columns<SpecialPoint> ResponsePointColumns() {
   using P = SpecialPoint;
   return {{"w", K::kReal, [](const P& p) -> Cell { return p.orbit.frequency; }},

@@ -125,6 +125,9 @@ class ForcedProblem {
   std::optional<Eigen::VectorXd> Solve(Eigen::VectorXd u0, int max_iterations = 30, double tol = 1e-13) const;
   // The orbit at a solution u with its admissibility, energies and multipliers.
   ForcedOrbit Orbit(const Eigen::VectorXd& u) const;
+  // Orbit(u).max_interior_gap without the rest of the orbit (a grazing
+  // curve's defining condition, curve.h); nullopt outside the domain.
+  std::optional<double> MaxInteriorGap(const Eigen::VectorXd& u) const;
   // The state of the orbit at time t.
   Eigen::VectorXd StateAt(const ForcedOrbit& orbit, double t) const;
   // Every solution at this (w, a) from a grid of starts (m = 1: a scan of the
@@ -144,6 +147,9 @@ class ForcedProblem {
   };
   bool Run(const Eigen::VectorXd& u, Pass& pass) const;
   Eigen::VectorXd Field(double t, const Eigen::VectorXd& z) const;
+  // The largest interior maximum of a flight's gap signal g (n_j . x - d_j
+  // over a flight of length tau); -inf when it has none.
+  double InteriorMaximum(const DampedSignal& g, double tau) const;
 
   Model model_;
   std::vector<int> sequence_;

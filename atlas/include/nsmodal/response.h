@@ -154,6 +154,15 @@ ResponseRequest MakeContinuationRequest(const Model& model, const std::string& p
                                         int impacts, int periods, const FieldNames& names = FieldNames(),
                                         const std::optional<std::string>& sequence = std::nullopt);
 
+// The same with the parameter and range parsed (`range` checked here).
+ResponseRequest MakeContinuationRequest(const Model& model, const ModelParameter& parameter, const PeriodGrid& range,
+                                        int impacts, int periods, const FieldNames& names = FieldNames(),
+                                        const std::optional<std::string>& sequence = std::nullopt);
+// A parameter's range as `continue` reads it: "FROM:TO" or "FROM:TO:STEP"
+// (plain numbers; STEP (TO - FROM) / 300 by default). Throws InputError
+// naming `field` for any other text; the values are checked by the request.
+PeriodGrid ParseParameterRange(const std::string& text, const std::string& field);
+
 // A point of a response with the number of its branch (1-based): a row of
 // response.csv (report/tables.h), of Python's response()["rows"].
 struct ResponseRow {

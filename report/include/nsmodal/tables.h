@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 
 #include "nsmodal/atlas.h"
+#include "nsmodal/curve.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/response.h"
 #include "nsmodal/simulate.h"
@@ -66,6 +67,11 @@ Columns<SpecialPoint> ResponsePointColumns();
 // response_points.csv's, columns.
 Columns<ResponseRow> ContinuationColumns(int dofs, const std::string& parameter);
 Columns<SpecialPoint> ContinuationPointColumns(const std::string& parameter);
+// curve.csv (issue 26): both parameters' columns, kind (the followed point,
+// or where the curve meets another: curve.h), then response.csv's columns
+// with `curve` (1-based) for `branch`, then `condition` (the followed
+// defining condition's value: det dH/du, prod (1 + mu), max_interior_gap / d).
+Columns<CurvePoint> CurveColumns(int dofs, const std::string& first, const std::string& second);
 
 // response_validation.csv, one row per orbit and integrator: w,amplitude,
 // branch,integrator,admissible,stable,max_multiplier,periods_run,deviation_1,

@@ -1,0 +1,159 @@
+// Codimension-two curves (curve.h, issue 26): a special point followed in two
+// parameters, checked against a closed form, against the special points of
+// one-parameter continuations, and against the curves of another kind.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "nsmodal/curve.h"
+#include "nsmodal/error.h"
+#include "nsmodal/response.h"
+
+namespace nsmodal {
+namespace {
+
+// configs/forced.toml: the paper's system, 2 % modal damping, e = 0.8, a
+// force on m1.
+Model Forced() {
+  Model m = PaperModel();
+  m.FirstContact().restitution = 0.8;
+  m.damping = ModalDamping(m.mass, m.stiffness, {0.02, 0.02});
+  m.forcing.amplitude = Eigen::Vector2d(0.3, 0.0);
+  m.forcing.frequency = 0.5;
+  return m;
+}
+
+// m x'' + c x' + k x = a cos(w t) against a wall at x = d: m = k = 1,
+// damping ratio zeta.
+Model OneDof(double zeta, double d) {
+  Model m = MakeChain({1.0}, {1.0}, 0, d, 0.8);
+  m.damping = Eigen::MatrixXd::Constant(1, 1, 2.0 * zeta);
+  m.forcing.amplitude = Eigen::VectorXd::Constant(1, 0.3);
+  m.forcing.frequency = 0.8;
+  return m;
+}
+
+std::vector<const CurvePoint*> Rows(const CurveSet& s, const std::string& kind) {
+  std::vector<const CurvePoint*> out;
+  for (const CurvePoint& p : s.rows) {
+    if (p.kind == kind) out.push_back(&p);
+  }
+  return out;
+}
+
+TEST(Curve, TheLinearGrazingCurveOfAnImpactOscillatorIsItsClosedForm) {
+  // The non-impacting response touches the wall where its amplitude
+  // a / sqrt((1 - w^2)^2 + (2 zeta w)^2) equals d.
+  const double zeta = 0.05, d = 0.7;
+  const Model m = OneDof(zeta, d);
+  const CurveOptions o = MakeCurveRequest(m, "frequency", "0.5:1.5", "amplitude", "0.01:2", "grazing", 0, 1);
+  const CurveSet s = FollowCurves(m, o);
+  ASSERT_EQ(s.curves, 1);
+  const std::vector<const CurvePoint*> rows = Rows(s, "grazing");
+  ASSERT_GT(rows.size(), 100u);
+  double w_min = 1e300, w_max = 0.0;
+  for (const CurvePoint* p : rows) {
+    const double w = p->first;
+    const double a = d * std::hypot(1.0 - w * w, 2.0 * zeta * w);
+    // (1e-11 a: the condition holds to 1e-12 d, and |X| is proportional to a.)
+    EXPECT_NEAR(p->second, a, 1e-11 * a) << "w = " << w;
+    w_min = std::min(w_min, w);
+    w_max = std::max(w_max, w);
+  }
+  // One curve across the whole window, ended on its edges.
+  EXPECT_DOUBLE_EQ(w_min, 0.5);
+  EXPECT_DOUBLE_EQ(w_max, 1.5);
+}
+
+TEST(Curve, TheFoldCurvePassesThroughTheFoldsOfTheFrequencyResponses) {
+  const Model m = Forced();
+  const CurveOptions o = MakeCurveRequest(m, "frequency", "0.3:1.2", "amplitude", "0.05:1", "fold", 1, 1);
+  const CurveSet s = FollowCurves(m, o);
+  ASSERT_GE(s.curves, 2);
+  int compared = 0;
+  for (const double a : {0.2, 0.4, 0.6}) {
+    ResponseOptions r;
+    r.impacts = 1;
+    r.grid = {0.3, 1.2, 0.003};
+    r.fixed = a;
+    Model at = m;
+    at.forcing.amplitude *= a / 0.3;
+    const ResponseCurve curve = ComputeResponse(at, r);
+    for (const SpecialPoint& f : curve.points) {
+      if (f.kind != SpecialKind::kFold) continue;
+      // The curve's row nearest to the fold, then its point at amplitude a.
+      const CurvePoint* near = nullptr;
+      for (const CurvePoint* p : Rows(s, "fold")) {
+        if (!near || std::hypot(p->first - f.parameter, p->second - a) <
+                         std::hypot(near->first - f.parameter, near->second - a)) {
+          near = p;
+        }
+      }
+      ASSERT_NE(near, nullptr);
+      ASSERT_LT(std::hypot(near->first - f.parameter, near->second - a), 0.01) << "no fold curve near w = " << f.parameter;
+      const std::optional<CurvePoint> on = CurvePointAt(m, o, *near, a);
+      ASSERT_TRUE(on.has_value());
+      // (1e-8: response locates its folds to ~1e-12 in w by Brent on the
+      // tangent; the curve's det dH/du holds to 1e-9, and a fold's w is
+      // quadratic in the distance along the branch.)
+      EXPECT_NEAR(on->first, f.parameter, 1e-8) << "a = " << a;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 3);
+}
+
+TEST(Curve, AFoldCurveAndAPeriodDoublingCurveMeetWhereEachSaysTheyDo) {
+  const Model m = Forced();
+  const CurveSet folds =
+      FollowCurves(m, MakeCurveRequest(m, "frequency", "0.45:0.6", "amplitude", "0.05:0.4", "fold", 1, 1));
+  const CurveSet doublings =
+      FollowCurves(m, MakeCurveRequest(m, "frequency", "0.45:0.6", "amplitude", "0.05:0.4", "period-doubling", 1, 1));
+  const std::vector<const CurvePoint*> a = Rows(folds, "period-doubling"), b = Rows(doublings, "fold");
+  ASSERT_GE(a.size(), 1u);
+  ASSERT_EQ(a.size(), b.size());
+  for (const CurvePoint* p : a) {
+    double best = 1e300;
+    for (const CurvePoint* q : b) best = std::min(best, std::hypot(p->first - q->first, p->second - q->second));
+    // (1e-8: two independent locations, each Brent's ~1e-12 along a chord of
+    // the other curve's test function, both test functions held to 1e-9.)
+    EXPECT_LT(best, 1e-8) << "w = " << p->first << ", a = " << p->second;
+  }
+}
+
+TEST(Curve, EveryPointHoldsItsDefiningCondition) {
+  const Model m = Forced();
+  const CurveSet s =
+      FollowCurves(m, MakeCurveRequest(m, "frequency", "0.45:0.8", "amplitude", "0.05:1", "grazing", 1, 1));
+  ASSERT_GE(s.curves, 1);
+  for (const CurvePoint* p : Rows(s, "grazing")) {
+    ASSERT_TRUE(p->condition.has_value());
+    // (1e-12 of the gap: the corrector's tolerance.)
+    EXPECT_LE(std::abs(*p->condition), 1e-12);
+    EXPECT_LE(p->orbit.residual, 1e-12);
+  }
+}
+
+TEST(Curve, BadRequestsNameTheirField) {
+  const Model m = Forced();
+  auto field = [&](const std::string& p, const std::string& r, const std::string& q, const std::string& qr,
+                   const std::string& follow, int impacts) {
+    try {
+      MakeCurveRequest(m, p, r, q, qr, follow, impacts, 1);
+    } catch (const InputError& e) {
+      return e.field();
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(field("frequency", "0.3:1", "amplitude", "0.1:1", "cusp", 1), "follow");
+  EXPECT_EQ(field("frequency", "0.3:1", "stiffness", "0.1:1", "fold", 1), "second");
+  EXPECT_EQ(field("frequency", "0.3:1", "frequency", "0.1:1", "fold", 1), "second");
+  EXPECT_EQ(field("frequency", "0.3:1", "amplitude", "1:0.1", "fold", 1), "second_range");
+  EXPECT_EQ(field("frequency", "0.3:1", "restitution", "0.5:1.5", "fold", 1), "system.restitution");
+  EXPECT_EQ(field("frequency", "0.3:1", "gap", "-1:1", "fold", 1), "system.gap");
+  EXPECT_EQ(field("masses[1]", "0.5:1", "amplitude", "0.1:1", "fold", 1), "parameter");  // (no keys to rebuild from)
+  EXPECT_EQ(field("frequency", "0.3:1", "amplitude", "0.1:1", "fold", 0), "follow");
+}
+
+}  // namespace
+}  // namespace nsmodal
