@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "nsmodal/atlas.h"
+#include "nsmodal/curve.h"
 #include "nsmodal/style.h"
 #include "nsmodal/error.h"
 #include "nsmodal/input_checks.h"
@@ -413,6 +414,26 @@ std::optional<std::string> SequenceText(const py::object& sequence) {
   std::string text;
   for (py::handle item : sequence.cast<py::iterable>()) {
     text += (text.empty() ? "" : ",") + std::to_string(IntOf(item, "sequence"));
+  }
+  return text;
+}
+
+// A parameter's range as the text ParseParameterRange reads: 'FROM:TO[:STEP]'
+// as given, a tuple (from, to[, step]) written to 17 digits (read back
+// exactly). Throws InputError naming `argument`.
+std::string RangeText(const py::object& range, const std::string& argument) {
+  if (py::isinstance<py::str>(range)) return range.cast<std::string>();
+  if (!py::isinstance<py::sequence>(range) || IsBool(range)) {
+    throw InputError(argument, "must be (from, to), (from, to, step) or 'FROM:TO[:STEP]', got " + Repr(range));
+  }
+  std::string text;
+  const py::sequence seq = range.cast<py::sequence>();
+  for (std::size_t k = 0; k < seq.size(); ++k) {
+    const py::object v = seq[k];
+    if (IsBool(v) || !(py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v))) {
+      throw InputError(argument, "must hold numbers, got " + Repr(range));
+    }
+    text += (k ? ":" : "") + FormatValue(v.cast<double>());
   }
   return text;
 }
@@ -1315,26 +1336,8 @@ verdicts of validate: consistent, reason, deviation_end, measured_growth...).)do
       "continue_parameter",
       [](const Model& model, const std::string& parameter, const py::object& range, Integer<"impacts"> impacts,
          Integer<"periods"> periods, const py::object& sequence) {
-        // The range as text: 'FROM:TO[:STEP]' as given, a tuple (from, to[,
-        // step]) written to 17 digits (read back exactly).
-        std::string text;
-        if (py::isinstance<py::str>(range)) {
-          text = range.cast<std::string>();
-        } else {
-          if (!py::isinstance<py::sequence>(range) || IsBool(range)) {
-            throw InputError("range", "must be (from, to), (from, to, step) or 'FROM:TO[:STEP]', got " + Repr(range));
-          }
-          const py::sequence seq = range.cast<py::sequence>();
-          for (std::size_t k = 0; k < seq.size(); ++k) {
-            const py::object v = seq[k];
-            if (IsBool(v) || !(py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v))) {
-              throw InputError("range", "must hold numbers, got " + Repr(range));
-            }
-            text += (k ? ":" : "") + FormatValue(v.cast<double>());
-          }
-        }
-        const ResponseRequest request =
-            MakeContinuationRequest(model, parameter, text, impacts, periods, FieldNames(), SequenceText(sequence));
+        const ResponseRequest request = MakeContinuationRequest(model, parameter, RangeText(range, "range"), impacts,
+                                                                periods, FieldNames(), SequenceText(sequence));
         ResponseLevels r;
         Interruptible([&] { r = ComputeResponseLevels(model, request.options, request.levels); });
         py::dict d;
@@ -1362,6 +1365,39 @@ Returns {"rows": arrays keyed as continuation.csv (the parameter's column,
 named as given, then response.csv's), "points": arrays keyed as
 continuation_points.csv (the parameter, then response_points.csv's),
 "branch_ends", "notes"}.)doc"));
+
+  mod.def(
+      "follow_curve",
+      [](const Model& model, const std::string& parameter, const py::object& range, const std::string& second,
+         const py::object& second_range, const std::string& follow, Integer<"impacts"> impacts,
+         Integer<"periods"> periods, const py::object& sequence) {
+        const CurveOptions o =
+            MakeCurveRequest(model, parameter, RangeText(range, "range"), second, RangeText(second_range, "second_range"),
+                             follow, impacts, periods, FieldNames(), SequenceText(sequence));
+        CurveSet set;
+        Interruptible([&] { set = FollowCurves(model, o); });
+        py::dict d;
+        d["rows"] = TableDict(report::CurveColumns(model.dofs(), parameter, second), Pointers(set.rows));
+        d["curve_ends"] = set.ends;
+        d["notes"] = set.notes;
+        return d;
+      },
+      py::arg("model"), py::arg("parameter"), py::arg("range"), py::arg("second"), py::arg("second_range"),
+      py::arg("follow"), py::arg("impacts") = 1, py::arg("periods") = 1, py::arg("sequence") = py::none(),
+      Signed("follow_curve(model, parameter, range, second, second_range, follow, impacts=1, periods=1, sequence=None)",
+             R"doc(The curves of a special point of a forced response in two parameters of
+the model (codimension two): follow 'fold', 'period-doubling' or 'grazing'
+(impacts=0: the linear response touching the wall) over the window range x
+second_range (each (from, to), (from, to, step) or 'FROM:TO[:STEP]';
+parameters named as in continue_parameter). The curves start from the
+special points of continuations in one parameter on three lines of each
+parameter; the points where a curve meets another kind's curve (a fold, a
+period doubling, a grazing, a zero-velocity impact) and a fold curve's
+cusps are rows of their own, in order along the curve.
+
+Returns {"rows": arrays keyed as curve.csv (both parameters' columns, kind,
+the orbit's columns as response.csv's with curve for branch, condition: the
+defining condition's value), "curve_ends", "notes"}.)doc"));
 
   mod.attr("__version__") = NSMODAL_VERSION;
 }

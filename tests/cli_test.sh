@@ -357,6 +357,24 @@ assert all(float(r['residual']) < 1e-12 for r in rows)
 else
   bad "continue failed: $(cat "$tmp/cont.log")"
 fi
+# continue --second (issue 26): the grazing curves in (frequency, amplitude),
+# every point on its defining condition, the flags without --second refused.
+if "$bin" continue "$forced" --parameter frequency --range 0.5:0.8 --second amplitude --second-range 0.05:1 \
+    --follow grazing --out "$tmp/curve" >"$tmp/curve.log" 2>&1; then
+  head -1 "$tmp/curve/curve.csv" | grep -q '^frequency,amplitude,kind,w,amplitude,period,' && ok ||
+    bad "curve.csv header: $(head -1 "$tmp/curve/curve.csv")"
+  python3 -c "
+import csv
+rows = [r for r in csv.DictReader(open('$tmp/curve/curve.csv')) if r['kind'] == 'grazing']
+assert len(rows) > 100 and all(abs(float(r['condition'])) < 1e-12 for r in rows), len(rows)
+" && ok || bad "curve.csv rows"
+else
+  bad "continue --second failed: $(cat "$tmp/curve.log")"
+fi
+expect_error "\-\-follow: must be fold, period-doubling or grazing" "$bin" continue "$forced" --parameter frequency --range 0.5:0.8 --second amplitude --second-range 0.05:1 --follow cusp --out "$tmp/c2"
+expect_error "\-\-second-range: is needed" "$bin" continue "$forced" --parameter frequency --range 0.5:0.8 --second amplitude --follow fold --out "$tmp/c2"
+expect_error "\-\-follow: is given without \-\-second" "$bin" continue "$forced" --parameter frequency --range 0.5:0.8 --follow fold --out "$tmp/c2"
+expect_error "\-\-second-range" "$bin" continue "$forced" --parameter frequency --range 0.5:0.8 --second amplitude --second-range 1:0.1 --follow fold --out "$tmp/c2"
 expect_error "\-\-parameter: 'stiffness' is not a parameter" "$bin" continue "$forced" --parameter stiffness --range 1:2 --out "$tmp/c2"
 expect_error "\-\-parameter: 'masses\[3\]': the model has 2 masses" "$bin" continue "$forced" --parameter 'masses[3]' --range 1:2 --out "$tmp/c2"
 expect_error "system.restitution" "$bin" continue "$forced" --parameter restitution --range 0.5:1.5 --out "$tmp/c2"

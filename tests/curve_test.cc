@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "forced_fixtures.h"
 #include "nsmodal/curve.h"
 #include "nsmodal/error.h"
 #include "nsmodal/response.h"
@@ -12,16 +13,7 @@
 namespace nsmodal {
 namespace {
 
-// configs/forced.toml: the paper's system, 2 % modal damping, e = 0.8, a
-// force on m1.
-Model Forced() {
-  Model m = PaperModel();
-  m.FirstContact().restitution = 0.8;
-  m.damping = ModalDamping(m.mass, m.stiffness, {0.02, 0.02});
-  m.forcing.amplitude = Eigen::Vector2d(0.3, 0.0);
-  m.forcing.frequency = 0.5;
-  return m;
-}
+using testing::ForcedScene;
 
 // m x'' + c x' + k x = a cos(w t) against a wall at x = d: m = k = 1,
 // damping ratio zeta.
@@ -66,7 +58,7 @@ TEST(Curve, TheLinearGrazingCurveOfAnImpactOscillatorIsItsClosedForm) {
 }
 
 TEST(Curve, TheFoldCurvePassesThroughTheFoldsOfTheFrequencyResponses) {
-  const Model m = Forced();
+  const Model m = ForcedScene();
   const CurveOptions o = MakeCurveRequest(m, "frequency", "0.3:1.2", "amplitude", "0.05:1", "fold", 1, 1);
   const CurveSet s = FollowCurves(m, o);
   ASSERT_GE(s.curves, 2);
@@ -104,7 +96,7 @@ TEST(Curve, TheFoldCurvePassesThroughTheFoldsOfTheFrequencyResponses) {
 }
 
 TEST(Curve, AFoldCurveAndAPeriodDoublingCurveMeetWhereEachSaysTheyDo) {
-  const Model m = Forced();
+  const Model m = ForcedScene();
   const CurveSet folds =
       FollowCurves(m, MakeCurveRequest(m, "frequency", "0.45:0.6", "amplitude", "0.05:0.4", "fold", 1, 1));
   const CurveSet doublings =
@@ -122,7 +114,7 @@ TEST(Curve, AFoldCurveAndAPeriodDoublingCurveMeetWhereEachSaysTheyDo) {
 }
 
 TEST(Curve, EveryPointHoldsItsDefiningCondition) {
-  const Model m = Forced();
+  const Model m = ForcedScene();
   const CurveSet s =
       FollowCurves(m, MakeCurveRequest(m, "frequency", "0.45:0.8", "amplitude", "0.05:1", "grazing", 1, 1));
   ASSERT_GE(s.curves, 1);
@@ -135,7 +127,7 @@ TEST(Curve, EveryPointHoldsItsDefiningCondition) {
 }
 
 TEST(Curve, BadRequestsNameTheirField) {
-  const Model m = Forced();
+  const Model m = ForcedScene();
   auto field = [&](const std::string& p, const std::string& r, const std::string& q, const std::string& qr,
                    const std::string& follow, int impacts) {
     try {

@@ -39,6 +39,17 @@ inline Model DampedForcedPaper() {
   return m;
 }
 
+// configs/forced.toml: the paper's system, 2 % modal damping, e = 0.8, a
+// force on m1 at w = 0.5.
+inline Model ForcedScene() {
+  Model m = PaperModel();
+  m.FirstContact().restitution = 0.8;
+  m.damping = ModalDamping(m.mass, m.stiffness, {0.02, 0.02});
+  m.forcing.amplitude = Eigen::Vector2d(0.3, 0.0);
+  m.forcing.frequency = 0.5;
+  return m;
+}
+
 // An event-driven evaluation written apart from the library: each mode of a
 // proportionally damped model is the textbook damped oscillator
 //   q'' + 2 zeta w q' + w^2 q = phi' (f0 + f cos(W t)),

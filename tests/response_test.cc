@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "forced_fixtures.h"
 #include "nsmodal/error.h"
 #include "nsmodal/parameter.h"
 #include "nsmodal/response.h"
@@ -13,16 +14,7 @@
 namespace nsmodal {
 namespace {
 
-// configs/forced.toml: the paper's system, 2 % modal damping, e = 0.8, a
-// force on m1.
-Model Forced() {
-  Model m = PaperModel();
-  m.FirstContact().restitution = 0.8;
-  m.damping = ModalDamping(m.mass, m.stiffness, {0.02, 0.02});
-  m.forcing.amplitude = Eigen::Vector2d(0.3, 0.0);
-  m.forcing.frequency = 0.5;
-  return m;
-}
+Model Forced() { return testing::ForcedScene(); }
 
 ResponseCurve Curve(int impacts, double from, double to, double step, double amplitude = 0.3) {
   ResponseOptions o;

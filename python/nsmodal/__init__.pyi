@@ -189,3 +189,14 @@ def continue_parameter(
     periods: int = 1,
     sequence: Optional[Sequence[int]] = None,
 ) -> dict[str, Any]: ...
+def follow_curve(
+    model: Model,
+    parameter: str,
+    range: Union[tuple[float, float], tuple[float, float, float], str],
+    second: str,
+    second_range: Union[tuple[float, float], tuple[float, float, float], str],
+    follow: str,
+    impacts: int = 1,
+    periods: int = 1,
+    sequence: Optional[Sequence[int]] = None,
+) -> dict[str, Any]: ...

@@ -295,6 +295,28 @@ def test_continue_parameter_bad_requests_name_the_field():
         nsmodal.continue_parameter(m, "gap", True)
 
 
+def test_follow_curve_gives_the_linear_grazing_curve_in_closed_form():
+    # Issue 26: m x'' + c x' + k x = a cos(w t) against a wall at d touches it
+    # where a / sqrt((1 - w^2)^2 + (2 zeta w)^2) = d.
+    zeta, d = 0.05, 0.7
+    m = nsmodal.Model(masses=[1], springs=[1], gap=d, restitution=0.8, damping_ratios=[zeta],
+                      forcing_amplitude=[0.3], forcing_frequency=0.8)
+    r = nsmodal.follow_curve(m, "frequency", (0.5, 1.5), "amplitude", "0.01:2", "grazing", impacts=0)
+    rows = r["rows"]
+    assert list(rows)[:3] == ["frequency", "amplitude", "kind"] and "curve" in rows and "condition" in rows
+    w = rows["frequency"]
+    assert len(w) > 100 and set(rows["curve"]) == {1}
+    closed = d * np.hypot(1 - w**2, 2 * zeta * w)
+    # (1e-11: the condition holds to 1e-12 of d, |X| is proportional to a.)
+    assert np.max(np.abs(rows["amplitude"] - closed) / closed) < 1e-11
+    with pytest.raises(ValueError, match="follow"):
+        nsmodal.follow_curve(m, "frequency", (0.5, 1.5), "amplitude", (0.01, 2), "cusp", impacts=0)
+    with pytest.raises(ValueError, match="second_range"):
+        nsmodal.follow_curve(m, "frequency", (0.5, 1.5), "amplitude", (2, 0.01), "grazing", impacts=0)
+    with pytest.raises(ValueError, match="second"):
+        nsmodal.follow_curve(m, "frequency", (0.5, 1.5), "stiffness", (0.1, 2), "grazing", impacts=0)
+
+
 def test_verdict_only_multipliers_of_a_chain():
     # Issue 12: a 20-mass chain; the verdict-only spectrum keeps the verdict
     # and the largest modulus of the full one (to round-off of the same roots).
