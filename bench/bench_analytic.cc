@@ -17,11 +17,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "nsmodal/atlas.h"
 #include "nsmodal/bridge.h"
 #include "nsmodal/one_impact.h"
+#include "nsmodal/curve.h"
 #include "nsmodal/response.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/return_map.h"
@@ -290,6 +292,28 @@ void BM_Continuation300(benchmark::State& state) {
   state.counters["worst_residual"] = residual;
 }
 BENCHMARK(BM_Continuation300)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+// Issue 26's target: the grazing curves of the (1,1) response of
+// configs/forced.toml in (frequency, amplitude) over w in [0.3, 1.2] (a in
+// [0.05, 1]) under 5 s, every point to 1e-10 in its defining condition
+// (max_interior_gap / d): worst_condition.
+void BM_GrazingCurve(benchmark::State& state) {
+  const Model m = LoadScene(NSMODAL_SOURCE_DIR "/configs/forced.toml").model;
+  const CurveOptions o = MakeCurveRequest(m, "frequency", "0.3:1.2", "amplitude", "0.05:1", "grazing", 1, 1);
+  CurveSet s;
+  for (auto _ : state) s = FollowCurves(m, o);
+  double worst = 0.0;
+  long points = 0;
+  for (const CurvePoint& p : s.rows) {
+    if (p.kind != "grazing") continue;
+    ++points;
+    worst = std::max(worst, p.condition ? std::abs(*p.condition) : std::numeric_limits<double>::infinity());
+  }
+  state.counters["curves"] = s.curves;
+  state.counters["points"] = static_cast<double>(points);
+  state.counters["worst_condition"] = worst;
+}
+BENCHMARK(BM_GrazingCurve)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 }  // namespace
 }  // namespace nsmodal

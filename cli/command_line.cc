@@ -155,6 +155,8 @@ CommandLine::CommandLine() {
   c_cont->add_option("--impacts", cont.impacts, "Impacts per response period m (0: the linear response)")->default_val(1);
   c_cont->add_option("--sequence", cont.sequence, "The contact of each impact, e.g. 1,2 (sets --impacts)");
   c_cont->add_option("--periods", cont.periods, "Forcing periods per response period n")->default_val(1);
+  c_cont->add_option("--period", cont.period, "A scene with no [forcing]: the free 1-impact family's period grid "
+                     "FROM:TO:STEP, its transitions followed in the parameter (transitions.csv)");
   c_cont->add_option("--second", cont.second, "A second parameter: the curves of the --follow points in both "
                      "(curve.csv instead of continuation.csv)");
   c_cont->add_option("--second-range", cont.second_range, "FROM:TO or FROM:TO:STEP of the second parameter");

@@ -81,6 +81,7 @@ struct ContinueArgs {
   int impacts = 1, periods = 1;
   std::optional<std::string> sequence;
   std::optional<std::string> second, second_range, follow;
+  std::optional<std::string> period;  // a free scene's period grid
 };
 
 int RunResponse(const ResponseArgs& a);

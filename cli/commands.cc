@@ -1,5 +1,6 @@
 #include "command_line.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -11,6 +12,7 @@
 #include "nsmodal/console.h"
 #include "nsmodal/error.h"
 #include "nsmodal/explore.h"
+#include "nsmodal/family_parameter.h"
 #include "nsmodal/figure_subjects.h"
 #include "nsmodal/figures.h"
 #include "nsmodal/json.h"
@@ -19,6 +21,7 @@
 #include "nsmodal/scene.h"
 #include "nsmodal/simulate_settings.h"
 #include "nsmodal/tables.h"
+#include "nsmodal/transitions.h"
 #include "nsmodal/truncation.h"
 #include "nsmodal/validate.h"
 #include "nsmodal/validate_settings.h"
@@ -336,7 +339,7 @@ int RunCurves(const ContinueArgs& a, const Model& model) {
   if (!a.follow) throw InputError("--follow", "is needed with --second (fold, period-doubling or grazing)");
   CurveOptions o = MakeCurveRequest(model, a.parameter, a.range, *a.second, *a.second_range, *a.follow, a.impacts,
                                     a.periods, FieldNames("--").Set("second_range", "--second-range"), a.sequence);
-  const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"curve.csv"});
+  const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"curve.csv", "curve.*"});
   o.progress = ProgressBar(*a.follow + " curves in (" + a.parameter + ", " + *a.second + ")");
   const CurveSet set = FollowCurves(model, o);
   for (std::size_t c = 0; c < set.ends.size(); ++c) {
@@ -353,13 +356,52 @@ int RunCurves(const ContinueArgs& a, const Model& model) {
   for (const std::string& n : set.notes) std::cout << "note: " << n << "\n";
   report::WriteCsvFile(dir, "curve.csv", report::CurveColumns(model.dofs(), a.parameter, *a.second), set.rows);
   std::cout << "wrote " << set.rows.size() << " points on " << set.curves << " curves to " << a.out << "/curve.csv\n";
+  // Beside curves in the frequency: the backbone's transitions (the
+  // conservative twin's 1-impact mode, as `response` draws it), over the
+  // periods n 2 pi / w of the window.
+  std::vector<Transition> backbone;
+  const bool frequency = o.first.kind == ModelParameter::Kind::kFrequency;
+  ResponseOptions as_response;
+  as_response.sequence = o.sequence;
+  const bool first_contact = std::all_of(o.sequence.begin(), o.sequence.end(), [](int j) { return j == 0; });
+  if (frequency && first_contact && !NoBackbone(model, as_response)) {
+    const double t_lo = o.periods * 2.0 * M_PI / o.first_range.to, t_hi = o.periods * 2.0 * M_PI / o.first_range.from;
+    backbone = OneImpactTransitions(AnalysisBasis(ConservativeTwin(model)), t_lo, t_hi, (t_hi - t_lo) / 2000.0);
+  }
+  report::DrawCurveChart(dir, set.rows, model.dofs(), *a.follow, a.parameter, *a.second, frequency ? &backbone : nullptr,
+                         o.periods, std::cout);
   return 0;
 }
 
 }  // namespace
 
+// continue on a scene with no force: the free family's transitions.
+int RunFamily(const ContinueArgs& a, const Model& model) {
+  if (a.second) throw InputError("--second", "needs a forced scene (a [forcing] table): curves follow forced responses");
+  if (!a.period) {
+    throw InputError("--period", "is needed for a scene with no [forcing] table: the free 1-impact family's period "
+                                 "grid FROM:TO:STEP, whose transitions are followed (or add a [forcing] table to "
+                                 "follow a forced response)");
+  }
+  const ModelParameter p = ParseModelParameter(model, a.parameter, "--parameter");
+  const PeriodGrid values = ParseParameterRange(a.range, "--range");
+  const PeriodGrid periods = PeriodGrid::Parse(*a.period, "--period");
+  CheckFamilyRequest(model, p, values, periods, "--parameter", "--range", "--period");
+  const report::OutputDir dir = report::OutputDir::Prepare(a.out, {"transitions.csv"});
+  const FamilyContinuation f =
+      FollowFamily(model, p, values, periods, ProgressBar("1-ipp transitions in " + a.parameter), "--parameter",
+                   "--range", "--period");
+  for (const std::string& n : f.notes) std::cout << "note: " << n << "\n";
+  report::WriteCsvFile(dir, "transitions.csv", report::FamilyColumns(a.parameter), f.rows);
+  std::cout << "wrote " << f.rows.size() << " transitions on " << f.tracks << " tracks to " << a.out
+            << "/transitions.csv\n";
+  return 0;
+}
+
 int RunContinue(const ContinueArgs& a) {
   const Model model = LoadScene(a.scene).model;
+  if (!model.forcing.HasHarmonic()) return RunFamily(a, model);
+  if (a.period) throw InputError("--period", "is for a scene with no [forcing] table (the free family's periods)");
   if (a.second) return RunCurves(a, model);
   for (const auto& [given, flag] : {std::pair{a.second_range.has_value(), "--second-range"},
                                     std::pair{a.follow.has_value(), "--follow"}}) {

@@ -27,6 +27,7 @@
 
 #include "nsmodal/atlas.h"
 #include "nsmodal/curve.h"
+#include "nsmodal/family_parameter.h"
 #include "nsmodal/style.h"
 #include "nsmodal/error.h"
 #include "nsmodal/input_checks.h"
@@ -1335,7 +1336,28 @@ verdicts of validate: consistent, reason, deviation_end, measured_growth...).)do
   mod.def(
       "continue_parameter",
       [](const Model& model, const std::string& parameter, const py::object& range, Integer<"impacts"> impacts,
-         Integer<"periods"> periods, const py::object& sequence) {
+         Integer<"periods"> periods, const py::object& sequence, const py::object& period) {
+        if (!model.forcing.HasHarmonic()) {
+          // A free model: its 1-impact family's transitions in the parameter.
+          if (period.is_none()) {
+            throw InputError("period", "is needed for a model with no harmonic force: the free 1-impact family's "
+                                       "period grid (from, to, step), whose transitions are followed");
+          }
+          const ModelParameter p = ParseModelParameter(model, parameter, "parameter");
+          const PeriodGrid values = ParseParameterRange(RangeText(range, "range"), "range");
+          const PeriodGrid grid = GridOf(period);
+          CheckFamilyRequest(model, p, values, grid);
+          FamilyContinuation f;
+          Interruptible([&] { f = FollowFamily(model, p, values, grid); });
+          py::dict d;
+          d["transitions"] = TableDict(report::FamilyColumns(parameter), Pointers(f.rows));
+          d["notes"] = f.notes;
+          return d;
+        }
+        if (!period.is_none()) {
+          throw InputError("period", "is for a model with no harmonic force (the free family's periods), got " +
+                                         Repr(period));
+        }
         const ResponseRequest request = MakeContinuationRequest(model, parameter, RangeText(range, "range"), impacts,
                                                                 periods, FieldNames(), SequenceText(sequence));
         ResponseLevels r;
@@ -1348,8 +1370,8 @@ verdicts of validate: consistent, reason, deviation_end, measured_growth...).)do
         return d;
       },
       py::arg("model"), py::arg("parameter"), py::arg("range"), py::arg("impacts") = 1, py::arg("periods") = 1,
-      py::arg("sequence") = py::none(),
-      Signed("continue_parameter(model, parameter, range, impacts=1, periods=1, sequence=None)", R"doc(A forced response followed in one parameter of the model, the others held:
+      py::arg("sequence") = py::none(), py::arg("period") = py::none(),
+      Signed("continue_parameter(model, parameter, range, impacts=1, periods=1, sequence=None, period=None)", R"doc(A forced response followed in one parameter of the model, the others held:
 parameter by its scene key, 'gap', 'restitution', 'contact[2].gap',
 'masses[1]', 'springs[2]', 'damping_ratios[1]', 'rayleigh_damping[2]',
 'amplitude' (max |f_i|, the force's shape kept) or 'frequency'; range
@@ -1364,7 +1386,13 @@ are located on the branches.
 Returns {"rows": arrays keyed as continuation.csv (the parameter's column,
 named as given, then response.csv's), "points": arrays keyed as
 continuation_points.csv (the parameter, then response_points.csv's),
-"branch_ends", "notes"}.)doc"));
+"branch_ends", "notes"}.
+
+A model with no harmonic force: its free (e = 1) 1-impact family's
+transitions and stability changes over the period grid `period` followed in
+a mass, a spring or a gap (the gap only rescales: computed once); returns
+{"transitions": arrays keyed as continue's transitions.csv (the parameter,
+T, kind, energy, contact, track), "notes"}.)doc"));
 
   mod.def(
       "follow_curve",

@@ -386,7 +386,17 @@ expect_error "\-\-range: at restitution = 1: " "$bin" continue "$(scene undamped
 expect_error "\-\-range" "$bin" continue "$forced" --parameter gap --range ' 1:2' --out "$tmp/c2"
 expect_error "\-\-range" "$bin" continue "$forced" --parameter gap --range 2:1 --out "$tmp/c2"
 expect_error "\-\-range" "$bin" continue "$forced" --parameter gap --range 1:x --out "$tmp/c2"
-expect_error "forcing.amplitude" "$bin" continue "$src/configs/paper.toml" --parameter gap --range 1:2 --out "$tmp/c2"
+expect_error "\-\-period: is needed for a scene with no \[forcing\]" "$bin" continue "$src/configs/paper.toml" --parameter gap --range 1:2 --out "$tmp/c2"
+expect_error "\-\-parameter: 'restitution' does not change the free" "$bin" continue "$src/configs/paper.toml" --parameter restitution --range 0.5:1 --period 2:10:0.1 --out "$tmp/c2"
+expect_error "\-\-period" "$bin" continue "$forced" --parameter gap --range 1:2 --period 2:10:0.1 --out "$tmp/c2"
+# A free scene: its 1-impact transitions followed in a spring.
+if "$bin" continue "$src/configs/paper.toml" --parameter 'springs[2]' --range 1.5:2.5:0.1 --period 2:30:0.01 \
+    --out "$tmp/fam" >"$tmp/fam.log" 2>&1; then
+  head -1 "$tmp/fam/transitions.csv" | grep -q '^springs\[2\],T,kind,energy,contact,track$' && ok ||
+    bad "transitions.csv header: $(head -1 "$tmp/fam/transitions.csv")"
+else
+  bad "continue on a free scene failed: $(cat "$tmp/fam.log")"
+fi
 [ ! -e "$tmp/c2" ] && ok || bad "a refused continue left $tmp/c2"
 expect_error "\-\-frequency" "$bin" response "$forced" --frequency 0.4:1:0.1 --amplitude 0.1:0.2:0.1 --out "$tmp/r2"
 expect_error "\-\-amplitude" "$bin" response "$forced" --amplitude 0.3 --out "$tmp/r2"

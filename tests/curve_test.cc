@@ -8,6 +8,8 @@
 #include "forced_fixtures.h"
 #include "nsmodal/curve.h"
 #include "nsmodal/error.h"
+#include "nsmodal/family_parameter.h"
+#include "nsmodal/scene.h"
 #include "nsmodal/response.h"
 
 namespace nsmodal {
@@ -145,6 +147,76 @@ TEST(Curve, BadRequestsNameTheirField) {
   EXPECT_EQ(field("frequency", "0.3:1", "gap", "-1:1", "fold", 1), "system.gap");
   EXPECT_EQ(field("masses[1]", "0.5:1", "amplitude", "0.1:1", "fold", 1), "parameter");  // (no keys to rebuild from)
   EXPECT_EQ(field("frequency", "0.3:1", "amplitude", "0.1:1", "fold", 0), "follow");
+}
+
+// The paper's chain as a scene (its keys: a spring or mass can be followed).
+Model Paper(double gap = 1.0) {
+  return ParseScene("[system]\nmasses = [1.0, 1.0]\nsprings = [0.85, 2.0]\ngap = " + std::to_string(gap) +
+                    "\nrestitution = 1.0\n").model;
+}
+
+TEST(FreeFamily, ItsTransitionsAtTheScenesStiffnessAreTodays) {
+  const Model m = Paper();
+  const PeriodGrid periods{2.0, 30.0, 0.01};
+  const FamilyContinuation f = FollowFamily(m, ParseModelParameter(m, "springs[2]"), {2.0, 2.5, 0.25}, periods);
+  const AnalysisBasis b(m);
+  const std::vector<Transition> today = SweepTransitions(b, ComputeSweep(b, periods, 1));
+  std::vector<const FamilyRow*> at_2;
+  for (const FamilyRow& r : f.rows) {
+    if (r.parameter == 2.0) at_2.push_back(&r);
+  }
+  ASSERT_EQ(at_2.size(), today.size());
+  ASSERT_GT(today.size(), 10u);
+  for (std::size_t k = 0; k < today.size(); ++k) {
+    // (The same model rebuilt from the same keys, the same computation: equal.)
+    EXPECT_EQ(at_2[k]->transition.period, today[k].period);
+    EXPECT_EQ(at_2[k]->transition.kind, today[k].kind);
+  }
+  // Each point followed to k2 = 2.5 moves: the modal periods as the linear
+  // periods do (k T_i of the stiffer chain).
+  EXPECT_EQ(f.rows.back().parameter, 2.5);
+  EXPECT_GE(f.tracks, static_cast<int>(today.size()));
+}
+
+TEST(FreeFamily, TheGapScalesTheEnergyBySquaresAndMovesNoPeriod) {
+  const Model m = Paper();
+  const PeriodGrid periods{2.0, 20.0, 0.01};
+  const FamilyContinuation f = FollowFamily(m, ParseModelParameter(m, "gap"), {1.0, 3.0, 1.0}, periods);
+  EXPECT_TRUE(f.scaled);
+  // Against the family computed at gap 3 directly (not rescaled).
+  const AnalysisBasis b3(Paper(3.0));
+  const std::vector<Transition> direct = SweepTransitions(b3, ComputeSweep(b3, periods, 1));
+  std::vector<const FamilyRow*> at_3;
+  for (const FamilyRow& r : f.rows) {
+    if (r.parameter == 3.0) at_3.push_back(&r);
+  }
+  ASSERT_EQ(at_3.size(), direct.size());
+  for (std::size_t k = 0; k < direct.size(); ++k) {
+    // (1e-13 relative: the roots of the same functions refined to ~1e-15,
+    // the energies' quadratic forms in x scaled by d: round-off only.)
+    EXPECT_NEAR(at_3[k]->transition.period, direct[k].period, 1e-13 * direct[k].period);
+    if (std::isfinite(direct[k].energy)) {
+      EXPECT_NEAR(at_3[k]->transition.energy, direct[k].energy, 1e-13 * direct[k].energy);
+    }
+  }
+}
+
+TEST(FreeFamily, ParametersThatDoNotChangeItAreRefused) {
+  const Model m = Paper();
+  for (const char* name : {"restitution"}) {
+    try {
+      FollowFamily(m, ParseModelParameter(m, name), {0.5, 1.0, 0.1}, {2.0, 10.0, 0.1});
+      ADD_FAILURE() << name << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "parameter");
+    }
+  }
+  try {
+    FollowFamily(m, ParseModelParameter(m, "masses[1]"), {-1.0, 1.0, 0.5}, {2.0, 10.0, 0.1});
+    ADD_FAILURE() << "a negative mass accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "range");  // (PeriodGrid: from > 0)
+  }
 }
 
 }  // namespace

@@ -188,6 +188,7 @@ def continue_parameter(
     impacts: int = 1,
     periods: int = 1,
     sequence: Optional[Sequence[int]] = None,
+    period: Optional[Union[tuple[float, float, float], str]] = None,
 ) -> dict[str, Any]: ...
 def follow_curve(
     model: Model,

@@ -295,6 +295,26 @@ def test_continue_parameter_bad_requests_name_the_field():
         nsmodal.continue_parameter(m, "gap", True)
 
 
+def test_continue_parameter_on_a_free_model_follows_its_transitions():
+    # Issue 26: the paper's chain (no force, e = 1): its 1-impact transitions
+    # at k2 = 2 are those `orbits` gives; the gap only rescales the energies.
+    m = nsmodal.Model(masses=[1, 1], springs=[0.85, 2.0], gap=1, restitution=1)
+    r = nsmodal.continue_parameter(m, "springs[2]", (2.0, 2.4, 0.2), period=(2, 30, 0.01))
+    t = r["transitions"]
+    assert list(t) == ["springs[2]", "T", "kind", "energy", "contact", "track"]
+    at_2 = t["springs[2]"] == 2.0
+    assert {"singular", "modal", "grazing"} <= set(np.asarray(t["kind"])[at_2])
+    g = nsmodal.continue_parameter(m, "gap", (1, 2, 1), period=(2, 30, 0.01))["transitions"]
+    one, two = g["energy"][g["gap"] == 1], g["energy"][g["gap"] == 2]
+    finite = np.isfinite(one)
+    # (Exactly 4x: the same transitions rescaled by (d / d0)^2 = 4.)
+    assert np.array_equal(two[finite], 4 * one[finite])
+    with pytest.raises(ValueError, match="period"):
+        nsmodal.continue_parameter(m, "springs[2]", (2.0, 2.4))
+    with pytest.raises(ValueError, match="parameter: 'restitution' does not change the free"):
+        nsmodal.continue_parameter(m, "restitution", (0.5, 1), period=(2, 30, 0.1))
+
+
 def test_follow_curve_gives_the_linear_grazing_curve_in_closed_form():
     # Issue 26: m x'' + c x' + k x = a cos(w t) against a wall at d touches it
     # where a / sqrt((1 - w^2)^2 + (2 zeta w)^2) = d.

@@ -1258,4 +1258,79 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
   return failed;
 }
 
+int DrawCurveChart(const OutputDir& dir, const std::vector<CurvePoint>& rows, int dofs, const std::string& followed,
+                   const std::string& first, const std::string& second, const std::vector<Transition>* backbone,
+                   int periods, std::ostream& log) {
+  if (rows.empty()) return 0;
+  double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo, y_lo = x_lo, y_hi = -x_lo;
+  std::map<std::string, long> count;  // rows per kind
+  for (const CurvePoint& p : rows) {
+    x_lo = std::min(x_lo, p.first);
+    x_hi = std::max(x_hi, p.first);
+    y_lo = std::min(y_lo, p.second);
+    y_hi = std::max(y_hi, p.second);
+    ++count[p.kind];
+  }
+  const double dx = std::max(x_hi - x_lo, 1e-12 * std::abs(x_hi)), dy = std::max(y_hi - y_lo, 1e-12 * std::abs(y_hi));
+  const double frame[4] = {x_lo - 0.03 * dx, x_hi + 0.03 * dx, y_lo - 0.03 * dy, y_hi + 0.03 * dy};
+  std::ostringstream body;
+  // (Names as gnuplot text: brackets and underscores escaped.)
+  auto label = [](std::string name) {
+    std::string out;
+    for (char ch : name) out += ch == '_' || ch == '[' || ch == ']' ? std::string("\\") + ch : std::string(1, ch);
+    return out;
+  };
+  body << std::setprecision(17) << "set datafile separator ','\nset key below\n"
+       << "set xlabel '" << (first == "frequency" ? std::string("forcing frequency {/Symbol w} (rad/s)") : label(first))
+       << "'\nset ylabel '" << (second == "amplitude" ? std::string("forcing amplitude a (N)") : label(second)) << "'\n"
+       << "set xrange [" << frame[0] << ":" << frame[1] << "]\nset yrange [" << frame[2] << ":" << frame[3] << "]\n";
+  Plot plot;
+  if (backbone) {
+    std::map<TransitionKind, std::vector<double>> at;
+    for (const Transition& t : *backbone) {
+      const double w = periods * 2.0 * M_PI / t.period;
+      if (w >= frame[0] && w <= frame[1]) at[t.kind].push_back(w);
+    }
+    body << VerticalLines("backbone_singular", at[TransitionKind::kSingular], frame[2], frame[3])
+         << VerticalLines("backbone_modal", at[TransitionKind::kModal], frame[2], frame[3]);
+    plot.Add("$backbone_singular using 1:2", With("singular"), "backbone: singular transition",
+             static_cast<long>(at[TransitionKind::kSingular].size()))
+        .Add("$backbone_modal using 1:2", With("modal"), "backbone: linear modal transition",
+             static_cast<long>(at[TransitionKind::kModal].size()));
+  }
+  // curve.csv (tables.h): first 1, second 2, kind 3, response.csv's w to
+  // t_impact 4-14, the state 15 to 14 + 2N, curve 15 + 2N. One line per
+  // curve, its rows in order along it.
+  int curves = 0;
+  for (const CurvePoint& p : rows) curves = std::max(curves, p.curve + 1);
+  const std::string role = followed == "fold" ? "curve_fold" : followed == "grazing" ? "curve_grazing"
+                                                                                     : "curve_period_doubling";
+  const int curve_col = 15 + 2 * dofs;
+  for (int c = 0; c < curves; ++c) {
+    const std::string spec = "'curve.csv' using ($" + std::to_string(curve_col) + " == " + std::to_string(c + 1) +
+                             " ? $1 : 1/0):2";
+    if (c == 0) {
+      plot.Add(spec, With(role), followed + " curve", count[followed]);
+    } else {
+      plot.Unkeyed(spec, With(role));
+    }
+  }
+  for (const auto& [kind, marker] : {std::pair<const char*, const char*>{"fold", "fold"},
+                                     {"period-doubling", "multiplier_minus_one"},
+                                     {"grazing", "grazing"},
+                                     {"zero-velocity", "zero_velocity"},
+                                     {"cusp", "cusp"}}) {
+    if (kind == followed) continue;
+    plot.Add("'curve.csv' using (strcol(3) eq '" + std::string(kind) + "' ? $1 : 1/0):2", With(marker),
+             std::string("meets ") + (std::string(kind) == "cusp" ? "itself: cusp" : kind), count[kind]);
+  }
+  body << plot.str();
+  const ChartStatus chart = DrawChart(dir, "curve", body.str());
+  if (!chart.drawn) {
+    log << "curve not drawn: " << chart.message << "\n";
+    return 1;
+  }
+  return 0;
+}
+
 }  // namespace nsmodal::report

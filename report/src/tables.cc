@@ -118,6 +118,15 @@ Columns<SpecialPoint> ContinuationPointColumns(const std::string& parameter) {
   return c;
 }
 
+Columns<FamilyRow> FamilyColumns(const std::string& parameter) {
+  Columns<FamilyRow> c{{parameter, K::kReal, [](const FamilyRow& r) -> Cell { return r.parameter; }}};
+  for (Column<Transition>& t : TransitionColumns()) {
+    c.push_back({t.name, t.kind, [cell = std::move(t.cell)](const FamilyRow& r) { return cell(r.transition); }});
+  }
+  c.push_back({"track", K::kInteger, [](const FamilyRow& r) -> Cell { return static_cast<long>(r.track + 1); }});
+  return c;
+}
+
 Columns<CurvePoint> CurveColumns(int dofs, const std::string& first, const std::string& second) {
   using P = CurvePoint;
   Columns<P> c{{first, K::kReal, [](const P& p) -> Cell { return p.first; }},

@@ -60,4 +60,14 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
                        const std::vector<SpecialPoint>& points, int dofs, const std::vector<OrbitRecord>* backbone,
                        bool frequency, int periods, std::ostream& log);
 
+// The curve chart of `continue --second` from DIR/curve.csv, written before:
+// DIR/curve, the second parameter against the first, each curve a line in
+// its kind's style, the points where it meets another kind's curve (and a
+// fold curve's cusps) as symbols; with `backbone` (the first parameter the
+// frequency), the conservative twin's 1-impact transitions as vertical lines
+// at w = n 2 pi / T. Returns 1 when the chart was not drawn (named in `log`).
+int DrawCurveChart(const OutputDir& dir, const std::vector<CurvePoint>& rows, int dofs, const std::string& followed,
+                   const std::string& first, const std::string& second, const std::vector<Transition>* backbone,
+                   int periods, std::ostream& log);
+
 }  // namespace nsmodal::report

@@ -5,6 +5,7 @@
 
 #include "nsmodal/atlas.h"
 #include "nsmodal/curve.h"
+#include "nsmodal/family_parameter.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/response.h"
 #include "nsmodal/simulate.h"
@@ -71,6 +72,10 @@ Columns<SpecialPoint> ContinuationPointColumns(const std::string& parameter);
 // or where the curve meets another: curve.h), then response.csv's columns
 // with `curve` (1-based) for `branch`, then `condition` (the followed
 // defining condition's value: det dH/du, prod (1 + mu), max_interior_gap / d).
+// transitions.csv of `continue` on a free scene (issue 26): a column named as
+// the parameter, then transitions.csv's (T,kind,energy,contact), then
+// `track` (1-based: the same point followed from value to value).
+Columns<FamilyRow> FamilyColumns(const std::string& parameter);
 Columns<CurvePoint> CurveColumns(int dofs, const std::string& first, const std::string& second);
 
 // response_validation.csv, one row per orbit and integrator: w,amplitude,
