@@ -262,7 +262,7 @@ class CurveFollower {
       const CurveNode& cur = nodes.back();
       const Vec pred = cur.xi + h * cur.tangent;
       const std::optional<Vec> next = tr_.Correct(pred, pred, cur.tangent);
-      if (!next || (*next - cur.xi).dot(cur.tangent) <= 0.0 || (*next - pred).norm() > 0.5 * h) {
+      if (!Tracer::Accepted(cur.xi, cur.tangent, pred, next, h)) {
         h *= 0.5;
         if (h < h_min) {
           *end = "lost at " + Where(cur.xi) + " (corrector failed: the point's condition degenerates, or a "

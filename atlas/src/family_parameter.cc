@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "nsmodal/bridge.h"
 #include "nsmodal/error.h"
 #include "nsmodal/response.h"
 #include "nsmodal/stop.h"
@@ -13,10 +14,27 @@ namespace {
 
 using Kind = ModelParameter::Kind;
 
-std::vector<Transition> Transitions(const Model& model, const PeriodGrid& periods, const std::string& period_field) {
+// The family's special points at one model, by period.
+std::vector<FamilyRow> Points(const Model& model, const PeriodGrid& periods, const std::string& period_field) {
   const AnalysisBasis b(ConservativeTwin(model));
   CheckSweepWork(b, periods, {1}, period_field, true);
-  return SweepTransitions(b, ComputeSweep(b, periods, 1));
+  std::vector<FamilyRow> out;
+  for (const Transition& t : SweepTransitions(b, ComputeSweep(b, periods, 1))) {
+    out.push_back({0.0, t.period, ToString(t.kind), t.energy, t.contact, 0});
+    // Bridges are contact 1's own (bridge.h), at its grazings and period doublings.
+    if (model.contacts.size() != 1) continue;
+    BridgeSearch found;
+    if (t.kind == TransitionKind::kGrazing) {
+      found = FindBridgeAt(b, t.period);
+    } else if (t.kind == TransitionKind::kMultiplierMinusOne) {
+      found = FindPeriodDoublingBridge(b, t.period);
+    } else {
+      continue;
+    }
+    if (found.found()) out.push_back({0.0, found.bridge.period, "bridge", found.bridge.energy_min, 0, 0});
+  }
+  std::stable_sort(out.begin(), out.end(), [](const FamilyRow& a, const FamilyRow& b) { return a.period < b.period; });
+  return out;
 }
 
 }  // namespace
@@ -46,10 +64,10 @@ FamilyContinuation FollowFamily(const Model& model, const ModelParameter& p, con
   for (const double x : v) models.push_back(WithParameter(model, p, x));
   FamilyContinuation out;
   out.scaled = p.kind == Kind::kGap && model.contacts.size() == 1;
-  std::vector<Transition> own;
+  std::vector<FamilyRow> own;
   double d0 = 0.0;
   if (out.scaled) {
-    own = Transitions(model, periods, period_field);
+    own = Points(model, periods, period_field);
     d0 = model.contacts.front().gap;
     out.notes.push_back("the gap only scales the family (x by d / d0, energy by (d / d0)^2, T unchanged): swept "
                         "once at " + p.name + " = " + FormatValue(d0) + " and rescaled");
@@ -59,39 +77,37 @@ FamilyContinuation FollowFamily(const Model& model, const ModelParameter& p, con
   for (std::size_t k = 0; k < v.size(); ++k) {
     ThrowIfStopRequested();
     if (progress) progress(static_cast<long>(k), static_cast<long>(v.size()));
-    std::vector<Transition> here = own;
+    std::vector<FamilyRow> here = own;
     if (out.scaled) {
       const double s = v[k] / d0;
-      for (Transition& t : here) t.energy *= s * s;
+      for (FamilyRow& r : here) r.energy *= s * s;
     } else {
-      here = Transitions(models[k], periods, period_field);
+      here = Points(models[k], periods, period_field);
     }
-    std::vector<FamilyRow> current;
     std::vector<bool> taken(previous.size(), false);
-    for (const Transition& t : here) {
+    for (FamilyRow& r : here) {
+      r.parameter = v[k];
       // The track of the nearest unlinked point of the same kind and contact
       // at the previous value.
       int best = -1;
       for (std::size_t j = 0; j < previous.size(); ++j) {
-        const Transition& q = previous[j].transition;
-        if (taken[j] || q.kind != t.kind || q.contact != t.contact) continue;
-        const double dt = std::abs(q.period - t.period);
-        if (dt > std::max(near, 0.05 * t.period)) continue;
-        if (best < 0 || dt < std::abs(previous[static_cast<std::size_t>(best)].transition.period - t.period)) {
+        const FamilyRow& q = previous[j];
+        if (taken[j] || q.kind != r.kind || q.contact != r.contact) continue;
+        const double dt = std::abs(q.period - r.period);
+        if (dt > std::max(near, 0.05 * r.period)) continue;
+        if (best < 0 || dt < std::abs(previous[static_cast<std::size_t>(best)].period - r.period)) {
           best = static_cast<int>(j);
         }
       }
-      int track = out.tracks;
       if (best >= 0) {
         taken[static_cast<std::size_t>(best)] = true;
-        track = previous[static_cast<std::size_t>(best)].track;
+        r.track = previous[static_cast<std::size_t>(best)].track;
       } else {
-        ++out.tracks;
+        r.track = out.tracks++;
       }
-      current.push_back({v[k], t, track});
     }
-    out.rows.insert(out.rows.end(), current.begin(), current.end());
-    previous = std::move(current);
+    out.rows.insert(out.rows.end(), here.begin(), here.end());
+    previous = std::move(here);
   }
   if (progress) progress(static_cast<long>(v.size()), static_cast<long>(v.size()));
   return out;

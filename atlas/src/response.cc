@@ -306,7 +306,7 @@ class Responder {
       // restitution past 1): the branch ends on the range's edge, solved there.
       if (!next && EndOnEdge(cur, pred, nodes, end)) return nodes;
       // A step must move forward along the branch and not jump to another.
-      if (!next || (*next - cur.xi).dot(cur.tangent) <= 0.0 || (*next - pred).norm() > 0.5 * h) {
+      if (!Tracer::Accepted(cur.xi, cur.tangent, pred, next, h)) {
         h *= 0.5;
         if (h < h_min) {
           *end = "lost at " + Name() + " = " + FormatValue(tr_.Lambda(cur.xi)) + " (corrector failed; e.g. two "

@@ -78,6 +78,12 @@ class Tracer {
   // Newton on [F(xi); n'(xi - xi0)] = 0: the curve's crossing of the
   // hyperplane through xi0 normal to n.
   std::optional<Vec> Correct(Vec xi, const Vec& xi0, const Vec& n) const;
+  // A corrected step from xi along t (predictor pred, step h) is taken when
+  // it moves forward along the curve and did not jump to another: within
+  // h / 2 of the predictor.
+  static bool Accepted(const Vec& xi, const Vec& t, const Vec& pred, const std::optional<Vec>& next, double h) {
+    return next && (*next - xi).dot(t) > 0.0 && (*next - pred).norm() <= 0.5 * h;
+  }
   // The orbit at a fixed value of the one parameter from a guess (p = 1).
   std::optional<Vec> SolveAt(double lambda, const Vec& guess) const;
   // (At a solution: inside the domain.)

@@ -119,12 +119,13 @@ Columns<SpecialPoint> ContinuationPointColumns(const std::string& parameter) {
 }
 
 Columns<FamilyRow> FamilyColumns(const std::string& parameter) {
-  Columns<FamilyRow> c{{parameter, K::kReal, [](const FamilyRow& r) -> Cell { return r.parameter; }}};
-  for (Column<Transition>& t : TransitionColumns()) {
-    c.push_back({t.name, t.kind, [cell = std::move(t.cell)](const FamilyRow& r) { return cell(r.transition); }});
-  }
-  c.push_back({"track", K::kInteger, [](const FamilyRow& r) -> Cell { return static_cast<long>(r.track + 1); }});
-  return c;
+  using R = FamilyRow;
+  return {{parameter, K::kReal, [](const R& r) -> Cell { return r.parameter; }},
+          {"T", K::kReal, [](const R& r) -> Cell { return r.period; }},
+          {"kind", K::kText, [](const R& r) -> Cell { return r.kind; }},
+          {"energy", K::kReal, [](const R& r) { return FiniteOrMissing(r.energy); }},
+          {"contact", K::kInteger, [](const R& r) -> Cell { return long{r.contact + 1}; }},
+          {"track", K::kInteger, [](const R& r) -> Cell { return static_cast<long>(r.track + 1); }}};
 }
 
 Columns<CurvePoint> CurveColumns(int dofs, const std::string& first, const std::string& second) {

@@ -7,7 +7,8 @@
 // At each value of the parameter the family is swept over the period grid
 // and its transitions located as `orbits` locates them (SweepTransitions:
 // each refined to ~1e-15 in T, not to the grid), on the model rebuilt with
-// that value. Consecutive values' points of the same kind are linked into
+// that value, with the bridges found at its grazing transitions and period
+// doublings (FindBridgeAt, FindPeriodDoublingBridge; one contact). Consecutive values' points of the same kind are linked into
 // tracks by the nearest period (within 5 % of T and of a few grid steps);
 // a point with no such neighbour starts a track of its own.
 //
@@ -25,10 +26,16 @@
 
 namespace nsmodal {
 
+// A special point of the family at one value of the parameter: a
+// transition or stability change (transitions.h), or a bridge (bridge.h:
+// kind "bridge", its period, its continuum's lowest energy).
 struct FamilyRow {
   double parameter = 0.0;
-  Transition transition;
-  int track = 0;  // 0-based
+  double period = 0.0;
+  std::string kind;  // ToString(TransitionKind), or "bridge"
+  double energy = 0.0;  // inf at a singular transition
+  int contact = 0;      // 0-based
+  int track = 0;        // 0-based
 };
 
 struct FamilyContinuation {

@@ -73,8 +73,9 @@ Columns<SpecialPoint> ContinuationPointColumns(const std::string& parameter);
 // with `curve` (1-based) for `branch`, then `condition` (the followed
 // defining condition's value: det dH/du, prod (1 + mu), max_interior_gap / d).
 // transitions.csv of `continue` on a free scene (issue 26): a column named as
-// the parameter, then transitions.csv's (T,kind,energy,contact), then
-// `track` (1-based: the same point followed from value to value).
+// the parameter, then transitions.csv's (T,kind,energy,contact; kind also
+// "bridge", its energy the continuum's lowest), then `track` (1-based: the
+// same point followed from value to value).
 Columns<FamilyRow> FamilyColumns(const std::string& parameter);
 Columns<CurvePoint> CurveColumns(int dofs, const std::string& first, const std::string& second);
 
