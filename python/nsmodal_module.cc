@@ -27,6 +27,7 @@
 
 #include "nsmodal/atlas.h"
 #include "nsmodal/curve.h"
+#include "nsmodal/settle.h"
 #include "nsmodal/family_parameter.h"
 #include "nsmodal/style.h"
 #include "nsmodal/error.h"
@@ -1426,6 +1427,66 @@ cusps are rows of their own, in order along the curve.
 Returns {"rows": arrays keyed as curve.csv (both parameters' columns, kind,
 the orbit's columns as response.csv's with curve for branch, condition: the
 defining condition's value), "curve_ends", "notes"}.)doc"));
+
+  mod.def(
+      "_settle",
+      [](const Model& model, const Eigen::MatrixXd& states, Integer<"periods"> periods, Integer<"window"> window,
+         double tol) {
+        // The batch of nsmodal.study's chunks: one Settle per row (x, v).
+        const int n = model.dofs();
+        if (states.cols() != 2 * n) {
+          throw InputError("states", "must have 2N = " + std::to_string(2 * n) + " columns (x, v), got " +
+                                         std::to_string(states.cols()));
+        }
+        SettleOptions o;
+        o.periods = periods;
+        o.window = window;
+        o.tol = tol;
+        o.Validate();
+        const Eigen::Index rows = states.rows();
+        Eigen::MatrixXd out = Eigen::MatrixXd::Constant(rows, 2 * n, std::numeric_limits<double>::quiet_NaN());
+        Eigen::VectorXi period = Eigen::VectorXi::Zero(rows);
+        Eigen::VectorXd repetition(rows);
+        std::vector<bool> rough(static_cast<std::size_t>(rows));
+        std::vector<std::vector<double>> times(static_cast<std::size_t>(rows));
+        std::vector<std::vector<int>> contacts(static_cast<std::size_t>(rows));
+        std::vector<std::string> messages(static_cast<std::size_t>(rows));
+        Interruptible([&] {
+          for (Eigen::Index k = 0; k < rows; ++k) {
+            const Eigen::VectorXd z = states.row(k).transpose();
+            const std::size_t i = static_cast<std::size_t>(k);
+            Settled r;
+            try {
+              r = Settle(model, z.head(n), z.tail(n), o);
+            } catch (const InputError& e) {
+              // A start beyond a wall is no motion: period -1, said why.
+              if (e.field() != "simulate.initial_position") throw;
+              period[k] = -1;
+              messages[i] = e.what();
+              continue;
+            }
+            if (r.settled) out.row(k) = r.state.transpose();
+            period[k] = r.period;
+            repetition[k] = r.repetition;
+            rough[i] = r.zeno_or_sticking;
+            times[i] = r.impact_times;
+            for (int c : r.impact_contacts) contacts[i].push_back(c + 1);
+            messages[i] = r.message;
+          }
+        });
+        py::dict d;
+        d["period"] = period;
+        d["state"] = out;
+        d["repetition"] = repetition;
+        d["zeno_or_sticking"] = rough;
+        d["impact_times"] = times;
+        d["impact_contacts"] = contacts;
+        d["message"] = messages;
+        return d;
+      },
+      py::arg("model"), py::arg("states"), py::arg("periods"), py::arg("window") = 32, py::arg("tol") = 1e-6,
+      "Internal (nsmodal.study): where each initial state (a row x, v) settles (settle.h); period 0: not "
+      "settled, -1: a start beyond a wall.");
 
   mod.attr("__version__") = NSMODAL_VERSION;
 }

@@ -9,10 +9,12 @@ packages=(build-essential cmake pkg-config libeigen3-dev libsundials-dev libgsl-
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
   gnuplot-nox python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib python3-pandas
   libhdf5-dev python3-h5py mypy
+  python3-distributed python3-mpi4py openmpi-bin
   python3-venv python3-setuptools python3-wheel python3-pip
   python3-sphinx python3-myst-parser python3-sphinx-rtd-theme
   python3-nbsphinx python3-nbconvert python3-ipykernel pandoc python3-breathe doxygen)
-# (mypy: the Python tests type-check code against the package's stubs; the
+# (mypy: the Python tests type-check code against the package's stubs;
+# Dask distributed, mpi4py and OpenMPI: nsmodal.study's executors; the
 # third-to-last line: pip install . into a venv, offline; the last two: the docs,
 # scripts/docs.sh: Sphinx and MyST; the tutorials executed by nbsphinx in a python3
 # kernel (ipykernel), whose Markdown cells pandoc converts; the C++ reference by

@@ -1,0 +1,413 @@
+"""Studies that outgrow one call (issue 27): basins of attraction, split into
+chunks run by an executor the user chooses, gathered into one HDF5 dataset.
+
+``basin(model, grid, periods=500, out=DIR)`` simulates (exact integrator) a
+grid of initial states over ``periods`` forcing periods and classifies each by
+the attractor it settles on (``nsmodal._settle``: the smallest stroboscopic
+period n <= window / 2 whose samples repeat to ``tol``; -1 where none does).
+Two points share an attractor when their periods, impact sequences and
+canonical stroboscopic states agree (to 1e-4 of the motion's scale). The
+attractors are numbered in a canonical order (period, impacts, sequence,
+state), so the dataset does not depend on how the work was split or run.
+
+Executors: ``processes`` (a process pool on this machine; 1 worker runs in
+this process), ``dask`` (distributed: a LocalCluster of ``workers``
+processes, or the scheduler at ``scheduler``), ``mpi`` (mpi4py's
+MPIPoolExecutor: run under ``mpiexec -n K python3 -m mpi4py.futures -m
+nsmodal.study ...``). Each finished chunk is saved in ``DIR/chunks``; a study
+run again with the same request resumes where it stopped. A chunk that
+raises is reported with its grid points and the rest completes; the dataset
+``DIR/study.h5`` is written only when every chunk has.
+
+Command line: ``python3 -m nsmodal.study basin SCENE --grid NAME=FROM:TO:COUNT
+--grid NAME=FROM:TO:COUNT --periods P --out DIR [--workers N] [--executor
+processes|dask|mpi] [--scheduler ADDR]``.
+"""
+import argparse
+import concurrent.futures
+import hashlib
+import json
+import multiprocessing
+import os
+import pickle
+import sys
+
+import numpy as np
+
+from . import _nsmodal
+
+__all__ = ["basin", "StudyError", "EXECUTORS"]
+
+EXECUTORS = ("processes", "dask", "mpi")
+MATCH_TOL = 1e-4  # states of one attractor: the same to this fraction of the motion's scale
+CHUNK_POINTS = 400  # points per chunk (fixed: a resumed study finds its chunks whatever the workers)
+
+
+class StudyError(ValueError):
+    """A study that could not be run or completed (bad input, failed chunks)."""
+
+
+def _state_names(dofs):
+    return [f"x{i + 1}" for i in range(dofs)] + [f"v{i + 1}" for i in range(dofs)]
+
+
+def _parse_grid(grid, dofs):
+    """[(name, from, to, count), ...] from a dict {name: (from, to, count)},
+    a list of such tuples, or CLI texts 'NAME=FROM:TO:COUNT'."""
+    items = list(grid.items()) if isinstance(grid, dict) else list(grid)
+    out = []
+    names = _state_names(dofs)
+    for item in items:
+        if isinstance(item, str):
+            name, sep, spec = item.partition("=")
+            parts = spec.split(":")
+            if not sep or len(parts) != 3:
+                raise StudyError(f"grid: must be NAME=FROM:TO:COUNT, got {item!r}")
+            try:
+                lo, hi, count = float(parts[0]), float(parts[1]), float(parts[2])
+            except ValueError:
+                raise StudyError(f"grid: must be NAME=FROM:TO:COUNT (numbers), got {item!r}") from None
+        else:
+            name, spec = item
+            try:
+                lo, hi, count = (float(v) for v in spec)
+            except (TypeError, ValueError):
+                raise StudyError(f"grid: {name}: must be (from, to, count), got {spec!r}") from None
+        if name not in names:
+            raise StudyError(f"grid: {name!r} is not a coordinate of the state; one of {', '.join(names)}")
+        if not (np.isfinite(lo) and np.isfinite(hi) and hi > lo):
+            raise StudyError(f"grid: {name}: must have finite FROM < TO, got {lo}:{hi}")
+        if count != int(count) or not 2 <= count <= 100000:
+            raise StudyError(f"grid: {name}: COUNT must be a whole number from 2 to 100000, got {count:g}")
+        out.append((name, lo, hi, int(count)))
+    if len(out) != 2 or out[0][0] == out[1][0]:
+        raise StudyError(f"grid: a basin needs two different coordinates, got {[g[0] for g in out]}")
+    return out
+
+
+def _settle_chunk(model, states, periods, window, tol):
+    # (Top level: the executors pickle it by name.)
+    return _nsmodal._settle(model, states, periods, window, tol)
+
+
+class _Executor:
+    """submit(fn, *args) -> future, as concurrent.futures; close()."""
+
+    def __init__(self, kind, workers, scheduler):
+        self.kind, self.client, self.pool = kind, None, None
+        if kind == "processes":
+            if workers > 1:
+                self.pool = concurrent.futures.ProcessPoolExecutor(
+                    max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+        elif kind == "dask":
+            try:
+                from distributed import Client, LocalCluster
+            except ImportError:
+                raise StudyError("executor: 'dask' needs Dask distributed (Debian: python3-distributed; "
+                                 "bash scripts/setup.sh installs it)") from None
+            if scheduler:
+                self.client = Client(scheduler)
+            else:
+                self.cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                            dashboard_address=None)
+                self.client = Client(self.cluster)
+        elif kind == "mpi":
+            try:
+                from mpi4py.futures import MPIPoolExecutor
+            except ImportError:
+                raise StudyError("executor: 'mpi' needs mpi4py (Debian: python3-mpi4py; bash scripts/setup.sh "
+                                 "installs it)") from None
+            self.pool = MPIPoolExecutor(max_workers=workers)
+        else:
+            raise StudyError(f"executor: must be one of {', '.join(EXECUTORS)}, got {kind!r}")
+
+    def submit(self, fn, *args):
+        if self.client is not None:
+            return self.client.submit(fn, *args, pure=False)
+        if self.pool is not None:
+            return self.pool.submit(fn, *args)
+        f = concurrent.futures.Future()
+        try:
+            f.set_result(fn(*args))
+        except Exception as e:  # noqa: BLE001  (reported with its chunk)
+            f.set_exception(e)
+        return f
+
+    def as_completed(self, futures):
+        if self.client is not None:
+            from distributed import as_completed
+            return as_completed(futures)
+        return concurrent.futures.as_completed(futures)
+
+    def close(self):
+        if self.client is not None:
+            self.client.close()
+            if hasattr(self, "cluster"):
+                self.cluster.close()
+        if self.pool is not None:
+            self.pool.shutdown(cancel_futures=True)
+
+
+def _progress(done, count, stream=sys.stderr):
+    if stream.isatty():
+        stream.write(f"\rbasin: {done}/{count} chunks")
+        if done == count:
+            stream.write("\n")
+        stream.flush()
+
+
+def _atomic_save(path, **arrays):
+    tmp = path + ".partial.npz"
+    np.savez(tmp, **arrays)
+    os.replace(tmp, path)
+
+
+def _classify(period, state, contacts, dofs):
+    """Attractor numbers per point (canonical order) and the attractors' table."""
+    reps = []  # (key, state, scale, points) in grid order
+    label = np.full(len(period), -1, dtype=np.int64)
+    for k in np.flatnonzero(period > 0):
+        key = (int(period[k]), tuple(contacts[k]))
+        z = state[k]
+        scale = max(1.0, float(np.max(np.abs(z))))
+        for r, rep in enumerate(reps):
+            if rep[0] == key and np.max(np.abs(rep[1] - z)) <= MATCH_TOL * max(scale, rep[2]):
+                label[k] = r
+                rep[3].append(k)
+                break
+        else:
+            label[k] = len(reps)
+            reps.append((key, z, scale, [k]))
+    order = sorted(range(len(reps)), key=lambda r: (reps[r][0][0], len(reps[r][0][1]), reps[r][0][1],
+                                                    tuple(np.round(reps[r][1], 9))))
+    new = np.empty(len(reps), dtype=np.int64)
+    new[order] = np.arange(len(reps))
+    ids = np.where(label >= 0, new[np.maximum(label, 0)] if len(reps) else -1, np.where(period < 0, -2, -1))
+    table = [{"id": int(new[r]), "period": reps[r][0][0], "impacts": len(reps[r][0][1]),
+              "sequence": ",".join(str(c) for c in reps[r][0][1]), "state": reps[r][1],
+              "points": len(reps[r][3])} for r in order]
+    return ids, table
+
+
+def basin(model, grid, periods=500, out=None, workers=1, executor="processes", scheduler=None, window=32,
+          tol=1e-6, base=None):
+    """The basins of attraction of a forced model over a grid of two state
+    coordinates (``{"x1": (from, to, count), "v1": (from, to, count)}``; the
+    others from ``base``, an (x, v) of 2N values, zero by default).
+
+    Returns {"attractor": (count_1, count_2) int array (-1: not settled, -2: a
+    start beyond a wall),
+    coordinate arrays under their names, "attractors": list of dicts (id,
+    period, impacts, sequence, state, points, share), "period": the
+    stroboscopic period per point}; with ``out``, also writes out/study.h5
+    and out/basin.png.
+    """
+    scene_text = None
+    if isinstance(model, (str, os.PathLike)):
+        path = os.fspath(model)
+        with open(path, encoding="utf-8") as f:
+            scene_text = f.read()
+        model = _nsmodal.load_scene(path)
+    if not isinstance(model, _nsmodal.Model):
+        raise StudyError(f"model: must be an nsmodal.Model or a scene path, got {type(model).__name__}")
+    dofs = model.dofs
+    axes = _parse_grid(grid, dofs)
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= 4096:
+        raise StudyError(f"workers: must be a whole number from 1 to 4096, got {workers!r}")
+    if executor not in EXECUTORS:
+        raise StudyError(f"executor: must be one of {', '.join(EXECUTORS)}, got {executor!r}")
+    if scheduler is not None and executor != "dask":
+        raise StudyError(f"scheduler: is for the dask executor, got executor {executor!r}")
+    z0 = np.zeros(2 * dofs) if base is None else np.asarray(base, dtype=float)
+    if z0.shape != (2 * dofs,) or not np.all(np.isfinite(z0)):
+        raise StudyError(f"base: must be 2N = {2 * dofs} finite values (x, v), got {base!r}")
+    names = _state_names(dofs)
+    coords = [np.linspace(lo, hi, count) for (_, lo, hi, count) in axes]
+    a, b = (names.index(axes[0][0]), names.index(axes[1][0]))
+    n1, n2 = len(coords[0]), len(coords[1])
+    states = np.tile(z0, (n1 * n2, 1))
+    states[:, a] = np.repeat(coords[0], n2)
+    states[:, b] = np.tile(coords[1], n1)
+    # periods, window, tol and the model (a force to be stroboscopic in)
+    # checked on one point before any work or file.
+    try:
+        _nsmodal._settle(model, states[:1], periods, window, tol)
+    except ValueError as e:
+        raise StudyError(str(e)) from None
+    chunks = [(s, min(s + CHUNK_POINTS, len(states))) for s in range(0, len(states), CHUNK_POINTS)]
+    request = {"grid": [list(g) for g in axes], "periods": periods, "window": window, "tol": tol,
+               "base": z0.tolist(), "chunk_points": CHUNK_POINTS, "model": pickle.dumps(model).hex()}
+    key = hashlib.sha256(json.dumps(request, sort_keys=True).encode()).hexdigest()
+    chunk_dir = None
+    results = {}
+    if out is not None:
+        chunk_dir = os.path.join(out, "chunks")
+        os.makedirs(chunk_dir, exist_ok=True)
+        for stale in ("study.h5", "basin.png"):
+            if os.path.exists(os.path.join(out, stale)):
+                os.remove(os.path.join(out, stale))
+        key_path = os.path.join(chunk_dir, "study.json")
+        if os.path.exists(key_path):
+            with open(key_path, encoding="utf-8") as f:
+                if json.load(f).get("key") != key:
+                    raise StudyError(f"out: {chunk_dir} holds the chunks of another study; give another directory "
+                                     "or remove it")
+        else:
+            with open(key_path, "w", encoding="utf-8") as f:
+                json.dump({"key": key, "request": {k: v for k, v in request.items() if k != "model"}}, f)
+        for i in range(len(chunks)):
+            p = os.path.join(chunk_dir, f"chunk_{i:06d}.npz")
+            if os.path.exists(p):
+                with np.load(p, allow_pickle=False) as d:
+                    results[i] = {k: d[k] for k in d.files}
+    failures = []
+    todo = [i for i in range(len(chunks)) if i not in results]
+    ex = _Executor(executor, workers, scheduler)
+    try:
+        futures = {ex.submit(_settle_chunk, model, states[s:e], periods, window, tol): i
+                   for i, (s, e) in ((i, chunks[i]) for i in todo)}
+        _progress(len(results), len(chunks))
+        for f in ex.as_completed(list(futures)):
+            i = futures[f]
+            try:
+                r = f.result()
+            except Exception as e:  # noqa: BLE001  (reported with its chunk; the rest completes)
+                s, e_ = chunks[i]
+                failures.append(f"chunk {i}: points {s} to {e_ - 1} ({axes[0][0]} = {states[s, a]:g} .. "
+                                f"{states[e_ - 1, a]:g}): {type(e).__name__}: {e}")
+                continue
+            flat = {"period": np.asarray(r["period"], dtype=np.int64), "state": np.asarray(r["state"]),
+                    "repetition": np.asarray(r["repetition"]),
+                    "rough": np.asarray(r["zeno_or_sticking"], dtype=bool),
+                    "contacts": np.array([",".join(map(str, c)) for c in r["impact_contacts"]], dtype="U")}
+            results[i] = flat
+            if chunk_dir is not None:
+                _atomic_save(os.path.join(chunk_dir, f"chunk_{i:06d}.npz"), **flat)
+            _progress(len(results), len(chunks))
+    except KeyboardInterrupt:
+        raise StudyError(f"interrupted: {len(results)} of {len(chunks)} chunks done"
+                         + (f" and kept in {chunk_dir}: run the same study again to resume" if chunk_dir else ""))
+    finally:
+        ex.close()
+    if failures:
+        raise StudyError(f"{len(failures)} chunk(s) failed (the others are kept"
+                         + (f" in {chunk_dir}" if chunk_dir else "") + "):\n  " + "\n  ".join(failures))
+    period = np.concatenate([results[i]["period"] for i in range(len(chunks))])
+    state = np.concatenate([results[i]["state"] for i in range(len(chunks))])
+    contacts = [tuple(int(c) for c in s.split(",")) if s else ()
+                for i in range(len(chunks)) for s in results[i]["contacts"]]
+    ids, table = _classify(period, state, contacts, dofs)
+    for t in table:
+        t["share"] = t["points"] / len(ids)
+    result = {"attractor": ids.reshape(n1, n2), axes[0][0]: coords[0], axes[1][0]: coords[1],
+              "attractors": table, "period": period.reshape(n1, n2)}
+    if out is not None:
+        _write_h5(os.path.join(out, "study.h5"), result, axes, model, scene_text, request, dofs)
+        _draw(os.path.join(out, "basin"), result, axes, names)
+    return result
+
+
+def _write_h5(path, result, axes, model, scene_text, request, dofs):
+    import h5py
+    tmp = path + ".partial"
+    with h5py.File(tmp, "w", track_order=True) as f:
+        d = f.create_dataset("attractor", data=result["attractor"].astype(np.int32), track_times=False)
+        d.attrs["meaning"] = ("the attractor of each grid point (the table attractors); -1: no settled attractor; "
+                              "-2: a start beyond a wall")
+        d.attrs["dims"] = json.dumps([axes[0][0], axes[1][0]])
+        for name, _, _, _ in axes:
+            c = f.create_dataset(name, data=result[name], track_times=False)
+            c.attrs["units"] = "m" if name.startswith("x") else "m/s"
+        f.create_dataset("period", data=result["period"].astype(np.int32), track_times=False).attrs["meaning"] = (
+            "stroboscopic period n of the settled motion, in forcing periods; 0: not settled")
+        g = f.create_group("attractors")
+        t = result["attractors"]
+        g.create_dataset("id", data=np.array([r["id"] for r in t], dtype=np.int32), track_times=False)
+        g.create_dataset("period", data=np.array([r["period"] for r in t], dtype=np.int32), track_times=False)
+        g.create_dataset("impacts", data=np.array([r["impacts"] for r in t], dtype=np.int32), track_times=False)
+        g.create_dataset("sequence", data=np.array([r["sequence"] for r in t], dtype=h5py.string_dtype()),
+                         track_times=False)
+        g.create_dataset("share", data=np.array([r["share"] for r in t]), track_times=False)
+        g.create_dataset("state", data=np.array([r["state"] for r in t]).reshape(len(t), 2 * dofs),
+                         track_times=False).attrs["columns"] = json.dumps(_state_names(dofs))
+        f.attrs["nsmodal_version"] = _nsmodal.__version__
+        f.attrs["settings"] = json.dumps({k: v for k, v in request.items() if k != "model"})
+        f.attrs["model"] = repr(model)
+        if scene_text is not None:
+            f.attrs["scene"] = scene_text
+    os.replace(tmp, path)
+
+
+def _draw(stem, result, axes, names):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import ListedColormap
+    from . import style
+    style.use("png")
+    fig, ax = plt.subplots(figsize=style.figsize("png"))
+    ids = result["attractor"]
+    n = len(result["attractors"])
+    # Beyond a wall: white; not settled: light grey; the attractors in the
+    # sequences' colours, in turn.
+    seq = style.cycle("sequences")
+    cmap = ListedColormap([style.colour("white"), style.colour("grey_light")] +
+                          [seq[k % len(seq)] for k in range(max(n, 1))])
+    c1, c2 = result[axes[0][0]], result[axes[1][0]]
+    ax.grid(False)
+    ax.pcolormesh(c2, c1, ids + 2, cmap=cmap, vmin=-0.5, vmax=max(n, 1) + 1.5, shading="nearest")
+    from matplotlib.patches import Patch
+    a, b = names.index(axes[0][0]), names.index(axes[1][0])
+    handles = []
+    for r in result["attractors"]:
+        # The attractor's canonical stroboscopic point, in its basin's colour's key.
+        ax.plot(r["state"][b], r["state"][a], **style.series("mark"))
+        handles.append(Patch(facecolor=seq[r["id"] % len(seq)],
+                             label=f"{r['id']}: n = {r['period']}, {r['impacts']} impacts, {100 * r['share']:.1f} %"))
+    if np.any(ids == -1):
+        handles.append(Patch(facecolor=style.colour("grey_light"), label="not settled"))
+    if np.any(ids == -2):
+        handles.append(Patch(facecolor=style.colour("white"), edgecolor=style.colour("grey"),
+                             label="start beyond a wall"))
+    handles.append(ax.plot([], [], **style.series("mark"), label="attractor (stroboscopic point)")[0])
+
+    def label(name):
+        return f"${name[0]}_{{{name[1:]}}}$ ({'m' if name[0] == 'x' else 'm/s'})"
+
+    ax.set_xlabel(label(axes[1][0]))
+    ax.set_ylabel(label(axes[0][0]))
+    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize="small")
+    fig.tight_layout()
+    style.save(fig, stem, ["png"])
+    plt.close(fig)
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="python3 -m nsmodal.study", description=__doc__.split("\n\n")[0])
+    sub = p.add_subparsers(dest="command", required=True)
+    b = sub.add_parser("basin", help="basins of attraction over a grid of two state coordinates")
+    b.add_argument("scene")
+    b.add_argument("--grid", action="append", required=True, help="NAME=FROM:TO:COUNT (twice: x1, v1, ...)")
+    b.add_argument("--periods", type=int, default=500)
+    b.add_argument("--out", required=True)
+    b.add_argument("--workers", type=int, default=1)
+    b.add_argument("--executor", default="processes", choices=EXECUTORS)
+    b.add_argument("--scheduler")
+    a = p.parse_args(argv)
+    try:
+        r = basin(a.scene, a.grid, periods=a.periods, out=a.out, workers=a.workers, executor=a.executor,
+                  scheduler=a.scheduler)
+    except (StudyError, ValueError, OSError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    for t in r["attractors"]:
+        print(f"attractor {t['id']}: period {t['period']}, {t['impacts']} impacts ({t['sequence'] or 'none'}), "
+              f"{100 * t['share']:.2f} % of the grid")
+    unsettled, beyond = float(np.mean(r["attractor"] == -1)), float(np.mean(r["attractor"] == -2))
+    print(f"not settled: {100 * unsettled:.2f} %; starts beyond a wall: {100 * beyond:.2f} %; wrote {a.out}/study.h5 "
+          f"and {a.out}/basin.png")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,155 @@
+"""nsmodal.study (issue 27): basins of attraction over an executor, into one
+HDF5 dataset; answers known in closed form or confirmed by longer runs."""
+import importlib.util
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import nsmodal
+import nsmodal.study as study
+from nsmodal import _nsmodal
+
+
+def oscillator(gap, w=1.2, a=0.3, zeta=0.05):
+    # m x'' + c x' + k x = a cos(w t), m = k = 1, a wall at x = gap.
+    return nsmodal.Model(masses=[1], springs=[1], gap=gap, restitution=0.8, damping_ratios=[zeta],
+                         forcing_amplitude=[a], forcing_frequency=w)
+
+
+GRID = {"x1": (-3, 3, 16), "v1": (-3, 3, 16)}
+
+
+def test_a_linear_oscillator_has_one_attractor_its_steady_state():
+    w, a, zeta = 1.2, 0.3, 0.05
+    r = study.basin(oscillator(100.0, w, a, zeta), GRID, periods=300)
+    assert np.all(r["attractor"] == 0) and len(r["attractors"]) == 1
+    t = r["attractors"][0]
+    assert t["period"] == 1 and t["impacts"] == 0 and t["share"] == 1.0
+    X = a / (1 - w**2 + 2j * zeta * w)  # x = Re(X e^{i w t}): the state at the stroboscopic t = 0 (mod 2 pi / w)
+    # (1e-9: the transient after 300 periods is e^{-zeta * 300 * 2 pi / w} ~ 1e-34 of its start;
+    # what remains is the exact integrator's round-off.)
+    assert np.allclose(t["state"], [X.real, (1j * w * X).real], rtol=0, atol=1e-9)
+
+
+def test_an_impact_oscillator_has_two_coexisting_responses_confirmed_by_longer_runs():
+    m = oscillator(1.0)
+    r = study.basin(m, GRID, periods=300)
+    kinds = sorted((t["period"], t["impacts"]) for t in r["attractors"])
+    assert kinds == [(1, 0), (1, 1)], r["attractors"]
+    assert all(t["share"] > 0.05 for t in r["attractors"])
+    # Starts beyond the wall (x1 > d = 1) are no motion: -2.
+    assert np.all((r["attractor"] == -2) == (r["x1"][:, None] > 1.0) * np.ones((1, 16), bool))
+    # Ten points of each basin settle on the same attractor over 2,000 periods.
+    states = []
+    labels = []
+    for t in r["attractors"]:
+        i, j = np.nonzero(r["attractor"] == t["id"])
+        for k in np.linspace(0, len(i) - 1, 10).astype(int):
+            states.append([r["x1"][i[k]], r["v1"][j[k]]])
+            labels.append(t)
+    long = _nsmodal._settle(m, np.array(states), 2000)
+    for k, t in enumerate(labels):
+        assert long["period"][k] == t["period"] and len(long["impact_contacts"][k]) == t["impacts"]
+        # (1e-6: the classification's own repetition tolerance.)
+        assert np.max(np.abs(long["state"][k] - t["state"])) < 1e-6
+
+
+def read(path):
+    import h5py
+    out = {}
+    with h5py.File(path, "r") as f:
+        f.visititems(lambda name, obj: out.__setitem__(name, obj[()]) if hasattr(obj, "shape") else None)
+        out["attrs"] = {k: f.attrs[k] for k in f.attrs}
+    return out
+
+
+def same(a, b):
+    assert a.keys() == b.keys()
+    for k in a:
+        if k == "attrs":
+            assert a[k].keys() == b[k].keys() and all(str(a[k][x]) == str(b[k][x]) for x in a[k])
+        else:
+            assert np.array_equal(a[k], b[k]), k
+
+
+def test_the_dataset_is_the_same_from_one_worker_two_processes_and_a_resumed_run(tmp_path):
+    m = oscillator(1.0)
+    grid = {"x1": (-3, 3, 30), "v1": (-3, 3, 30)}  # 900 points: 3 chunks
+    study.basin(m, grid, periods=200, out=str(tmp_path / "one"))
+    study.basin(m, grid, periods=200, out=str(tmp_path / "two"), workers=2)
+    one = read(tmp_path / "one" / "study.h5")
+    same(one, read(tmp_path / "two" / "study.h5"))
+    # Interrupted: the second chunk raises; the others are kept, no dataset.
+    real = study._settle_chunk
+
+    def failing(model, states, *args):
+        if states[0, 0] == study.np.linspace(-3, 3, 30)[400 // 30]:
+            raise RuntimeError("injected")
+        return real(model, states, *args)
+
+    study._settle_chunk = failing
+    try:
+        with pytest.raises(study.StudyError, match=r"1 chunk\(s\) failed[\s\S]*chunk 1: points 400 to 799"):
+            study.basin(m, grid, periods=200, out=str(tmp_path / "resumed"))
+    finally:
+        study._settle_chunk = real
+    assert not (tmp_path / "resumed" / "study.h5").exists()
+    assert sorted(os.listdir(tmp_path / "resumed" / "chunks")) == ["chunk_000000.npz", "chunk_000002.npz",
+                                                                   "study.json"]
+    study.basin(m, grid, periods=200, out=str(tmp_path / "resumed"))
+    same(one, read(tmp_path / "resumed" / "study.h5"))
+    # Another request into the same directory is refused, naming it.
+    with pytest.raises(study.StudyError, match="out: .* holds the chunks of another study"):
+        study.basin(m, grid, periods=300, out=str(tmp_path / "resumed"))
+
+
+@pytest.mark.skipif(importlib.util.find_spec("distributed") is None, reason="Dask distributed is not installed")
+def test_the_dataset_is_the_same_from_a_dask_local_cluster(tmp_path):
+    m = oscillator(1.0)
+    grid = {"x1": (-3, 3, 30), "v1": (-3, 3, 30)}
+    study.basin(m, grid, periods=200, out=str(tmp_path / "one"))
+    study.basin(m, grid, periods=200, out=str(tmp_path / "dask"), workers=2, executor="dask")
+    same(read(tmp_path / "one" / "study.h5"), read(tmp_path / "dask" / "study.h5"))
+
+
+@pytest.mark.skipif(importlib.util.find_spec("mpi4py") is None or shutil.which("mpiexec") is None,
+                    reason="mpi4py or mpiexec is not installed")
+def test_the_dataset_is_the_same_under_mpiexec(tmp_path):
+    scene = tmp_path / "one.toml"
+    scene.write_text("[system]\nmasses = [1.0]\nsprings = [1.0]\ngap = 1.0\nrestitution = 0.8\n"
+                     "damping_ratios = [0.05]\n[forcing]\namplitude = [0.3]\nfrequency = 1.2\n")
+    args = ["basin", str(scene), "--grid", "x1=-3:3:30", "--grid", "v1=-3:3:30", "--periods", "200"]
+    env = dict(os.environ)
+    subprocess.run([sys.executable, "-m", "nsmodal.study", *args, "--out", str(tmp_path / "one")], check=True, env=env)
+    subprocess.run(["mpiexec", "--oversubscribe", "--allow-run-as-root", "-n", "3", sys.executable, "-m",
+                    "mpi4py.futures", "-m", "nsmodal.study", *args, "--out", str(tmp_path / "mpi"),
+                    "--executor", "mpi", "--workers", "2"], check=True, env=env, timeout=300)
+    same(read(tmp_path / "one" / "study.h5"), read(tmp_path / "mpi" / "study.h5"))
+
+
+def test_bad_requests_name_their_argument(tmp_path):
+    m = oscillator(1.0)
+    with pytest.raises(study.StudyError, match="grid: 'y1' is not a coordinate"):
+        study.basin(m, {"y1": (0, 1, 5), "v1": (0, 1, 5)})
+    with pytest.raises(study.StudyError, match="grid: v1: COUNT"):
+        study.basin(m, {"x1": (0, 1, 5), "v1": (0, 1, 1.5)})
+    with pytest.raises(study.StudyError, match="grid: a basin needs two different coordinates"):
+        study.basin(m, {"x1": (0, 1, 5)})
+    with pytest.raises(study.StudyError, match="executor: must be one of"):
+        study.basin(m, GRID, executor="threads")
+    with pytest.raises(study.StudyError, match="scheduler: is for the dask executor"):
+        study.basin(m, GRID, scheduler="tcp://localhost:8786")
+    with pytest.raises(study.StudyError, match="periods: must exceed the window"):
+        study.basin(m, GRID, periods=10)
+    free = nsmodal.Model(masses=[1], springs=[1], gap=1, restitution=0.8, damping_ratios=[0.05])
+    with pytest.raises(study.StudyError, match="forcing.amplitude: is needed"):
+        study.basin(free, GRID, out=str(tmp_path / "free"))
+    assert not (tmp_path / "free").exists()
+    # The command line: exit 2 and the message.
+    r = subprocess.run([sys.executable, "-m", "nsmodal.study", "basin", "nosuch.toml", "--grid", "x1=0:1:4",
+                        "--grid", "v1=0:1:4", "--out", str(tmp_path / "cli")], capture_output=True, text=True)
+    assert r.returncode == 2 and "error:" in r.stderr

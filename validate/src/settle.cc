@@ -1,0 +1,95 @@
+#include "nsmodal/settle.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "nsmodal/error.h"
+#include "nsmodal/simulate.h"
+
+namespace nsmodal {
+
+void SettleOptions::Validate() const {
+  if (window < 2 || window > 1024) {
+    throw InputError("window", "must be between 2 and 1024 stroboscopic samples, got " + std::to_string(window));
+  }
+  if (periods <= window || periods > 100000000) {
+    throw InputError("periods", "must exceed the window (" + std::to_string(window) + ") and be at most 1e8, got " +
+                                    std::to_string(periods));
+  }
+  if (!(tol > 0.0) || !(tol < 1.0)) throw InputError("tol", "must be in (0, 1), got " + FormatValue(tol));
+}
+
+Settled Settle(const Model& model, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0, const SettleOptions& o) {
+  o.Validate();
+  if (!model.forcing.HasHarmonic()) {
+    throw InputError("forcing.amplitude", "is needed: a basin classifies motions by their stroboscopic period");
+  }
+  const double tf = 2.0 * M_PI / model.forcing.frequency;
+  SimulateOptions s;
+  s.t_end = o.periods * tf;
+  s.sample_dt = 0.0;
+  for (int k = 0; k <= o.window; ++k) s.sample_times.push_back(std::min(s.t_end, (o.periods - o.window + k) * tf));
+  std::vector<Eigen::VectorXd> z;
+  std::vector<double> times;
+  std::vector<int> contacts;
+  const double window_start = (o.periods - o.window) * tf;
+  SimulationObserver obs;
+  obs.on_sample = [&z](double, const Eigen::VectorXd& state) { z.push_back(state); };
+  obs.on_impact = [&](const ContactEvent& e) {
+    if (e.t > window_start) {
+      times.push_back(e.t);
+      contacts.push_back(e.contact);
+    }
+  };
+  const SimulationSummary sum = Simulate(model, x0, v0, s, obs);
+  Settled out;
+  out.zeno_or_sticking = sum.zeno_events > 0 || sum.sticking_phases > 0;
+  if (sum.status != SimulationStatus::kFinished || static_cast<int>(z.size()) != o.window + 1) {
+    out.message = "the simulation ended early: " + ToString(sum.status) + (sum.message.empty() ? "" : ": " + sum.message);
+    return out;
+  }
+  double scale = 0.0;
+  for (const Eigen::VectorXd& q : z) scale = std::max(scale, q.cwiseAbs().maxCoeff());
+  for (const Contact& c : model.contacts) scale = std::max(scale, c.gap);
+  const int last = o.window;
+  for (int n = 1; n <= o.window / 2; ++n) {
+    double worst = 0.0;
+    for (int k = last - n; k <= last; ++k) worst = std::max(worst, (z[k] - z[k - n]).cwiseAbs().maxCoeff() / scale);
+    out.repetition = worst;
+    if (worst > o.tol) continue;
+    out.settled = true;
+    out.period = n;
+    int best = last - n + 1;
+    for (int k = last - n + 1; k <= last; ++k) {
+      if (z[k][0] < z[best][0]) best = k;
+    }
+    out.state = z[best];
+    const double t0 = (o.periods - o.window + best) * tf;
+    // The impacts of one period of the attractor, from the canonical sample:
+    // those of the last n periods, shifted into [t0, t0 + n T_f).
+    for (std::size_t i = 0; i < times.size(); ++i) {
+      if (times[i] <= s.t_end - n * tf) continue;
+      double t = times[i] - t0;
+      if (t < 0.0) t += n * tf;
+      out.impact_times.push_back(t);
+      out.impact_contacts.push_back(contacts[i]);
+    }
+    std::vector<std::size_t> order(out.impact_times.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return out.impact_times[a] < out.impact_times[b]; });
+    std::vector<double> t_sorted;
+    std::vector<int> c_sorted;
+    for (std::size_t i : order) {
+      t_sorted.push_back(out.impact_times[i]);
+      c_sorted.push_back(out.impact_contacts[i]);
+    }
+    out.impact_times = t_sorted;
+    out.impact_contacts = c_sorted;
+    return out;
+  }
+  out.message = "no period up to " + std::to_string(o.window / 2) + " forcing periods repeats to " + FormatValue(o.tol) +
+                " after " + std::to_string(o.periods) + " periods";
+  return out;
+}
+
+}  // namespace nsmodal
