@@ -378,6 +378,16 @@ int RunCurves(const ContinueArgs& a, const Model& model) {
 // continue on a scene with no force: the free family's transitions.
 int RunFamily(const ContinueArgs& a, const Model& model) {
   if (a.second) throw InputError("--second", "needs a forced scene (a [forcing] table): curves follow forced responses");
+  // (What follows a forced response only: refused, not ignored.)
+  for (const auto& [given, flag] : {std::pair{a.second_range.has_value(), "--second-range"},
+                                    std::pair{a.follow.has_value(), "--follow"},
+                                    std::pair{a.sequence.has_value(), "--sequence"}, std::pair{a.impacts != 1, "--impacts"},
+                                    std::pair{a.periods != 1, "--periods"}}) {
+    if (given) {
+      throw InputError(flag, "is for a forced scene; a scene with no [forcing] table follows its free 1-impact "
+                             "family (--period)");
+    }
+  }
   if (!a.period) {
     throw InputError("--period", "is needed for a scene with no [forcing] table: the free 1-impact family's period "
                                  "grid FROM:TO:STEP, whose transitions are followed (or add a [forcing] table to "

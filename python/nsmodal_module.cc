@@ -1344,6 +1344,14 @@ verdicts of validate: consistent, reason, deviation_end, measured_growth...).)do
             throw InputError("period", "is needed for a model with no harmonic force: the free 1-impact family's "
                                        "period grid (from, to, step), whose transitions are followed");
           }
+          for (const auto& [given, argument] : {std::pair{static_cast<int>(impacts) != 1, "impacts"},
+                                                std::pair{static_cast<int>(periods) != 1, "periods"},
+                                                std::pair{!sequence.is_none(), "sequence"}}) {
+            if (given) {
+              throw InputError(argument, "is for a forced model; a model with no harmonic force follows its free "
+                                         "1-impact family (period=...)");
+            }
+          }
           const ModelParameter p = ParseModelParameter(model, parameter, "parameter");
           const PeriodGrid values = ParseParameterRange(RangeText(range, "range"), "range");
           const PeriodGrid grid = GridOf(period);
@@ -1427,6 +1435,23 @@ cusps are rows of their own, in order along the curve.
 Returns {"rows": arrays keyed as curve.csv (both parameters' columns, kind,
 the orbit's columns as response.csv's with curve for branch, condition: the
 defining condition's value), "curve_ends", "notes"}.)doc"));
+
+  mod.def(
+      "with_parameter",
+      [](const Model& model, const std::string& parameter, double value) {
+        return WithParameter(model, ParseModelParameter(model, parameter, "parameter"), value);
+      },
+      py::arg("model"), py::arg("parameter"), py::arg("value"),
+      Signed("with_parameter(model, parameter, value)", R"doc(The model with one parameter, named as in
+continue_parameter ('gap', 'masses[1]', 'amplitude', ...), at `value`, checked
+as a scene is (a ValueError naming the scene's field and the value).)doc"));
+
+  mod.def(
+      "_parameter_value",
+      [](const Model& model, const std::string& parameter) {
+        return ParameterValue(model, ParseModelParameter(model, parameter, "parameter"));
+      },
+      py::arg("model"), py::arg("parameter"), "Internal (nsmodal.study): the model's own value of a parameter.");
 
   mod.def(
       "_settle",

@@ -4,11 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iomanip>
+#include <map>
+#include <sstream>
 
 #include "forced_fixtures.h"
 #include "nsmodal/curve.h"
 #include "nsmodal/error.h"
 #include "nsmodal/family_parameter.h"
+#include "nsmodal/modal_basis.h"
 #include "nsmodal/scene.h"
 #include "nsmodal/response.h"
 
@@ -106,13 +110,29 @@ TEST(Curve, AFoldCurveAndAPeriodDoublingCurveMeetWhereEachSaysTheyDo) {
   const std::vector<const CurvePoint*> a = Rows(folds, "period-doubling"), b = Rows(doublings, "fold");
   ASSERT_GE(a.size(), 1u);
   ASSERT_EQ(a.size(), b.size());
-  for (const CurvePoint* p : a) {
-    double best = 1e300;
-    for (const CurvePoint* q : b) best = std::min(best, std::hypot(p->first - q->first, p->second - q->second));
-    // (1e-8: two independent locations, each Brent's ~1e-12 along a chord of
-    // the other curve's test function, both test functions held to 1e-9.)
-    EXPECT_LT(best, 1e-8) << "w = " << p->first << ", a = " << p->second;
+  // Each meeting seen from either curve is one seen from the other.
+  for (const auto& [from, to] : {std::pair{&a, &b}, std::pair{&b, &a}}) {
+    for (const CurvePoint* p : *from) {
+      double best = 1e300;
+      for (const CurvePoint* q : *to) best = std::min(best, std::hypot(p->first - q->first, p->second - q->second));
+      // (1e-8: two independent locations, each Brent's ~1e-12 along a chord
+      // of the other curve's test function, both test functions held to 1e-9.)
+      EXPECT_LT(best, 1e-8) << "w = " << p->first << ", a = " << p->second;
+    }
   }
+}
+
+TEST(Curve, ACurveThatReachesTheEndOfTheModelsDomainEndsOnIt) {
+  // e = 1 ends the range and the model (e > 1 is no model): the fold curves
+  // of a damped response end there, solved on it, not lost before it.
+  const Model m = ForcedScene();
+  const CurveSet s =
+      FollowCurves(m, MakeCurveRequest(m, "restitution", "0.6:1", "frequency", "0.3:1.2", "fold", 1, 1));
+  ASSERT_GE(s.curves, 1);
+  int at_one = 0;
+  for (const std::string& end : s.ends) EXPECT_EQ(end.find("lost"), std::string::npos) << end;
+  for (const CurvePoint* p : Rows(s, "fold")) at_one += p->first == 1.0;
+  EXPECT_GE(at_one, s.curves);
 }
 
 TEST(Curve, EveryPointHoldsItsDefiningCondition) {
@@ -143,16 +163,20 @@ TEST(Curve, BadRequestsNameTheirField) {
   EXPECT_EQ(field("frequency", "0.3:1", "stiffness", "0.1:1", "fold", 1), "second");
   EXPECT_EQ(field("frequency", "0.3:1", "frequency", "0.1:1", "fold", 1), "second");
   EXPECT_EQ(field("frequency", "0.3:1", "amplitude", "1:0.1", "fold", 1), "second_range");
-  EXPECT_EQ(field("frequency", "0.3:1", "restitution", "0.5:1.5", "fold", 1), "system.restitution");
-  EXPECT_EQ(field("frequency", "0.3:1", "gap", "-1:1", "fold", 1), "system.gap");
+  EXPECT_EQ(field("frequency", "0.3:1", "restitution", "0.5:1.5", "fold", 1), "second_range");
+  EXPECT_EQ(field("frequency", "0.3:1", "gap", "-1:1", "fold", 1), "second_range");
+  EXPECT_EQ(field("frequency", "0.3:1", "amplitude", "0:1", "fold", 1), "second_range");
+  EXPECT_EQ(field("frequency", "0:1", "amplitude", "0.1:1", "fold", 1), "range");
   EXPECT_EQ(field("masses[1]", "0.5:1", "amplitude", "0.1:1", "fold", 1), "parameter");  // (no keys to rebuild from)
   EXPECT_EQ(field("frequency", "0.3:1", "amplitude", "0.1:1", "fold", 0), "follow");
 }
 
 // The paper's chain as a scene (its keys: a spring or mass can be followed).
-Model Paper(double gap = 1.0) {
-  return ParseScene("[system]\nmasses = [1.0, 1.0]\nsprings = [0.85, 2.0]\ngap = " + std::to_string(gap) +
-                    "\nrestitution = 1.0\n").model;
+Model Paper(double gap = 1.0, double k2 = 2.0) {
+  std::ostringstream scene;
+  scene << std::setprecision(17) << "[system]\nmasses = [1.0, 1.0]\nsprings = [0.85, " << k2 << "]\ngap = " << gap
+        << "\nrestitution = 1.0\n";
+  return ParseScene(scene.str()).model;
 }
 
 TEST(FreeFamily, ItsTransitionsAtTheScenesStiffnessAreTodays) {
@@ -176,10 +200,26 @@ TEST(FreeFamily, ItsTransitionsAtTheScenesStiffnessAreTodays) {
     EXPECT_EQ(at_2[k]->period, today[k].period);
     EXPECT_EQ(at_2[k]->kind, ToString(today[k].kind));
   }
-  // Each point followed to k2 = 2.5 moves: the modal periods as the linear
-  // periods do (k T_i of the stiffer chain).
+  // At k2 = 2.5 the modal transitions are k T_i of the stiffer chain's
+  // linear periods, and a track holds one point per value.
   EXPECT_EQ(f.rows.back().parameter, 2.5);
-  EXPECT_GE(f.tracks, static_cast<int>(today.size()));
+  const Model stiffer = Paper(1.0, 2.5);
+  const Eigen::VectorXd periods_25 = MakeModalBasis(stiffer).Periods();
+  int modal = 0;
+  std::map<std::pair<int, double>, int> per_track;
+  for (const FamilyRow& r : f.rows) {
+    ++per_track[{r.track, r.parameter}];
+    if (r.parameter != 2.5 || r.kind != "modal") continue;
+    double best = 1e300;
+    for (int i = 0; i < periods_25.size(); ++i) {
+      best = std::min(best, std::abs(r.period / periods_25[i] - std::round(r.period / periods_25[i])));
+    }
+    // (1e-12: ModalPeriods gives k T_i exactly, T_i to round-off.)
+    EXPECT_LT(best, 1e-12) << "T = " << r.period;
+    ++modal;
+  }
+  EXPECT_GE(modal, 2);
+  for (const auto& [key, n] : per_track) EXPECT_EQ(n, 1) << "track " << key.first << " at k2 = " << key.second;
 }
 
 TEST(FreeFamily, TheGapScalesTheEnergyBySquaresAndMovesNoPeriod) {

@@ -119,7 +119,9 @@ class CurveFollower {
       const int held = line < seeds ? 1 : 0;  // the parameter held on the line
       const PeriodGrid& r = held == 1 ? opt_.second_range : opt_.first_range;
       const int s = line % seeds;
-      const double v = seeds == 1 ? 0.5 * (r.from + r.to) : r.from + (r.to - r.from) * s / (seeds - 1);
+      const double v = seeds == 1 ? 0.5 * (r.from + r.to)
+                       : s == seeds - 1 ? r.to
+                                        : r.from + (r.to - r.from) * s / (seeds - 1);
       for (const Vec& start : Starts(held, v)) {
         if (Covered(start)) continue;
         if (set_.curves >= opt_.max_curves) {
@@ -195,9 +197,7 @@ class CurveFollower {
   // (the phase modulo a forcing cycle).
   bool Covered(const Vec& xi) const {
     for (const Vec& other : traced_) {
-      Vec d = xi - other;
-      if (tr_.unknowns() > 0) d[0] = std::remainder(d[0], 1.0);
-      if (d.norm() <= h_max_) return true;
+      if (Distance(xi, other) <= h_max_) return true;
     }
     return false;
   }
@@ -227,7 +227,10 @@ class CurveFollower {
     for (CurveNode& n : nodes) n.tangent = -n.tangent;  // (along the nodes' order)
     nodes.insert(nodes.end(), forward.begin(), forward.end());
     set_.ends.push_back(end_fwd == kClosed ? end_fwd : "one way: " + end_back + "; the other: " + end_fwd);
-    for (const CurveNode& n : nodes) traced_.push_back(n.xi);
+    for (const CurveNode& n : nodes) {
+      traced_.push_back(n.xi);
+      traced_curve_.push_back(index);
+    }
     Emit(nodes, index);
   }
 
@@ -245,7 +248,27 @@ class CurveFollower {
       return nodes;
     }
     double h = h_max_;
-    int stalled = 0;  // consecutive steps below 1e-3 h_max
+    int stalled = 0;      // consecutive steps below 1e-3 h_max
+    bool away = false;    // the curve has gone 2 h_max from its start (a closure may be tested)
+    // The edge of the window a step leaves by: the curve's point on it, and
+    // the end (false: no point on the edge near the step).
+    auto on_edge = [&](const CurveNode& cur, const Vec& to) {
+      for (int i = 0; i < 2; ++i) {
+        const double l1 = to[p0 + i], l0 = cur.xi[p0 + i];
+        if ((l1 >= lo[i] - 1e-12 && l1 <= hi[i] + 1e-12) || l1 == l0) continue;
+        const double edge = l1 > hi[i] ? hi[i] : lo[i];
+        const Vec guess = cur.xi + (edge - l0) / (l1 - l0) * (to - cur.xi);
+        const Vec cur_t = cur.tangent;
+        std::optional<Vec> at = tr_.Correct(guess, guess, Vec::Unit(tr_.dim(), p0 + i));
+        if (!at || (*at - guess).norm() > 0.5 * (to - cur.xi).norm()) return false;
+        (*at)[p0 + i] = edge;
+        // (A start on the edge is its own edge point: not repeated.)
+        if (std::abs(cur.xi[p0 + i] - edge) > 1e-12) nodes.push_back(MakeNode(*at, cur_t));
+        *end = "left the window at " + Where(nodes.back().xi);
+        return true;
+      }
+      return false;
+    };
     for (long step = 0;; ++step) {
       ThrowIfStopRequested();
       // A curve that only creeps on (its condition not smooth there: two
@@ -263,6 +286,9 @@ class CurveFollower {
       const Vec pred = cur.xi + h * cur.tangent;
       const std::optional<Vec> next = tr_.Correct(pred, pred, cur.tangent);
       if (!Tracer::Accepted(cur.xi, cur.tangent, pred, next, h)) {
+        // A predictor past the window where the corrector fails (the model
+        // ends there too: e = 1, a damping ratio at 0): the edge's point.
+        if (!next && on_edge(cur, pred)) return nodes;
         h *= 0.5;
         if (h < h_min) {
           *end = "lost at " + Where(cur.xi) + " (corrector failed: the point's condition degenerates, or a "
@@ -271,20 +297,7 @@ class CurveFollower {
         }
         continue;
       }
-      // Past the window: the curve's point on its edge, and the end.
-      for (int i = 0; i < 2; ++i) {
-        const double l1 = (*next)[p0 + i];
-        if (l1 >= lo[i] - 1e-12 && l1 <= hi[i] + 1e-12) continue;
-        const double edge = l1 > hi[i] ? hi[i] : lo[i];
-        const double l0 = cur.xi[p0 + i];
-        const Vec guess = cur.xi + (edge - l0) / (l1 - l0) * (*next - cur.xi);
-        const Vec cur_t = cur.tangent;
-        if (const std::optional<Vec> at = tr_.Correct(guess, guess, Vec::Unit(tr_.dim(), p0 + i))) {
-          nodes.push_back(MakeNode(*at, cur_t));
-        }
-        *end = "left the window at " + Where(nodes.back().xi);
-        return nodes;
-      }
+      if (on_edge(cur, *next)) return nodes;
       const Vec cur_t = cur.tangent;
       CurveNode node = MakeNode(*next, cur_t);
       if (node.tangent.size() == 0) {
@@ -293,12 +306,28 @@ class CurveFollower {
       }
       nodes.push_back(std::move(node));
       stalled = h < 1e-3 * h_max_ ? stalled + 1 : 0;
-      if (step > 4 && (nodes.back().xi - xi0).norm() < 0.5 * h_max_) {
+      const Vec& here = nodes.back().xi;
+      away = away || Distance(here, xi0) > 2.0 * h_max_;
+      if (away && Distance(here, xi0) < 0.5 * h_max_) {
         *end = kClosed;
         return nodes;
       }
+      // A curve traced already (lost before, met again from another start).
+      for (std::size_t k = 0; k < traced_.size(); ++k) {
+        if (Distance(here, traced_[k]) <= 0.5 * h_max_) {
+          *end = "joined curve " + std::to_string(traced_curve_[k] + 1) + " at " + Where(here);
+          return nodes;
+        }
+      }
       if (step > 0 && h < h_max_) h = std::min(h_max_, 1.5 * h);
     }
+  }
+
+  // The distance of two points (the phase modulo a forcing cycle).
+  double Distance(const Vec& a, const Vec& b) const {
+    Vec d = a - b;
+    if (tr_.unknowns() > 0) d[0] = std::remainder(d[0], 1.0);
+    return d.norm();
   }
 
   // The rows of a curve: its points, and between two of them the points
@@ -306,8 +335,15 @@ class CurveFollower {
   void Emit(const std::vector<CurveNode>& nodes, int index) {
     const std::string followed = ToString(opt_.follow);
     const int p0 = tr_.dim() - 2;
+    // (A value on the window's edge written as the range's end, not its
+    // scaled copy an ulp off.)
+    auto snap = [](double v, const PeriodGrid& r) {
+      const double ulps = 4.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(r.from), std::abs(r.to));
+      return std::abs(v - r.from) <= ulps ? r.from : std::abs(v - r.to) <= ulps ? r.to : v;
+    };
     auto row = [&](const std::string& kind, const Vec& xi, const ForcedOrbit& orbit) {
-      set_.rows.push_back({index, kind, tr_.Lambda(xi, 0), tr_.Lambda(xi, 1), orbit,
+      set_.rows.push_back({index, kind, snap(tr_.Lambda(xi, 0), opt_.first_range),
+                           snap(tr_.Lambda(xi, 1), opt_.second_range), orbit,
                            tr_.ConditionAt(tr_.condition(), xi, orbit)});
     };
     auto det = [&](const Vec& xi) {
@@ -370,7 +406,8 @@ class CurveFollower {
   Tracer tr_;
   double h_max_ = 1.0;
   CurveSet set_;
-  std::vector<Vec> traced_;  // every traced curve's points
+  std::vector<Vec> traced_;       // every traced curve's points
+  std::vector<int> traced_curve_; // and the curve of each
 };
 
 }  // namespace
@@ -416,18 +453,38 @@ CurveOptions MakeCurveRequest(const Model& model, const std::string& parameter, 
   }
   o.first_range = ParseParameterRange(range, names("range"));
   o.second_range = ParseParameterRange(second_range, names("second_range"));
+  for (const auto& [r, field] : {std::pair{&o.first_range, names("range")}, std::pair{&o.second_range, names("second_range")}}) {
+    if (!std::isfinite(r->from) || !std::isfinite(r->to) || !std::isfinite(r->step) || !(r->to > r->from) ||
+        !(r->step > 0.0)) {
+      throw InputError(field, "must be FROM:TO[:STEP] with TO > FROM and STEP > 0, all finite, got " +
+                                  FormatValue(r->from) + ":" + FormatValue(r->to) + ":" + FormatValue(r->step));
+    }
+  }
   // Each range checked at both ends of the other (the window's corners: a
   // valid model on which the response can be posed), as `continue` checks
   // one range.
   FieldNames as_second = names;
   as_second.Set("range", names("second_range")).Set("parameter", names("second"));
+  // A corner that leaves the valid model names the range and the value.
+  auto at = [&](const ModelParameter& p, double v, const std::string& field) {
+    Model m;
+    try {
+      m = WithParameter(model, p, v);
+    } catch (const InputError& e) {
+      throw InputError(field, "at " + p.name + " = " + FormatValue(v) + ": " + e.what());
+    }
+    if (!m.forcing.HasHarmonic()) {
+      throw InputError(field, "at " + p.name + " = " + FormatValue(v) + ": the model has no harmonic force left");
+    }
+    return m;
+  };
   ResponseRequest first_request;
   for (const double v : {o.second_range.from, o.second_range.to}) {
-    first_request = MakeContinuationRequest(WithParameter(model, o.second, v), o.first, o.first_range, impacts,
+    first_request = MakeContinuationRequest(at(o.second, v, names("second_range")), o.first, o.first_range, impacts,
                                             periods, names, sequence);
   }
   for (const double v : {o.first_range.from, o.first_range.to}) {
-    MakeContinuationRequest(WithParameter(model, o.first, v), o.second, o.second_range, impacts, periods, as_second,
+    MakeContinuationRequest(at(o.first, v, names("range")), o.second, o.second_range, impacts, periods, as_second,
                             sequence);
   }
   o.impacts = first_request.options.impacts;

@@ -190,6 +190,7 @@ def continue_parameter(
     sequence: Optional[Sequence[int]] = None,
     period: Optional[Union[tuple[float, float, float], str]] = None,
 ) -> dict[str, Any]: ...
+def with_parameter(model: Model, parameter: str, value: float) -> Model: ...
 def follow_curve(
     model: Model,
     parameter: str,

@@ -36,11 +36,12 @@ import numpy as np
 
 from . import _nsmodal
 
-__all__ = ["basin", "StudyError", "EXECUTORS"]
+__all__ = ["basin", "grid", "response_summary", "StudyError", "EXECUTORS", "ANALYSES"]
 
 EXECUTORS = ("processes", "dask", "mpi")
 MATCH_TOL = 1e-4  # states of one attractor: the same to this fraction of the motion's scale
 CHUNK_POINTS = 400  # points per chunk (fixed: a resumed study finds its chunks whatever the workers)
+GRID_CHUNK_POINTS = 10  # parameter-grid points per chunk (an analysis each: a response curve takes ~0.5 s)
 
 
 class StudyError(ValueError):
@@ -52,42 +53,83 @@ def _state_names(dofs):
 
 
 def _parse_grid(grid, dofs):
-    """[(name, from, to, count), ...] from a dict {name: (from, to, count)},
-    a list of such tuples, or CLI texts 'NAME=FROM:TO:COUNT'."""
-    items = list(grid.items()) if isinstance(grid, dict) else list(grid)
-    out = []
+    """Two state coordinates (x1, v2, ...) with their ranges and counts."""
     names = _state_names(dofs)
-    for item in items:
-        if isinstance(item, str):
-            name, sep, spec = item.partition("=")
-            parts = spec.split(":")
-            if not sep or len(parts) != 3:
-                raise StudyError(f"grid: must be NAME=FROM:TO:COUNT, got {item!r}")
-            try:
-                lo, hi, count = float(parts[0]), float(parts[1]), float(parts[2])
-            except ValueError:
-                raise StudyError(f"grid: must be NAME=FROM:TO:COUNT (numbers), got {item!r}") from None
-        else:
-            name, spec = item
-            try:
-                lo, hi, count = (float(v) for v in spec)
-            except (TypeError, ValueError):
-                raise StudyError(f"grid: {name}: must be (from, to, count), got {spec!r}") from None
+
+    def check(name):
         if name not in names:
-            raise StudyError(f"grid: {name!r} is not a coordinate of the state; one of {', '.join(names)}")
-        if not (np.isfinite(lo) and np.isfinite(hi) and hi > lo):
-            raise StudyError(f"grid: {name}: must have finite FROM < TO, got {lo}:{hi}")
-        if count != int(count) or not 2 <= count <= 100000:
-            raise StudyError(f"grid: {name}: COUNT must be a whole number from 2 to 100000, got {count:g}")
-        out.append((name, lo, hi, int(count)))
-    if len(out) != 2 or out[0][0] == out[1][0]:
-        raise StudyError(f"grid: a basin needs two different coordinates, got {[g[0] for g in out]}")
-    return out
+            raise ValueError(f"{name!r} is not a coordinate of the state; one of {', '.join(names)}")
+
+    axes = _parse_axes(grid, check)
+    return axes
 
 
 def _settle_chunk(model, states, periods, window, tol):
     # (Top level: the executors pickle it by name.)
     return _nsmodal._settle(model, states, periods, window, tol)
+
+
+def _basin_chunk(model, states, periods, window, tol):
+    r = _settle_chunk(model, states, periods, window, tol)
+    return {"period": np.asarray(r["period"], dtype=np.int64), "state": np.asarray(r["state"]),
+            "repetition": np.asarray(r["repetition"]), "rough": np.asarray(r["zeno_or_sticking"], dtype=bool),
+            "contacts": np.array([",".join(map(str, c)) for c in r["impact_contacts"]], dtype="U")}
+
+
+def _run_chunks(out, request, tasks, describe, workers, executor, scheduler):
+    """Runs tasks [(fn, args)] (one a chunk; each returns a dict of arrays)
+    over the executor; with `out`, each finished chunk is kept in
+    out/chunks and a run of the same request resumes from them. Returns the
+    chunks' results in order; raises StudyError naming the failed chunks
+    (describe(i): its points) once the others have completed."""
+    key = hashlib.sha256(json.dumps(request, sort_keys=True).encode()).hexdigest()
+    chunk_dir = None
+    results = {}
+    if out is not None:
+        chunk_dir = os.path.join(out, "chunks")
+        os.makedirs(chunk_dir, exist_ok=True)
+        for stale in os.listdir(out):
+            if stale.startswith(("study.h5", "basin.", "grid.")):
+                os.remove(os.path.join(out, stale))
+        key_path = os.path.join(chunk_dir, "study.json")
+        if os.path.exists(key_path):
+            with open(key_path, encoding="utf-8") as f:
+                if json.load(f).get("key") != key:
+                    raise StudyError(f"out: {chunk_dir} holds the chunks of another study; give another directory "
+                                     "or remove it")
+        else:
+            with open(key_path, "w", encoding="utf-8") as f:
+                json.dump({"key": key, "request": {k: v for k, v in request.items() if k != "model"}}, f)
+        for i in range(len(tasks)):
+            p = os.path.join(chunk_dir, f"chunk_{i:06d}.npz")
+            if os.path.exists(p):
+                with np.load(p, allow_pickle=False) as d:
+                    results[i] = {k: d[k] for k in d.files}
+    failures = []
+    ex = _Executor(executor, workers, scheduler)
+    try:
+        futures = {ex.submit(fn, *args): i for i, (fn, args) in enumerate(tasks) if i not in results}
+        _progress(len(results), len(tasks))
+        for f in ex.as_completed(list(futures)):
+            i = futures[f]
+            try:
+                r = f.result()
+            except Exception as e:  # noqa: BLE001  (reported with its chunk; the rest completes)
+                failures.append(f"chunk {i}: {describe(i)}: {type(e).__name__}: {e}")
+                continue
+            results[i] = r
+            if chunk_dir is not None:
+                _atomic_save(os.path.join(chunk_dir, f"chunk_{i:06d}.npz"), **r)
+            _progress(len(results), len(tasks))
+    except KeyboardInterrupt:
+        raise StudyError(f"interrupted: {len(results)} of {len(tasks)} chunks done"
+                         + (f" and kept in {chunk_dir}: run the same study again to resume" if chunk_dir else ""))
+    finally:
+        ex.close()
+    if failures:
+        raise StudyError(f"{len(failures)} chunk(s) failed (the others are kept"
+                         + (f" in {chunk_dir}" if chunk_dir else "") + "):\n  " + "\n  ".join(sorted(failures)))
+    return [results[i] for i in range(len(tasks))]
 
 
 class _Executor:
@@ -150,7 +192,7 @@ class _Executor:
 
 def _progress(done, count, stream=sys.stderr):
     if stream.isatty():
-        stream.write(f"\rbasin: {done}/{count} chunks")
+        stream.write(f"\rstudy: {done}/{count} chunks")
         if done == count:
             stream.write("\n")
         stream.flush()
@@ -234,68 +276,16 @@ def basin(model, grid, periods=500, out=None, workers=1, executor="processes", s
         _nsmodal._settle(model, states[:1], periods, window, tol)
     except ValueError as e:
         raise StudyError(str(e)) from None
+    request = {"study": "basin", "grid": [list(g) for g in axes], "periods": periods, "window": window,
+               "tol": tol, "base": z0.tolist(), "chunk_points": CHUNK_POINTS, "model": pickle.dumps(model).hex()}
     chunks = [(s, min(s + CHUNK_POINTS, len(states))) for s in range(0, len(states), CHUNK_POINTS)]
-    request = {"grid": [list(g) for g in axes], "periods": periods, "window": window, "tol": tol,
-               "base": z0.tolist(), "chunk_points": CHUNK_POINTS, "model": pickle.dumps(model).hex()}
-    key = hashlib.sha256(json.dumps(request, sort_keys=True).encode()).hexdigest()
-    chunk_dir = None
-    results = {}
-    if out is not None:
-        chunk_dir = os.path.join(out, "chunks")
-        os.makedirs(chunk_dir, exist_ok=True)
-        for stale in ("study.h5", "basin.png"):
-            if os.path.exists(os.path.join(out, stale)):
-                os.remove(os.path.join(out, stale))
-        key_path = os.path.join(chunk_dir, "study.json")
-        if os.path.exists(key_path):
-            with open(key_path, encoding="utf-8") as f:
-                if json.load(f).get("key") != key:
-                    raise StudyError(f"out: {chunk_dir} holds the chunks of another study; give another directory "
-                                     "or remove it")
-        else:
-            with open(key_path, "w", encoding="utf-8") as f:
-                json.dump({"key": key, "request": {k: v for k, v in request.items() if k != "model"}}, f)
-        for i in range(len(chunks)):
-            p = os.path.join(chunk_dir, f"chunk_{i:06d}.npz")
-            if os.path.exists(p):
-                with np.load(p, allow_pickle=False) as d:
-                    results[i] = {k: d[k] for k in d.files}
-    failures = []
-    todo = [i for i in range(len(chunks)) if i not in results]
-    ex = _Executor(executor, workers, scheduler)
-    try:
-        futures = {ex.submit(_settle_chunk, model, states[s:e], periods, window, tol): i
-                   for i, (s, e) in ((i, chunks[i]) for i in todo)}
-        _progress(len(results), len(chunks))
-        for f in ex.as_completed(list(futures)):
-            i = futures[f]
-            try:
-                r = f.result()
-            except Exception as e:  # noqa: BLE001  (reported with its chunk; the rest completes)
-                s, e_ = chunks[i]
-                failures.append(f"chunk {i}: points {s} to {e_ - 1} ({axes[0][0]} = {states[s, a]:g} .. "
-                                f"{states[e_ - 1, a]:g}): {type(e).__name__}: {e}")
-                continue
-            flat = {"period": np.asarray(r["period"], dtype=np.int64), "state": np.asarray(r["state"]),
-                    "repetition": np.asarray(r["repetition"]),
-                    "rough": np.asarray(r["zeno_or_sticking"], dtype=bool),
-                    "contacts": np.array([",".join(map(str, c)) for c in r["impact_contacts"]], dtype="U")}
-            results[i] = flat
-            if chunk_dir is not None:
-                _atomic_save(os.path.join(chunk_dir, f"chunk_{i:06d}.npz"), **flat)
-            _progress(len(results), len(chunks))
-    except KeyboardInterrupt:
-        raise StudyError(f"interrupted: {len(results)} of {len(chunks)} chunks done"
-                         + (f" and kept in {chunk_dir}: run the same study again to resume" if chunk_dir else ""))
-    finally:
-        ex.close()
-    if failures:
-        raise StudyError(f"{len(failures)} chunk(s) failed (the others are kept"
-                         + (f" in {chunk_dir}" if chunk_dir else "") + "):\n  " + "\n  ".join(failures))
-    period = np.concatenate([results[i]["period"] for i in range(len(chunks))])
-    state = np.concatenate([results[i]["state"] for i in range(len(chunks))])
-    contacts = [tuple(int(c) for c in s.split(",")) if s else ()
-                for i in range(len(chunks)) for s in results[i]["contacts"]]
+    results = _run_chunks(out, request, [(_basin_chunk, (model, states[s:e], periods, window, tol)) for s, e in chunks],
+                          lambda i: f"points {chunks[i][0]} to {chunks[i][1] - 1} ({axes[0][0]} = "
+                                    f"{states[chunks[i][0], a]:g} .. {states[chunks[i][1] - 1, a]:g})",
+                          workers, executor, scheduler)
+    period = np.concatenate([r["period"] for r in results])
+    state = np.concatenate([r["state"] for r in results])
+    contacts = [tuple(int(c) for c in s.split(",")) if s else () for r in results for s in r["contacts"]]
     ids, table = _classify(period, state, contacts, dofs)
     for t in table:
         t["share"] = t["points"] / len(ids)
@@ -305,6 +295,167 @@ def basin(model, grid, periods=500, out=None, workers=1, executor="processes", s
         _write_h5(os.path.join(out, "study.h5"), result, axes, model, scene_text, request, dofs)
         _draw(os.path.join(out, "basin"), result, axes, names)
     return result
+
+
+# The analyses a parameter grid runs at each point: name -> (function of the
+# model and the analysis's options returning named scalars, their units).
+def response_summary(model, frequency, impacts=1, periods=1):
+    """The frequency response's summary (nsmodal.response over the frequency
+    grid `frequency`, no backbone): the peak of the admissible responses
+    (largest energy, its frequency), the folds, the largest impact velocity
+    of an admissible stable orbit (0: none), the share of admissible stable
+    points."""
+    r = _nsmodal.response(model, impacts=impacts, periods=periods, frequency=frequency, backbone=False)
+    rows, pts = r["rows"], r["points"]
+    ok = rows["admissible"].astype(bool)
+    stable = ok & rows["stable"].astype(bool)
+    kinds = np.asarray(pts["kind"])
+    k = int(np.argmax(np.where(ok, rows["energy"], -np.inf))) if ok.any() else -1
+    return {"peak_energy": float(rows["energy"][k]) if k >= 0 else 0.0,
+            "peak_frequency": float(rows["w"][k]) if k >= 0 else 0.0,
+            "folds": int(np.sum(kinds == "fold")),
+            "period_doublings": int(np.sum(kinds == "period-doubling")),
+            "max_impact_velocity": float(np.max(rows["impact_velocity"][stable])) if stable.any() else 0.0,
+            "stable_share": float(np.mean(stable)) if len(stable) else 0.0}
+
+
+ANALYSES = {"response": (response_summary, {"peak_energy": "J", "peak_frequency": "rad/s", "folds": "",
+                                            "period_doublings": "", "max_impact_velocity": "m/s",
+                                            "stable_share": ""})}
+
+
+def _grid_chunk(model, names, values, analysis, options):
+    """One chunk of a parameter grid: the analysis at each (value_1, value_2)."""
+    fn = ANALYSES[analysis][0] if isinstance(analysis, str) else analysis
+    out = {}
+    for k, (v1, v2) in enumerate(values):
+        m = _nsmodal.with_parameter(_nsmodal.with_parameter(model, names[0], float(v1)), names[1], float(v2))
+        for key, value in fn(m, **options).items():
+            out.setdefault(key, []).append(value)
+        if len(out[next(iter(out))]) != k + 1:
+            raise StudyError(f"analysis: returned other keys at point {k}")
+    return {key: np.asarray(v) for key, v in out.items()}
+
+
+def grid(model, grid, analysis="response", out=None, workers=1, executor="processes", scheduler=None, **options):
+    """An analysis at every point of a grid of two scene parameters
+    (``{"amplitude": (from, to, count), "gap": (from, to, count)}``, named as
+    in continue_parameter), collected into one dataset: each named scalar
+    the analysis returns, as a (count_1, count_2) array, with the grid's
+    coordinates. ``analysis``: "response" (response_summary; options
+    frequency=(from, to, step), impacts, periods) or a picklable function
+    model -> {name: scalar} run with ``options``. Returns {name: array, the
+    coordinates under their names}; with ``out``, writes out/study.h5 and
+    out/grid.png (the first quantity's map)."""
+    scene_text = None
+    if isinstance(model, (str, os.PathLike)):
+        path = os.fspath(model)
+        with open(path, encoding="utf-8") as f:
+            scene_text = f.read()
+        model = _nsmodal.load_scene(path)
+    if not isinstance(model, _nsmodal.Model):
+        raise StudyError(f"model: must be an nsmodal.Model or a scene path, got {type(model).__name__}")
+    if isinstance(analysis, str) and analysis not in ANALYSES:
+        raise StudyError(f"analysis: must be one of {', '.join(ANALYSES)} or a function, got {analysis!r}")
+    axes = _parse_axes(grid, lambda name: _nsmodal._parameter_value(model, name))
+    coords = [np.linspace(lo, hi, count) for (_, lo, hi, count) in axes]
+    names = [axes[0][0], axes[1][0]]
+    # The grid's corners checked before any work or file (a value that
+    # leaves the valid model: its field), and the analysis run at the first
+    # (its options).
+    for v1 in (coords[0][0], coords[0][-1]):
+        for v2 in (coords[1][0], coords[1][-1]):
+            try:
+                _nsmodal.with_parameter(_nsmodal.with_parameter(model, names[0], v1), names[1], v2)
+            except ValueError as e:
+                raise StudyError(f"grid: at {names[0]} = {v1:g}, {names[1]} = {v2:g}: {e}") from None
+    try:
+        _grid_chunk(model, names, [(coords[0][0], coords[1][0])], analysis, options)
+    except (ValueError, TypeError) as e:
+        raise StudyError(f"analysis: {e}") from None
+    values = np.array([(a, b) for a in coords[0] for b in coords[1]])
+    per = GRID_CHUNK_POINTS
+    chunks = [(s, min(s + per, len(values))) for s in range(0, len(values), per)]
+    request = {"study": "grid", "grid": [list(g) for g in axes], "analysis": analysis if isinstance(analysis, str)
+               else f"{analysis.__module__}.{analysis.__qualname__}", "options": repr(sorted(options.items())),
+               "chunk_points": per, "model": pickle.dumps(model).hex()}
+    results = _run_chunks(out, request, [(_grid_chunk, (model, names, values[s:e], analysis, options))
+                                         for s, e in chunks],
+                          lambda i: f"{names[0]} = {values[chunks[i][0], 0]:g} .. {values[chunks[i][1] - 1, 0]:g}",
+                          workers, executor, scheduler)
+    n1, n2 = len(coords[0]), len(coords[1])
+    result = {key: np.concatenate([r[key] for r in results]).reshape(n1, n2) for key in results[0]}
+    result[names[0]], result[names[1]] = coords[0], coords[1]
+    if out is not None:
+        import h5py
+        units = ANALYSES[analysis][1] if isinstance(analysis, str) else {}
+        tmp = os.path.join(out, "study.h5.partial")
+        with h5py.File(tmp, "w", track_order=True) as f:
+            for key in results[0]:
+                d = f.create_dataset(key, data=result[key], track_times=False)
+                d.attrs["units"] = units.get(key, "")
+                d.attrs["dims"] = json.dumps(names)
+            for name, c in zip(names, coords):
+                f.create_dataset(name, data=c, track_times=False)
+            _provenance(f, model, scene_text, request)
+        os.replace(tmp, os.path.join(out, "study.h5"))
+        _draw_grid(os.path.join(out, "grid"), result, names, next(iter(results[0])))
+    return result
+
+
+def _parse_axes(grid, check):
+    items = list(grid.items()) if isinstance(grid, dict) else list(grid)
+    out = []
+    for item in items:
+        if isinstance(item, str):
+            name, sep, spec = item.partition("=")
+            parts = spec.split(":")
+            if not sep or len(parts) != 3:
+                raise StudyError(f"grid: must be NAME=FROM:TO:COUNT, got {item!r}")
+        else:
+            name, parts = item
+        try:
+            lo, hi, count = (float(v) for v in parts)
+        except (TypeError, ValueError):
+            raise StudyError(f"grid: {name}: must be FROM:TO:COUNT (numbers), got {parts!r}") from None
+        try:
+            check(name)
+        except ValueError as e:
+            raise StudyError(f"grid: {e}") from None
+        if not (np.isfinite(lo) and np.isfinite(hi) and hi > lo):
+            raise StudyError(f"grid: {name}: must have finite FROM < TO, got {lo}:{hi}")
+        if count != int(count) or not 2 <= count <= 100000:
+            raise StudyError(f"grid: {name}: COUNT must be a whole number from 2 to 100000, got {count:g}")
+        out.append((name, lo, hi, int(count)))
+    if len(out) != 2 or out[0][0] == out[1][0]:
+        raise StudyError(f"grid: a study needs two different coordinates, got {[g[0] for g in out]}")
+    return out
+
+
+def _provenance(f, model, scene_text, request):
+    f.attrs["nsmodal_version"] = _nsmodal.__version__
+    f.attrs["settings"] = json.dumps({k: v for k, v in request.items() if k != "model"})
+    f.attrs["model"] = repr(model)
+    if scene_text is not None:
+        f.attrs["scene"] = scene_text
+
+
+def _draw_grid(stem, result, names, key):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from . import style
+    style.use("png")
+    fig, ax = plt.subplots(figsize=style.figsize("png"))
+    ax.grid(False)
+    mesh = ax.pcolormesh(result[names[1]], result[names[0]], result[key], cmap=style.colormap("level"),
+                         shading="nearest")
+    fig.colorbar(mesh, ax=ax, label=key.replace("_", " "))
+    ax.set_xlabel(names[1])
+    ax.set_ylabel(names[0])
+    fig.tight_layout()
+    style.save(fig, stem, ["png"])
+    plt.close(fig)
 
 
 def _write_h5(path, result, axes, model, scene_text, request, dofs):
@@ -330,11 +481,7 @@ def _write_h5(path, result, axes, model, scene_text, request, dofs):
         g.create_dataset("share", data=np.array([r["share"] for r in t]), track_times=False)
         g.create_dataset("state", data=np.array([r["state"] for r in t]).reshape(len(t), 2 * dofs),
                          track_times=False).attrs["columns"] = json.dumps(_state_names(dofs))
-        f.attrs["nsmodal_version"] = _nsmodal.__version__
-        f.attrs["settings"] = json.dumps({k: v for k, v in request.items() if k != "model"})
-        f.attrs["model"] = repr(model)
-        if scene_text is not None:
-            f.attrs["scene"] = scene_text
+        _provenance(f, model, scene_text, request)
     os.replace(tmp, path)
 
 

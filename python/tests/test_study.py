@@ -137,7 +137,7 @@ def test_bad_requests_name_their_argument(tmp_path):
         study.basin(m, {"y1": (0, 1, 5), "v1": (0, 1, 5)})
     with pytest.raises(study.StudyError, match="grid: v1: COUNT"):
         study.basin(m, {"x1": (0, 1, 5), "v1": (0, 1, 1.5)})
-    with pytest.raises(study.StudyError, match="grid: a basin needs two different coordinates"):
+    with pytest.raises(study.StudyError, match="grid: a study needs two different coordinates"):
         study.basin(m, {"x1": (0, 1, 5)})
     with pytest.raises(study.StudyError, match="executor: must be one of"):
         study.basin(m, GRID, executor="threads")

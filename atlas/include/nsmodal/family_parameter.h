@@ -9,7 +9,8 @@
 // each refined to ~1e-15 in T, not to the grid), on the model rebuilt with
 // that value, with the bridges found at its grazing transitions and period
 // doublings (FindBridgeAt, FindPeriodDoublingBridge; one contact). Consecutive values' points of the same kind are linked into
-// tracks by the nearest period (within 5 % of T and of a few grid steps);
+// tracks by the nearest period (within the larger of 5 % of T and three
+// grid steps);
 // a point with no such neighbour starts a track of its own.
 //
 // Scaling (DESIGN.md): with one contact and no force, the orbit of gap d is
