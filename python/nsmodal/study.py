@@ -19,9 +19,16 @@ run again with the same request resumes where it stopped. A chunk that
 raises is reported with its grid points and the rest completes; the dataset
 ``DIR/study.h5`` is written only when every chunk has.
 
+``grid(model, {"amplitude": (from, to, count), "gap": ...}, analysis="response",
+frequency=(from, to, step))`` runs an analysis (the frequency response's
+summary, or any picklable function of the model) at every point of a grid of
+two scene parameters, the same way.
+
 Command line: ``python3 -m nsmodal.study basin SCENE --grid NAME=FROM:TO:COUNT
 --grid NAME=FROM:TO:COUNT --periods P --out DIR [--workers N] [--executor
-processes|dask|mpi] [--scheduler ADDR]``.
+processes|dask|mpi] [--scheduler ADDR]``; ``python3 -m nsmodal.study grid SCENE
+--grid NAME=FROM:TO:COUNT --grid NAME=FROM:TO:COUNT --frequency FROM:TO:STEP
+--out DIR [--impacts M] [--periods N] [--workers N] [--executor ...]``.
 """
 import argparse
 import concurrent.futures
@@ -62,6 +69,21 @@ def _parse_grid(grid, dofs):
 
     axes = _parse_axes(grid, check)
     return axes
+
+
+def _load(model):
+    """(the Model, the scene file's text or None) from a Model or a scene path."""
+    if isinstance(model, (str, os.PathLike)):
+        path = os.fspath(model)
+        try:
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+        except OSError as e:
+            raise StudyError(f"scene: cannot read {path!r}: {e.strerror}") from None
+        return _nsmodal.load_scene(path), text
+    if not isinstance(model, _nsmodal.Model):
+        raise StudyError(f"model: must be an nsmodal.Model or a scene path, got {type(model).__name__}")
+    return model, None
 
 
 def _settle_chunk(model, states, periods, window, tol):
@@ -244,14 +266,7 @@ def basin(model, grid, periods=500, out=None, workers=1, executor="processes", s
     stroboscopic period per point}; with ``out``, also writes out/study.h5
     and out/basin.png.
     """
-    scene_text = None
-    if isinstance(model, (str, os.PathLike)):
-        path = os.fspath(model)
-        with open(path, encoding="utf-8") as f:
-            scene_text = f.read()
-        model = _nsmodal.load_scene(path)
-    if not isinstance(model, _nsmodal.Model):
-        raise StudyError(f"model: must be an nsmodal.Model or a scene path, got {type(model).__name__}")
+    model, scene_text = _load(model)
     dofs = model.dofs
     axes = _parse_grid(grid, dofs)
     if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= 4096:
@@ -347,14 +362,7 @@ def grid(model, grid, analysis="response", out=None, workers=1, executor="proces
     model -> {name: scalar} run with ``options``. Returns {name: array, the
     coordinates under their names}; with ``out``, writes out/study.h5 and
     out/grid.png (the first quantity's map)."""
-    scene_text = None
-    if isinstance(model, (str, os.PathLike)):
-        path = os.fspath(model)
-        with open(path, encoding="utf-8") as f:
-            scene_text = f.read()
-        model = _nsmodal.load_scene(path)
-    if not isinstance(model, _nsmodal.Model):
-        raise StudyError(f"model: must be an nsmodal.Model or a scene path, got {type(model).__name__}")
+    model, scene_text = _load(model)
     if isinstance(analysis, str) and analysis not in ANALYSES:
         raise StudyError(f"analysis: must be one of {', '.join(ANALYSES)} or a function, got {analysis!r}")
     axes = _parse_axes(grid, lambda name: _nsmodal._parameter_value(model, name))
@@ -540,8 +548,27 @@ def main(argv=None):
     b.add_argument("--workers", type=int, default=1)
     b.add_argument("--executor", default="processes", choices=EXECUTORS)
     b.add_argument("--scheduler")
+    g = sub.add_parser("grid", help="an analysis over a grid of two scene parameters")
+    g.add_argument("scene")
+    g.add_argument("--grid", action="append", required=True,
+                   help="NAME=FROM:TO:COUNT (twice: amplitude, gap, springs[2], ...)")
+    g.add_argument("--analysis", default="response", choices=sorted(ANALYSES))
+    g.add_argument("--frequency", required=True, help="the response's frequency grid FROM:TO:STEP")
+    g.add_argument("--impacts", type=int, default=1)
+    g.add_argument("--periods", type=int, default=1, help="forcing periods per response period n")
+    g.add_argument("--out", required=True)
+    g.add_argument("--workers", type=int, default=1)
+    g.add_argument("--executor", default="processes", choices=EXECUTORS)
+    g.add_argument("--scheduler")
     a = p.parse_args(argv)
     try:
+        if a.command == "grid":
+            r = grid(a.scene, a.grid, analysis=a.analysis, out=a.out, workers=a.workers, executor=a.executor,
+                     scheduler=a.scheduler, frequency=a.frequency, impacts=a.impacts, periods=a.periods)
+            names = [k for k in r if np.ndim(r[k]) == 1]
+            print(f"wrote {' x '.join(str(len(r[n])) for n in names)} points ({', '.join(names)}) to "
+                  f"{a.out}/study.h5 and {a.out}/grid.png")
+            return 0
         r = basin(a.scene, a.grid, periods=a.periods, out=a.out, workers=a.workers, executor=a.executor,
                   scheduler=a.scheduler)
     except (StudyError, ValueError, OSError) as e:

@@ -152,4 +152,34 @@ def test_bad_requests_name_their_argument(tmp_path):
     # The command line: exit 2 and the message.
     r = subprocess.run([sys.executable, "-m", "nsmodal.study", "basin", "nosuch.toml", "--grid", "x1=0:1:4",
                         "--grid", "v1=0:1:4", "--out", str(tmp_path / "cli")], capture_output=True, text=True)
-    assert r.returncode == 2 and "error:" in r.stderr
+    assert r.returncode == 2 and "error: scene: cannot read 'nosuch.toml'" in r.stderr, r.stderr
+
+
+def test_a_parameter_grid_of_responses_holds_the_gap_scaling_law(tmp_path):
+    # The response at force a and gap d is the one at a / d and gap 1 scaled
+    # by d: the same peak frequency, its energy times d^2. The grid's
+    # (amplitude, gap) = (0.4, 2) is then its (0.2, 1), each a grid point of
+    # its own (the coordinates' order checked with it).
+    m = nsmodal.load_scene(os.path.join(os.environ["NSMODAL_SOURCE_DIR"], "configs", "forced.toml"))
+    grid = {"amplitude": (0.2, 0.4, 2), "gap": (1, 2, 2)}
+    r = study.grid(m, grid, frequency=(0.4, 1.0, 0.01), out=str(tmp_path / "one"))
+    assert r["peak_energy"].shape == (2, 2) and list(r["amplitude"]) == [0.2, 0.4] and list(r["gap"]) == [1, 2]
+    # (1e-9: both responses solved to 1e-13 of the gap; the energies follow.)
+    assert abs(r["peak_energy"][1, 1] - 4 * r["peak_energy"][0, 0]) < 1e-9 * r["peak_energy"][1, 1]
+    assert abs(r["peak_frequency"][1, 1] - r["peak_frequency"][0, 0]) < 1e-9
+    assert r["folds"][1, 1] == r["folds"][0, 0]
+    # The same dataset from two processes.
+    study.grid(m, grid, frequency=(0.4, 1.0, 0.01), out=str(tmp_path / "two"), workers=2)
+    same(read(tmp_path / "one" / "study.h5"), read(tmp_path / "two" / "study.h5"))
+
+
+def test_a_parameter_grid_refuses_what_leaves_the_model():
+    m = nsmodal.load_scene(os.path.join(os.environ["NSMODAL_SOURCE_DIR"], "configs", "forced.toml"))
+    with pytest.raises(study.StudyError, match="grid: parameter: 'stiffness' is not a parameter"):
+        study.grid(m, {"stiffness": (1, 2, 2), "gap": (1, 2, 2)}, frequency=(0.4, 1.0, 0.01))
+    with pytest.raises(study.StudyError, match="grid: at amplitude = 0.2, gap = -1: "):
+        study.grid(m, {"amplitude": (0.2, 0.4, 2), "gap": (-1, 2, 2)}, frequency=(0.4, 1.0, 0.01))
+    with pytest.raises(study.StudyError, match="analysis: must be one of"):
+        study.grid(m, {"amplitude": (0.2, 0.4, 2), "gap": (1, 2, 2)}, analysis="atlas")
+    with pytest.raises(study.StudyError, match="analysis: .*frequency"):
+        study.grid(m, {"amplitude": (0.2, 0.4, 2), "gap": (1, 2, 2)}, frequency=(1.0, 0.4, 0.01))
