@@ -27,6 +27,7 @@
 
 #include "nsmodal/atlas.h"
 #include "nsmodal/curve.h"
+#include "nsmodal/forced_orbit.h"
 #include "nsmodal/settle.h"
 #include "nsmodal/family_parameter.h"
 #include "nsmodal/style.h"
@@ -1445,6 +1446,55 @@ defining condition's value), "curve_ends", "notes"}.)doc"));
       Signed("with_parameter(model, parameter, value)", R"doc(The model with one parameter, named as in
 continue_parameter ('gap', 'masses[1]', 'amplitude', ...), at `value`, checked
 as a scene is (a ValueError naming the scene's field and the value).)doc"));
+
+  mod.def(
+      "_identify",
+      [](const Model& model, const std::vector<int>& contacts, Integer<"periods"> periods,
+         const std::vector<double>& times) {
+        // The periodic orbit `response` would locate for a simulated
+        // attractor: its sequence (contacts from 1) over n forcing periods,
+        // solved from the simulated impact times (t from a stroboscopic
+        // instant, a multiple of 2 pi / w: the forcing phase is w t).
+        const double w = model.forcing.frequency, a = model.ForceAmplitude().cwiseAbs().maxCoeff();
+        py::dict d;
+        ForcedOrbit o;
+        if (contacts.empty()) {
+          o = LinearResponse(model, w, a);
+        } else {
+          std::vector<int> seq;
+          for (int c : contacts) seq.push_back(c - 1);
+          const ForcedProblem p(model, seq, periods, w, a);
+          Eigen::VectorXd u = Eigen::VectorXd::Zero(p.unknowns());
+          u[0] = std::fmod(w * times.front(), 2.0 * M_PI);
+          for (std::size_t i = 1; i < times.size() && static_cast<int>(i) < p.impacts(); ++i) {
+            u[static_cast<Eigen::Index>(i)] = times[i] - times[i - 1];
+          }
+          const std::optional<Eigen::VectorXd> solved = p.Solve(u);
+          d["found"] = solved.has_value();
+          if (!solved) return d;
+          o = p.Orbit(*solved);
+          // The largest distance of a located impact time from the nearest
+          // simulated one, modulo a forcing period (the located orbit starts
+          // in the first forcing period; the attractor's points are the same
+          // set).
+          double worst = 0.0;
+          const double tf = 2.0 * M_PI / w;
+          for (const double t : o.times) {
+            double nearest = std::numeric_limits<double>::infinity();
+            for (const double s : times) nearest = std::min(nearest, std::abs(std::remainder(t - s, tf)));
+            worst = std::max(worst, nearest);
+          }
+          d["time_error"] = worst;
+        }
+        d["found"] = true;
+        d["admissible"] = o.admissible;
+        d["stable"] = o.stable;
+        d["max_multiplier"] = o.max_multiplier;
+        d["residual"] = o.residual;
+        return d;
+      },
+      py::arg("model"), py::arg("contacts"), py::arg("periods"), py::arg("times"),
+      "Internal (nsmodal.study): the analytic orbit of a simulated attractor (forced_orbit.h).");
 
   mod.def(
       "_parameter_value",

@@ -95,7 +95,8 @@ def _basin_chunk(model, states, periods, window, tol):
     r = _settle_chunk(model, states, periods, window, tol)
     return {"period": np.asarray(r["period"], dtype=np.int64), "state": np.asarray(r["state"]),
             "repetition": np.asarray(r["repetition"]), "rough": np.asarray(r["zeno_or_sticking"], dtype=bool),
-            "contacts": np.array([",".join(map(str, c)) for c in r["impact_contacts"]], dtype="U")}
+            "contacts": np.array([",".join(map(str, c)) for c in r["impact_contacts"]], dtype="U"),
+            "times": np.array([",".join(repr(float(t)) for t in ts) for ts in r["impact_times"]], dtype="U")}
 
 
 def _run_chunks(out, request, tasks, describe, workers, executor, scheduler):
@@ -226,8 +227,9 @@ def _atomic_save(path, **arrays):
     os.replace(tmp, path)
 
 
-def _classify(period, state, contacts, dofs):
-    """Attractor numbers per point (canonical order) and the attractors' table."""
+def _classify(period, state, contacts, rough, dofs):
+    """Attractor numbers per point (canonical order) and the attractors' table
+    (each with its first point's index, `first`)."""
     reps = []  # (key, state, scale, points) in grid order
     label = np.full(len(period), -1, dtype=np.int64)
     for k in np.flatnonzero(period > 0):
@@ -246,11 +248,31 @@ def _classify(period, state, contacts, dofs):
                                                     tuple(np.round(reps[r][1], 9))))
     new = np.empty(len(reps), dtype=np.int64)
     new[order] = np.arange(len(reps))
-    ids = np.where(label >= 0, new[np.maximum(label, 0)] if len(reps) else -1, np.where(period < 0, -2, -1))
+    # Not a settled attractor: -1, or -3 when the run had Zeno or sticking
+    # phases; -2 a start beyond a wall.
+    unsettled = np.where(period < 0, -2, np.where(rough, -3, -1))
+    ids = np.where(label >= 0, new[np.maximum(label, 0)] if len(reps) else -1, unsettled)
     table = [{"id": int(new[r]), "period": reps[r][0][0], "impacts": len(reps[r][0][1]),
               "sequence": ",".join(str(c) for c in reps[r][0][1]), "state": reps[r][1],
-              "points": len(reps[r][3])} for r in order]
+              "points": len(reps[r][3]), "first": reps[r][3][0],
+              "zeno_or_sticking": bool(np.any(rough[reps[r][3]]))} for r in order]
     return ids, table
+
+
+def _identify(model, table, times):
+    """Each attractor's analytic orbit (nsmodal._identify): the orbit
+    `response` locates, solved from the simulated impact times of the
+    attractor's first point; its admissibility, stability and how far its
+    impact times are from the simulated ones."""
+    for t in table:
+        ts = [float(x) for x in times[t["first"]].split(",")] if times[t["first"]] else []
+        contacts = [int(c) for c in t["sequence"].split(",")] if t["sequence"] else []
+        r = _nsmodal._identify(model, contacts, t["period"], ts)
+        t["orbit_found"] = bool(r["found"])
+        t["orbit_stable"] = bool(r.get("stable", False))
+        t["orbit_admissible"] = bool(r.get("admissible", False))
+        t["orbit_max_multiplier"] = float(r.get("max_multiplier", np.nan))
+        t["orbit_time_error"] = float(r.get("time_error", 0.0 if r["found"] else np.nan))
 
 
 def basin(model, grid, periods=500, out=None, workers=1, executor="processes", scheduler=None, window=32,
@@ -260,7 +282,7 @@ def basin(model, grid, periods=500, out=None, workers=1, executor="processes", s
     others from ``base``, an (x, v) of 2N values, zero by default).
 
     Returns {"attractor": (count_1, count_2) int array (-1: not settled, -2: a
-    start beyond a wall),
+    start beyond a wall, -3: not settled, with Zeno or sticking phases),
     coordinate arrays under their names, "attractors": list of dicts (id,
     period, impacts, sequence, state, points, share), "period": the
     stroboscopic period per point}; with ``out``, also writes out/study.h5
@@ -301,7 +323,10 @@ def basin(model, grid, periods=500, out=None, workers=1, executor="processes", s
     period = np.concatenate([r["period"] for r in results])
     state = np.concatenate([r["state"] for r in results])
     contacts = [tuple(int(c) for c in s.split(",")) if s else () for r in results for s in r["contacts"]]
-    ids, table = _classify(period, state, contacts, dofs)
+    rough = np.concatenate([r["rough"] for r in results])
+    times = [s for r in results for s in r["times"]]
+    ids, table = _classify(period, state, contacts, rough, dofs)
+    _identify(model, table, times)
     for t in table:
         t["share"] = t["points"] / len(ids)
     result = {"attractor": ids.reshape(n1, n2), axes[0][0]: coords[0], axes[1][0]: coords[1],
@@ -472,7 +497,7 @@ def _write_h5(path, result, axes, model, scene_text, request, dofs):
     with h5py.File(tmp, "w", track_order=True) as f:
         d = f.create_dataset("attractor", data=result["attractor"].astype(np.int32), track_times=False)
         d.attrs["meaning"] = ("the attractor of each grid point (the table attractors); -1: no settled attractor; "
-                              "-2: a start beyond a wall")
+                              "-2: a start beyond a wall; -3: not settled, with Zeno or sticking phases")
         d.attrs["dims"] = json.dumps([axes[0][0], axes[1][0]])
         for name, _, _, _ in axes:
             c = f.create_dataset(name, data=result[name], track_times=False)
@@ -487,6 +512,12 @@ def _write_h5(path, result, axes, model, scene_text, request, dofs):
         g.create_dataset("sequence", data=np.array([r["sequence"] for r in t], dtype=h5py.string_dtype()),
                          track_times=False)
         g.create_dataset("share", data=np.array([r["share"] for r in t]), track_times=False)
+        g.create_dataset("zeno_or_sticking", data=np.array([r["zeno_or_sticking"] for r in t], dtype=bool),
+                         track_times=False)
+        for key in ("orbit_found", "orbit_admissible", "orbit_stable"):
+            g.create_dataset(key, data=np.array([r[key] for r in t], dtype=bool), track_times=False)
+        for key in ("orbit_max_multiplier", "orbit_time_error"):
+            g.create_dataset(key, data=np.array([r[key] for r in t], dtype=float), track_times=False)
         g.create_dataset("state", data=np.array([r["state"] for r in t]).reshape(len(t), 2 * dofs),
                          track_times=False).attrs["columns"] = json.dumps(_state_names(dofs))
         _provenance(f, model, scene_text, request)
@@ -506,11 +537,11 @@ def _draw(stem, result, axes, names):
     # Beyond a wall: white; not settled: light grey; the attractors in the
     # sequences' colours, in turn.
     seq = style.cycle("sequences")
-    cmap = ListedColormap([style.colour("white"), style.colour("grey_light")] +
+    cmap = ListedColormap([style.colour("grey"), style.colour("white"), style.colour("grey_light")] +
                           [seq[k % len(seq)] for k in range(max(n, 1))])
     c1, c2 = result[axes[0][0]], result[axes[1][0]]
     ax.grid(False)
-    ax.pcolormesh(c2, c1, ids + 2, cmap=cmap, vmin=-0.5, vmax=max(n, 1) + 1.5, shading="nearest")
+    ax.pcolormesh(c2, c1, ids + 3, cmap=cmap, vmin=-0.5, vmax=max(n, 1) + 2.5, shading="nearest")
     from matplotlib.patches import Patch
     a, b = names.index(axes[0][0]), names.index(axes[1][0])
     handles = []
@@ -521,6 +552,8 @@ def _draw(stem, result, axes, names):
                              label=f"{r['id']}: n = {r['period']}, {r['impacts']} impacts, {100 * r['share']:.1f} %"))
     if np.any(ids == -1):
         handles.append(Patch(facecolor=style.colour("grey_light"), label="not settled"))
+    if np.any(ids == -3):
+        handles.append(Patch(facecolor=style.colour("grey"), label="not settled: Zeno or sticking"))
     if np.any(ids == -2):
         handles.append(Patch(facecolor=style.colour("white"), edgecolor=style.colour("grey"),
                              label="start beyond a wall"))
@@ -575,8 +608,12 @@ def main(argv=None):
         print(f"error: {e}", file=sys.stderr)
         return 2
     for t in r["attractors"]:
+        orbit = ("the analytic orbit: " + ("admissible" if t["orbit_admissible"] else "NOT admissible") + ", " +
+                 ("stable" if t["orbit_stable"] else "unstable") + f", impact times within {t['orbit_time_error']:.1e}"
+                 if t["orbit_found"] else "no analytic orbit found from its impact times")
         print(f"attractor {t['id']}: period {t['period']}, {t['impacts']} impacts ({t['sequence'] or 'none'}), "
-              f"{100 * t['share']:.2f} % of the grid")
+              f"{100 * t['share']:.2f} % of the grid; {orbit}"
+              + ("; Zeno or sticking phases" if t["zeno_or_sticking"] else ""))
     unsettled, beyond = float(np.mean(r["attractor"] == -1)), float(np.mean(r["attractor"] == -2))
     print(f"not settled: {100 * unsettled:.2f} %; starts beyond a wall: {100 * beyond:.2f} %; wrote {a.out}/study.h5 "
           f"and {a.out}/basin.png")

@@ -41,6 +41,12 @@ def test_an_impact_oscillator_has_two_coexisting_responses_confirmed_by_longer_r
     kinds = sorted((t["period"], t["impacts"]) for t in r["attractors"])
     assert kinds == [(1, 0), (1, 1)], r["attractors"]
     assert all(t["share"] > 0.05 for t in r["attractors"])
+    # Each is the stable, admissible orbit `response` locates, solved from its
+    # simulated impact times (1e-6: the settled motion repeats to 1e-6 of its
+    # scale; its impact times follow).
+    for t in r["attractors"]:
+        assert t["orbit_found"] and t["orbit_admissible"] and t["orbit_stable"], t
+        assert t["orbit_time_error"] < 1e-6, t
     # Starts beyond the wall (x1 > d = 1) are no motion: -2.
     assert np.all((r["attractor"] == -2) == (r["x1"][:, None] > 1.0) * np.ones((1, 16), bool))
     # Ten points of each basin settle on the same attractor over 2,000 periods.
@@ -183,3 +189,13 @@ def test_a_parameter_grid_refuses_what_leaves_the_model():
         study.grid(m, {"amplitude": (0.2, 0.4, 2), "gap": (1, 2, 2)}, analysis="atlas")
     with pytest.raises(study.StudyError, match="analysis: .*frequency"):
         study.grid(m, {"amplitude": (0.2, 0.4, 2), "gap": (1, 2, 2)}, frequency=(1.0, 0.4, 0.01))
+
+
+def test_a_subharmonic_attractor_is_the_analytic_orbit_of_its_sequence():
+    # configs/forced.toml at w = 0.5: every start settles on a motion of two
+    # forcing periods with one impact, the (1, 2) response.
+    m = nsmodal.load_scene(os.path.join(os.environ["NSMODAL_SOURCE_DIR"], "configs", "forced.toml"))
+    r = study.basin(m, {"x1": (-1, 0.5, 6), "v1": (-1, 1, 6)}, periods=400)
+    assert [(t["period"], t["impacts"]) for t in r["attractors"]] == [(2, 1)]
+    t = r["attractors"][0]
+    assert t["orbit_found"] and t["orbit_admissible"] and t["orbit_stable"] and t["orbit_time_error"] < 1e-6, t
