@@ -77,7 +77,7 @@ fi
 expect_error "cannot open" "$bin" orbit "$tmp/missing.toml" --period 3
 # A built-in scene by name (compiled in from configs/), from a directory that has no such file.
 if env -C "$tmp" "$bin" orbit paper --period 7.5 | grep -q "admissible"; then ok; else bad "orbit paper: no built-in scene"; fi
-expect_error "no built-in scene of that name (bar, clearance, forced, impact-damper-free, impact-damper, paper-simulate, paper)" env -C "$tmp" "$bin" orbit papr --period 3
+expect_error "no built-in scene of that name (bar, clearance, forced, impact-damper-free, impact-damper, oscillator, paper-simulate, paper)" env -C "$tmp" "$bin" orbit papr --period 3
 expect_error "\-\-period" "$bin" orbits "$paper" --period 1:2 --out "$tmp/o"
 expect_error "\-\-period" "$bin" orbits "$paper" --period 5:1:0.1 --out "$tmp/o"
 expect_error "\-\-period" "$bin" orbits "$paper" --period 1:2:0 --out "$tmp/o"

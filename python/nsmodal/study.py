@@ -342,21 +342,26 @@ def basin(model, grid, periods=500, out=None, workers=1, executor="processes", s
 def response_summary(model, frequency, impacts=1, periods=1):
     """The frequency response's summary (nsmodal.response over the frequency
     grid `frequency`, no backbone): the peak of the admissible responses
-    (largest energy, its frequency), the folds, the largest impact velocity
-    of an admissible stable orbit (0: none), the share of admissible stable
-    points."""
+    (largest energy, its frequency; NaN when no point is admissible), the
+    folds and period doublings, the largest impact velocity of an admissible
+    stable orbit (NaN: none), the share of admissible stable points."""
     r = _nsmodal.response(model, impacts=impacts, periods=periods, frequency=frequency, backbone=False)
     rows, pts = r["rows"], r["points"]
     ok = rows["admissible"].astype(bool)
     stable = ok & rows["stable"].astype(bool)
-    kinds = np.asarray(pts["kind"])
+    kinds = np.asarray(pts["kind"], dtype=str)
     k = int(np.argmax(np.where(ok, rows["energy"], -np.inf))) if ok.any() else -1
-    return {"peak_energy": float(rows["energy"][k]) if k >= 0 else 0.0,
-            "peak_frequency": float(rows["w"][k]) if k >= 0 else 0.0,
+    return {"peak_energy": float(rows["energy"][k]) if k >= 0 else np.nan,
+            "peak_frequency": float(rows["w"][k]) if k >= 0 else np.nan,
             "folds": int(np.sum(kinds == "fold")),
             "period_doublings": int(np.sum(kinds == "period-doubling")),
-            "max_impact_velocity": float(np.max(rows["impact_velocity"][stable])) if stable.any() else 0.0,
+            "max_impact_velocity": float(np.max(rows["impact_velocity"][stable])) if stable.any() else np.nan,
             "stable_share": float(np.mean(stable)) if len(stable) else 0.0}
+
+
+# Units of a grid's coordinates, by the parameter's key (before any index).
+PARAMETER_UNITS = {"frequency": "rad/s", "amplitude": "N", "gap": "m", "restitution": "", "masses": "kg",
+                   "springs": "N/m", "damping_ratios": "", "rayleigh_damping": "", "contact": ""}
 
 
 ANALYSES = {"response": (response_summary, {"peak_energy": "J", "peak_frequency": "rad/s", "folds": "",
@@ -371,9 +376,11 @@ def _grid_chunk(model, names, values, analysis, options):
     for k, (v1, v2) in enumerate(values):
         m = _nsmodal.with_parameter(_nsmodal.with_parameter(model, names[0], float(v1)), names[1], float(v2))
         for key, value in fn(m, **options).items():
+            if not np.isscalar(value) and np.ndim(value) != 0:
+                raise StudyError(f"analysis: must return scalars, got {key!r} of shape {np.shape(value)}")
             out.setdefault(key, []).append(value)
-        if len(out[next(iter(out))]) != k + 1:
-            raise StudyError(f"analysis: returned other keys at point {k}")
+        if any(len(v) != k + 1 for v in out.values()):
+            raise StudyError(f"analysis: returned other keys at {names[0]} = {v1:g}, {names[1]} = {v2:g}")
     return {key: np.asarray(v) for key, v in out.items()}
 
 
@@ -390,7 +397,12 @@ def grid(model, grid, analysis="response", out=None, workers=1, executor="proces
     model, scene_text = _load(model)
     if isinstance(analysis, str) and analysis not in ANALYSES:
         raise StudyError(f"analysis: must be one of {', '.join(ANALYSES)} or a function, got {analysis!r}")
+    if analysis == "response" and (model.forcing_amplitude is None or not np.any(model.forcing_amplitude)):
+        raise StudyError("model: the response analysis needs a forced model (a [forcing] table)")
     axes = _parse_axes(grid, lambda name: _nsmodal._parameter_value(model, name))
+    if analysis == "response" and any(name == "frequency" for name, *_ in axes):
+        raise StudyError("grid: frequency cannot be a grid axis of the response analysis (it sweeps the "
+                         "frequency itself: --frequency)")
     coords = [np.linspace(lo, hi, count) for (_, lo, hi, count) in axes]
     names = [axes[0][0], axes[1][0]]
     # The grid's corners checked before any work or file (a value that
@@ -414,7 +426,8 @@ def grid(model, grid, analysis="response", out=None, workers=1, executor="proces
                "chunk_points": per, "model": pickle.dumps(model).hex()}
     results = _run_chunks(out, request, [(_grid_chunk, (model, names, values[s:e], analysis, options))
                                          for s, e in chunks],
-                          lambda i: f"{names[0]} = {values[chunks[i][0], 0]:g} .. {values[chunks[i][1] - 1, 0]:g}",
+                          lambda i: f"points {chunks[i][0]} to {chunks[i][1] - 1} ({names[0]} = "
+                                    f"{values[chunks[i][0], 0]:g} .. {values[chunks[i][1] - 1, 0]:g})",
                           workers, executor, scheduler)
     n1, n2 = len(coords[0]), len(coords[1])
     result = {key: np.concatenate([r[key] for r in results]).reshape(n1, n2) for key in results[0]}
@@ -429,7 +442,8 @@ def grid(model, grid, analysis="response", out=None, workers=1, executor="proces
                 d.attrs["units"] = units.get(key, "")
                 d.attrs["dims"] = json.dumps(names)
             for name, c in zip(names, coords):
-                f.create_dataset(name, data=c, track_times=False)
+                f.create_dataset(name, data=c, track_times=False).attrs["units"] = PARAMETER_UNITS.get(
+                    name.split("[")[0], "")
             _provenance(f, model, scene_text, request)
         os.replace(tmp, os.path.join(out, "study.h5"))
         _draw_grid(os.path.join(out, "grid"), result, names, next(iter(results[0])))

@@ -185,6 +185,11 @@ def test_a_parameter_grid_refuses_what_leaves_the_model():
         study.grid(m, {"stiffness": (1, 2, 2), "gap": (1, 2, 2)}, frequency=(0.4, 1.0, 0.01))
     with pytest.raises(study.StudyError, match="grid: at amplitude = 0.2, gap = -1: "):
         study.grid(m, {"amplitude": (0.2, 0.4, 2), "gap": (-1, 2, 2)}, frequency=(0.4, 1.0, 0.01))
+    with pytest.raises(study.StudyError, match="grid: frequency cannot be a grid axis"):
+        study.grid(m, {"amplitude": (0.2, 0.4, 2), "frequency": (0.5, 1, 2)}, frequency=(0.4, 1.0, 0.01))
+    free = nsmodal.load_scene(os.path.join(os.environ["NSMODAL_SOURCE_DIR"], "configs", "paper.toml"))
+    with pytest.raises(study.StudyError, match="model: the response analysis needs a forced model"):
+        study.grid(free, {"gap": (1, 2, 2), "springs[2]": (1, 2, 2)}, frequency=(0.4, 1.0, 0.01))
     with pytest.raises(study.StudyError, match="analysis: must be one of"):
         study.grid(m, {"amplitude": (0.2, 0.4, 2), "gap": (1, 2, 2)}, analysis="atlas")
     with pytest.raises(study.StudyError, match="analysis: .*frequency"):
