@@ -65,15 +65,8 @@ detail::TracerSetup Setup(const Model& model, const CurveOptions& o) {
   s.problem = [&model, &o, k = s.unknowns](const Vec& l) -> std::unique_ptr<ForcedProblem> {
     const std::optional<Model> m = ModelAt(model, o, l);
     if (!m) return nullptr;
-    const double w = m->forcing.frequency, a = m->ForceAmplitude().cwiseAbs().maxCoeff();
-    std::unique_ptr<ForcedProblem> p;
-    try {
-      p = o.sequence.empty() ? std::make_unique<ForcedProblem>(*m, o.impacts, o.periods, w, a)
-                             : std::make_unique<ForcedProblem>(*m, o.sequence, o.periods, w, a);
-    } catch (const InputError&) {
-      return nullptr;  // (not posed there: outside the domain)
-    }
-    return p->unknowns() == k ? std::move(p) : nullptr;
+    return detail::PosedProblem(*m, o.impacts, o.sequence, o.periods, m->forcing.frequency,
+                                m->ForceAmplitude().cwiseAbs().maxCoeff(), k);
   };
   s.linear = [&model, &o](const Vec& l) -> std::optional<ForcedOrbit> {
     const std::optional<Model> m = ModelAt(model, o, l);
@@ -380,13 +373,10 @@ class CurveFollower {
       }
       if (opt_.follow != CurveKind::kPeriodDoubling && opt_.impacts > 0 &&
           (detail::PeriodDoublingTest(a.orbit) < 0.0) != (detail::PeriodDoublingTest(b.orbit) < 0.0)) {
-        // (Through -1, not through a pole: response.cc's check.)
-        if (const std::optional<Vec> xi =
-                seg.Root([&](const Vec& x, const Vec&) { return detail::PeriodDoublingTest(tr_.Orbit(x)); })) {
-          if ((tr_.Orbit(*xi).multipliers.array() + 1.0).abs().minCoeff() <= 1e-6) {
-            const Vec chord = b.xi - a.xi;
-            met.push_back({(*xi - a.xi).dot(chord) / chord.squaredNorm(), {"period-doubling", *xi}});
-          }
+        // (Through -1, not through a pole.)
+        if (const std::optional<Vec> xi = seg.PeriodDoubling()) {
+          const Vec chord = b.xi - a.xi;
+          met.push_back({(*xi - a.xi).dot(chord) / chord.squaredNorm(), {"period-doubling", *xi}});
         }
       }
       if (opt_.follow != CurveKind::kGrazing && std::isfinite(gap(a.orbit)) && std::isfinite(gap(b.orbit)) &&
@@ -453,13 +443,8 @@ CurveOptions MakeCurveRequest(const Model& model, const std::string& parameter, 
   }
   o.first_range = ParseParameterRange(range, names("range"));
   o.second_range = ParseParameterRange(second_range, names("second_range"));
-  for (const auto& [r, field] : {std::pair{&o.first_range, names("range")}, std::pair{&o.second_range, names("second_range")}}) {
-    if (!std::isfinite(r->from) || !std::isfinite(r->to) || !std::isfinite(r->step) || !(r->to > r->from) ||
-        !(r->step > 0.0)) {
-      throw InputError(field, "must be FROM:TO[:STEP] with TO > FROM and STEP > 0, all finite, got " +
-                                  FormatValue(r->from) + ":" + FormatValue(r->to) + ":" + FormatValue(r->step));
-    }
-  }
+  CheckParameterRange(o.first_range, names("range"));
+  CheckParameterRange(o.second_range, names("second_range"));
   // Each range checked at both ends of the other (the window's corners: a
   // valid model on which the response can be posed), as `continue` checks
   // one range.

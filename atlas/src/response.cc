@@ -45,16 +45,7 @@ void ResponseOptions::Validate(const FieldNames& names) const {
     // The grid may start at 0 (a damping ratio, a restitution): the model's
     // own checks say which values are valid (ComputeResponse checks both ends).
     if (!model_parameter) throw InputError(names("parameter"), "is missing: the model parameter to follow");
-    const std::string field = names("range");
-    if (!std::isfinite(grid.from) || !std::isfinite(grid.to) || !std::isfinite(grid.step) || !(grid.to > grid.from) ||
-        !(grid.step > 0.0)) {
-      throw InputError(field, "must be FROM:TO[:STEP] with TO > FROM and STEP > 0, all finite, got " +
-                                  FormatValue(grid.from) + ":" + FormatValue(grid.to) + ":" + FormatValue(grid.step));
-    }
-    if ((grid.to - grid.from) / grid.step >= static_cast<double>(PeriodGrid::kMaxPeriods)) {
-      throw InputError(field, "asks for " + FormatValue(std::floor((grid.to - grid.from) / grid.step) + 1) +
-                                  " values; at most " + std::to_string(PeriodGrid::kMaxPeriods));
-    }
+    CheckParameterRange(grid, names("range"));
   } else {
     grid.Validate(names(frequency ? "frequency" : "amplitude"));
   }
@@ -130,18 +121,10 @@ class ResponseAxis {
     const std::optional<Model> m = ModelAt(lambda);
     if (!m) return nullptr;
     const double w = Frequency(*m, lambda), a = Amplitude(*m, lambda);
-    auto make = [&] {
-      return opt_.sequence.empty() ? std::make_unique<ForcedProblem>(*m, opt_.impacts, opt_.periods, w, a)
-                                   : std::make_unique<ForcedProblem>(*m, opt_.sequence, opt_.periods, w, a);
-    };
-    if (opt_.parameter != ResponseParameter::kModel) return make();
-    std::unique_ptr<ForcedProblem> p;
-    try {
-      p = make();
-    } catch (const InputError&) {
-      return nullptr;
+    if (opt_.parameter != ResponseParameter::kModel) {
+      return detail::MakeForcedProblem(*m, opt_.impacts, opt_.sequence, opt_.periods, w, a);
     }
-    return p->unknowns() == unknowns ? std::move(p) : nullptr;
+    return detail::PosedProblem(*m, opt_.impacts, opt_.sequence, opt_.periods, w, a, unknowns);
   }
   // The linear response (m = 0) at lambda; nullopt outside the domain.
   std::optional<ForcedOrbit> Linear(double lambda) const {
@@ -428,14 +411,8 @@ class Responder {
         locate(SpecialKind::kFold, [&](const Vec&, const Vec& t) { return t[last]; });
       }
       if ((PeriodDoublingTest(a.orbit) < 0.0) != (PeriodDoublingTest(b.orbit) < 0.0)) {
-        // A multiplier through -1, not through infinity (at a zero-velocity
-        // impact the saltation's 1 / v_c sends the multipliers through a pole).
-        if (const std::optional<Vec> xi = seg.Root([&](const Vec& x, const Vec&) { return PeriodDoublingTest(tr_.Orbit(x)); })) {
-          const ForcedOrbit o = tr_.Orbit(*xi);
-          if ((o.multipliers.array() + 1.0).abs().minCoeff() <= 1e-6) {
-            Record(SpecialKind::kPeriodDoubling, branch, o, tr_.Lambda(*xi));
-          }
-        }
+        // (A multiplier through -1, not through a pole.)
+        if (const std::optional<Vec> xi = seg.PeriodDoubling()) Record(SpecialKind::kPeriodDoubling, branch, *xi);
       }
       if (std::isfinite(a.orbit.max_interior_gap) && std::isfinite(b.orbit.max_interior_gap) &&
           (a.orbit.max_interior_gap < 0.0) != (b.orbit.max_interior_gap < 0.0)) {
@@ -614,12 +591,8 @@ void CheckRangeEnds(const Model& model, const ResponseOptions& o, const std::str
     }
     if (o.impacts == 0) continue;  // (the linear response: posed wherever the model is valid)
     try {
-      const double w = m.forcing.frequency, a = m.ForceAmplitude().cwiseAbs().maxCoeff();
-      if (o.sequence.empty()) {
-        ForcedProblem(m, o.impacts, o.periods, w, a);
-      } else {
-        ForcedProblem(m, o.sequence, o.periods, w, a);
-      }
+      detail::MakeForcedProblem(m, o.impacts, o.sequence, o.periods, m.forcing.frequency,
+                                m.ForceAmplitude().cwiseAbs().maxCoeff());
     } catch (const InputError& e) {
       throw InputError(range, at + e.what());
     }
@@ -718,6 +691,18 @@ ResponseRequest MakeContinuationRequest(const Model& model, const std::string& p
 }
 
 PeriodGrid ParseParameterRange(const std::string& text, const std::string& field) { return ParseRange(text, field); }
+
+void CheckParameterRange(const PeriodGrid& grid, const std::string& field) {
+  if (!std::isfinite(grid.from) || !std::isfinite(grid.to) || !std::isfinite(grid.step) || !(grid.to > grid.from) ||
+      !(grid.step > 0.0)) {
+    throw InputError(field, "must be FROM:TO[:STEP] with TO > FROM and STEP > 0, all finite, got " +
+                                FormatValue(grid.from) + ":" + FormatValue(grid.to) + ":" + FormatValue(grid.step));
+  }
+  if ((grid.to - grid.from) / grid.step >= static_cast<double>(PeriodGrid::kMaxPeriods)) {
+    throw InputError(field, "asks for " + FormatValue(std::floor((grid.to - grid.from) / grid.step) + 1) +
+                                " values; at most " + std::to_string(PeriodGrid::kMaxPeriods));
+  }
+}
 
 ResponseRequest MakeContinuationRequest(const Model& model, const ModelParameter& p, const PeriodGrid& grid,
                                         int impacts, int periods, const FieldNames& names,

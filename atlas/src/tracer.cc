@@ -5,9 +5,27 @@
 #include <utility>
 
 #include "nsmodal/check.h"
+#include "nsmodal/error.h"
 #include "nsmodal/roots.h"
 
 namespace nsmodal::detail {
+
+std::unique_ptr<ForcedProblem> MakeForcedProblem(const Model& model, int impacts, const std::vector<int>& sequence,
+                                                 int periods, double w, double a) {
+  return sequence.empty() ? std::make_unique<ForcedProblem>(model, impacts, periods, w, a)
+                          : std::make_unique<ForcedProblem>(model, sequence, periods, w, a);
+}
+
+std::unique_ptr<ForcedProblem> PosedProblem(const Model& model, int impacts, const std::vector<int>& sequence,
+                                            int periods, double w, double a, int unknowns) {
+  std::unique_ptr<ForcedProblem> p;
+  try {
+    p = MakeForcedProblem(model, impacts, sequence, periods, w, a);
+  } catch (const InputError&) {
+    return nullptr;
+  }
+  return p->unknowns() == unknowns ? std::move(p) : nullptr;
+}
 
 Tracer::Tracer(TracerSetup setup) : s_(std::move(setup)), m_(s_.impacts), k_(s_.unknowns) {
   NSMODAL_CHECK(s_.lambda_scale.size() == 1 || s_.lambda_scale.size() == 2);
@@ -221,6 +239,12 @@ std::optional<Vec> SegmentLocator::Root(const std::function<double(const Vec&, c
   const double sigma = PolishRoot(g, 0.0, 1.0);
   if (failed) return std::nullopt;
   return At(sigma);
+}
+
+std::optional<Vec> SegmentLocator::PeriodDoubling() const {
+  const std::optional<Vec> xi = Root([&](const Vec& x, const Vec&) { return PeriodDoublingTest(tr_.Orbit(x)); });
+  if (!xi || (tr_.Orbit(*xi).multipliers.array() + 1.0).abs().minCoeff() > 1e-6) return std::nullopt;
+  return xi;
 }
 
 }  // namespace nsmodal::detail

@@ -15,12 +15,23 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "nsmodal/forced_orbit.h"
 
 namespace nsmodal::detail {
 
 using Vec = Eigen::VectorXd;
+
+// The response problem of m impacts (the sequence (0, ..., 0)) or of
+// `sequence` when it is not empty, in n forcing periods, at (w, a): throws
+// ForcedProblem's InputError where it cannot be posed.
+std::unique_ptr<ForcedProblem> MakeForcedProblem(const Model& model, int impacts, const std::vector<int>& sequence,
+                                                 int periods, double w, double a);
+// The same, null where it cannot be posed or has another number of unknowns
+// than `unknowns` (a parameter's value outside a continuation's domain).
+std::unique_ptr<ForcedProblem> PosedProblem(const Model& model, int impacts, const std::vector<int>& sequence,
+                                            int periods, double w, double a, int unknowns);
 
 // The defining condition of a point followed in two parameters:
 //   fold             det dH/du = 0 (u scaled; central differences, step 1e-5:
@@ -127,6 +138,11 @@ class SegmentLocator {
   // The root of test(xi, tangent) on (0, 1); nullopt if the corrector fails
   // or the test has the same sign at both ends.
   std::optional<Vec> Root(const std::function<double(const Vec&, const Vec&)>& test) const;
+  // The period doubling between the ends (PeriodDoublingTest's sign change):
+  // nullopt when not located or when no multiplier is within 1e-6 of -1
+  // there (at a zero-velocity impact the saltation's 1 / v_c sends the
+  // multipliers through a pole, which changes the test's sign too).
+  std::optional<Vec> PeriodDoubling() const;
 
  private:
   const Tracer& tr_;

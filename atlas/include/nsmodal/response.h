@@ -162,6 +162,10 @@ ResponseRequest MakeContinuationRequest(const Model& model, const ModelParameter
 // (plain numbers; STEP (TO - FROM) / 300 by default). Throws InputError
 // naming `field` for any other text; the values are checked by the request.
 PeriodGrid ParseParameterRange(const std::string& text, const std::string& field);
+// A model parameter's range checked: finite, TO > FROM, STEP > 0 (FROM may
+// be 0 or negative: the model's own checks say which values are valid), at
+// most PeriodGrid::kMaxPeriods values. Throws InputError naming `field`.
+void CheckParameterRange(const PeriodGrid& range, const std::string& field);
 
 // A point of a response with the number of its branch (1-based): a row of
 // response.csv (report/tables.h), of Python's response()["rows"].
