@@ -446,7 +446,8 @@ def grid(model, grid, analysis="response", out=None, workers=1, executor="proces
                     name.split("[")[0], "")
             _provenance(f, model, scene_text, request)
         os.replace(tmp, os.path.join(out, "study.h5"))
-        _draw_grid(os.path.join(out, "grid"), result, names, next(iter(results[0])))
+        first = next(iter(results[0]))
+        _draw_grid(os.path.join(out, "grid"), result, names, first, units.get(first, ""))
     return result
 
 
@@ -487,7 +488,7 @@ def _provenance(f, model, scene_text, request):
         f.attrs["scene"] = scene_text
 
 
-def _draw_grid(stem, result, names, key):
+def _draw_grid(stem, result, names, key, unit):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -497,9 +498,12 @@ def _draw_grid(stem, result, names, key):
     ax.grid(False)
     mesh = ax.pcolormesh(result[names[1]], result[names[0]], result[key], cmap=style.colormap("level"),
                          shading="nearest")
-    fig.colorbar(mesh, ax=ax, label=key.replace("_", " "))
-    ax.set_xlabel(names[1])
-    ax.set_ylabel(names[0])
+    def label(name, u):
+        return f"{name.replace('_', ' ')} ({u})" if u else name.replace("_", " ")
+
+    fig.colorbar(mesh, ax=ax, label=label(key, unit))
+    ax.set_xlabel(label(names[1], PARAMETER_UNITS.get(names[1].split("[")[0], "")))
+    ax.set_ylabel(label(names[0], PARAMETER_UNITS.get(names[0].split("[")[0], "")))
     fig.tight_layout()
     style.save(fig, stem, ["png"])
     plt.close(fig)
