@@ -1113,9 +1113,11 @@ Returns the dict of summary.json ("status", "final_time", "final_state",
 on_impact: None or a callable on_impact(t, before, after) (the states
 (x, v) just before and after, arrays of 2N) at each impact; progress: None
 or a callable progress(t, t_end) as the run goes. As in SciPy's solve_ivp,
-t_span=(0, t_end) may give t_end, and t_eval=[...] (ascending, in [0, t_end])
-the trajectory's sample times instead of the sample_dt grid; each sample is
-the exact state at that time (the closed-form flight for "exact").
+t_span=(t_start, t_end) may give t_end and a start time (x0, v0 taken at
+t_start: a harmonic force starts at its phase w t_start), and t_eval=[...]
+(ascending, in [t_start, t_end]) the trajectory's sample times instead of the
+sample_dt grid; each sample is the exact state at that time (the closed-form
+flight for "exact").
 A run that stopped early has "status" != "finished" and says why in
 "message".)doc" + KeywordDoc(SimulateSettings(), "simulate");
   mod.def(
@@ -1140,15 +1142,14 @@ A run that stopped early has "status" != "finished" and says why in
                                  Repr(f));
           }
         }
-        // SciPy's names (solve_ivp): t_span = (0, t_end), t_eval = the sample times.
+        // SciPy's names (solve_ivp): t_span = (t_start, t_end), t_eval = the sample times.
+        double t_start = 0.0;
         if (all.contains("t_span")) {
           const py::object span = all.attr("pop")("t_span");
           if (all.contains("t_end")) throw py::type_error("simulate(): give t_span or t_end, not both");
           const std::vector<double> ends = DoublesOf(span, "t_span");
-          if (ends.size() != 2 || ends[0] != 0.0) {
-            throw InputError("t_span", "must be (0, t_end): the run starts at t = 0 (the forcing's phase counts from "
-                                       "it), got " + Repr(span));
-          }
+          if (ends.size() != 2) throw InputError("t_span", "must be (t_start, t_end), got " + Repr(span));
+          t_start = ends[0];
           all["t_end"] = ends[1];
         }
         std::vector<double> t_eval;
@@ -1162,7 +1163,8 @@ A run that stopped early has "status" != "finished" and says why in
         const Configured<SimulationRequest> request = SimulateSettings().Resolve({&keywords});
         SimulateOptions options = request.options.options;
         options.sample_times = std::move(t_eval);
-        options.Validate(FieldNames().Set("sample_times", "t_eval"));
+        options.t_start = t_start;
+        options.Validate(FieldNames().Set("sample_times", "t_eval").Set("t_start", "t_span"));
         const SimulationPlan plan = PlanSimulation(model, request);
         const int n = model.dofs();
         std::vector<report::Sample> samples;
@@ -1506,18 +1508,27 @@ as a scene is (a ValueError naming the scene's field and the value).)doc"));
   mod.def(
       "_settle",
       [](const Model& model, const Eigen::MatrixXd& states, Integer<"periods"> periods, Integer<"window"> window,
-         double tol) {
-        // The batch of nsmodal.study's chunks: one Settle per row (x, v).
+         double tol, const std::optional<Eigen::VectorXd>& phases) {
+        // The batch of nsmodal.study's chunks: one Settle per row (x, v),
+        // started at its forcing phase (phases[k]; none: 0).
         const int n = model.dofs();
         if (states.cols() != 2 * n) {
           throw InputError("states", "must have 2N = " + std::to_string(2 * n) + " columns (x, v), got " +
                                          std::to_string(states.cols()));
+        }
+        if (phases && phases->size() != states.rows()) {
+          throw InputError("phases", "must have one entry per state (" + std::to_string(states.rows()) + "), got " +
+                                         std::to_string(phases->size()));
         }
         SettleOptions o;
         o.periods = periods;
         o.window = window;
         o.tol = tol;
         o.Validate();
+        for (Eigen::Index k = 0; phases && k < phases->size(); ++k) {
+          o.phase = (*phases)[k];
+          o.Validate();
+        }
         const Eigen::Index rows = states.rows();
         Eigen::MatrixXd out = Eigen::MatrixXd::Constant(rows, 2 * n, std::numeric_limits<double>::quiet_NaN());
         Eigen::VectorXi period = Eigen::VectorXi::Zero(rows);
@@ -1525,14 +1536,17 @@ as a scene is (a ValueError naming the scene's field and the value).)doc"));
         std::vector<bool> rough(static_cast<std::size_t>(rows));
         std::vector<std::vector<double>> times(static_cast<std::size_t>(rows));
         std::vector<std::vector<int>> contacts(static_cast<std::size_t>(rows));
+        std::vector<std::vector<double>> velocities(static_cast<std::size_t>(rows));
         std::vector<std::string> messages(static_cast<std::size_t>(rows));
         Interruptible([&] {
           for (Eigen::Index k = 0; k < rows; ++k) {
             const Eigen::VectorXd z = states.row(k).transpose();
             const std::size_t i = static_cast<std::size_t>(k);
             Settled r;
+            SettleOptions ok = o;
+            ok.phase = phases ? (*phases)[k] : 0.0;
             try {
-              r = Settle(model, z.head(n), z.tail(n), o);
+              r = Settle(model, z.head(n), z.tail(n), ok);
             } catch (const InputError& e) {
               // A start beyond a wall is no motion: period -1, said why.
               if (e.field() != "simulate.initial_position") throw;
@@ -1545,6 +1559,7 @@ as a scene is (a ValueError naming the scene's field and the value).)doc"));
             repetition[k] = r.repetition;
             rough[i] = r.zeno_or_sticking;
             times[i] = r.impact_times;
+            velocities[i] = r.impact_velocities;
             for (int c : r.impact_contacts) contacts[i].push_back(c + 1);
             messages[i] = r.message;
           }
@@ -1556,12 +1571,14 @@ as a scene is (a ValueError naming the scene's field and the value).)doc"));
         d["zeno_or_sticking"] = rough;
         d["impact_times"] = times;
         d["impact_contacts"] = contacts;
+        d["impact_velocities"] = velocities;
         d["message"] = messages;
         return d;
       },
       py::arg("model"), py::arg("states"), py::arg("periods"), py::arg("window") = 32, py::arg("tol") = 1e-6,
-      "Internal (nsmodal.study): where each initial state (a row x, v) settles (settle.h); period 0: not "
-      "settled, -1: a start beyond a wall.");
+      py::arg("phases") = py::none(),
+      "Internal (nsmodal.study): where each initial state (a row x, v), started at its forcing phase "
+      "(phases, rad; none: 0), settles (settle.h); period 0: not settled, -1: a start beyond a wall.");
 
   mod.attr("__version__") = NSMODAL_VERSION;
 }

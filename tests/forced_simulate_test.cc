@@ -6,6 +6,7 @@
 #include <complex>
 
 #include "forced_fixtures.h"
+#include "nsmodal/error.h"
 #include "nsmodal/modal_basis.h"
 #include "nsmodal/simulate.h"
 
@@ -87,6 +88,58 @@ TEST(ForcedSimulation, IntegratorsAgreeWithDampingAndForcing) {
   const double e2 = (Sim(m, x0, v0, 200.0, Integrator::kMoreauJean, 1e-3).final_state - exact.final_state).norm();
   EXPECT_LT(e2, 0.7 * e1) << e1 << " " << e2;
   EXPECT_LT(e2, 2e-3);
+}
+
+TEST(ForcedSimulation, ARunStartedAtTStartSeesTheForcingAtItsPhase) {
+  // The run from 0 to 200 and the same motion restarted at t1 = 83.7 from its
+  // state there reach the same end (impacts before and after t1): the
+  // restart's forcing starts at w t1. Each integrator to its own error:
+  // exact, round-off (1e-16 measured, 1e-11 allowed); cvode, rtol 1e-10
+  // through the impacts and the restart (1e-8 allowed, as above); Moreau-Jean
+  // with t1 on its step grid takes the same steps (round-off of t1 + k h).
+  // Restarted at 0 instead, the forcing is shifted by w t1: order 1 apart.
+  const Model m = DampedForcedPaper();
+  const Eigen::VectorXd x0 = Eigen::Vector2d(0.2, -0.1), v0 = Eigen::Vector2d(0.0, 0.3);
+  const double t1 = 83.7;
+  for (Integrator integrator : {Integrator::kExact, Integrator::kCvode, Integrator::kMoreauJean}) {
+    SCOPED_TRACE(ToString(integrator));
+    const SimulationSummary first = Sim(m, x0, v0, t1, integrator);
+    const SimulationSummary whole = Sim(m, x0, v0, 200.0, integrator);
+    ASSERT_GT(first.impacts, 0);
+    ASSERT_GT(whole.impacts, first.impacts);
+    SimulateOptions opt;
+    opt.integrator = integrator;
+    opt.t_start = t1;
+    opt.t_end = 200.0;
+    opt.sample_dt = 10.0;
+    std::vector<double> samples;
+    SimulationObserver obs;
+    obs.on_sample = [&samples](double t, const Eigen::VectorXd&) { samples.push_back(t); };
+    const Eigen::Index n = x0.size();
+    const SimulationSummary rest = Simulate(m, first.final_state.head(n), first.final_state.tail(n), opt, obs);
+    EXPECT_EQ(rest.final_time, 200.0);
+    EXPECT_EQ(first.impacts + rest.impacts, whole.impacts);
+    const double tol = integrator == Integrator::kCvode ? 1e-8 : 1e-11;
+    EXPECT_LT((rest.final_state - whole.final_state).norm(), tol);
+    opt.t_start = 0.0;
+    opt.t_end = 200.0 - t1;
+    const SimulationSummary shifted = Simulate(m, first.final_state.head(n), first.final_state.tail(n), opt);
+    EXPECT_GT((shifted.final_state - whole.final_state).norm(), 1e-2);
+    // The sample grid counts from t_start.
+    ASSERT_EQ(samples.size(), 12u);
+    EXPECT_EQ(samples.front(), t1);
+    EXPECT_DOUBLE_EQ(samples.back(), t1 + 110.0);
+  }
+  SimulateOptions bad;
+  bad.t_end = 10.0;
+  bad.t_start = 10.0;
+  try {
+    bad.Validate();
+    ADD_FAILURE() << "t_start = t_end accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "simulate.t_start");
+    EXPECT_NE(std::string(e.what()).find("must be in [0, t_end = 10), got 10"), std::string::npos) << e.what();
+  }
 }
 
 // A unit oscillator preloaded by f0 = 2 towards a wall at d = 1: its

@@ -59,16 +59,54 @@ def _state_names(dofs):
     return [f"x{i + 1}" for i in range(dofs)] + [f"v{i + 1}" for i in range(dofs)]
 
 
+# The impact section's coordinates: the forcing phase w t of the start (rad)
+# and the velocity into the wall just before the impact there (m/s).
+SECTION = ("phase", "impact_velocity")
+
+
 def _parse_grid(grid, dofs):
-    """Two state coordinates (x1, v2, ...) with their ranges and counts."""
+    """Two state coordinates (x1, v2, ...), or the impact section's two
+    (phase, impact_velocity), with their ranges and counts."""
     names = _state_names(dofs)
 
     def check(name):
-        if name not in names:
-            raise ValueError(f"{name!r} is not a coordinate of the state; one of {', '.join(names)}")
+        if name not in names and name not in SECTION:
+            raise ValueError(f"{name!r} is not a coordinate of the state ({', '.join(names)}) or of the impact "
+                             f"section ({', '.join(SECTION)})")
 
     axes = _parse_axes(grid, check)
+    section = [name in SECTION for name, *_ in axes]
+    if any(section) and not all(section):
+        raise StudyError(f"grid: a basin is over two state coordinates or over the impact section's "
+                         f"{' and '.join(SECTION)}, not both, got {axes[0][0]} and {axes[1][0]}")
+    for name, lo, _, _ in axes:
+        if name == "impact_velocity" and not lo > 0:
+            raise StudyError(f"grid: impact_velocity: must be > 0 (the velocity into the wall before the impact), "
+                             f"got FROM = {lo:g}")
     return axes
+
+
+def _impacts(count):
+    return f"{count} impact" + ("" if count == 1 else "s")
+
+
+def _coordinate_unit(name):
+    return "rad" if name == "phase" else "m" if name.startswith("x") else "m/s"
+
+
+def _normal(model, contact):
+    """Contact `contact`'s (1-based) normal n (gap = n . x)."""
+    if isinstance(contact, bool) or not isinstance(contact, int) or not 1 <= contact <= len(model.contacts):
+        raise StudyError(f"contact: must be a contact of the model, 1 to {len(model.contacts)}, got {contact!r}")
+    c = model.contacts[contact - 1]
+    n = np.zeros(model.dofs)
+    if "dof" in c:
+        n[c["dof"] - 1] = 1.0 if c["side"] == "upper" else -1.0
+    elif "between" in c:
+        n[c["between"][0] - 1], n[c["between"][1] - 1] = 1.0, -1.0
+    else:
+        n = np.asarray(c["normal"], dtype=float)
+    return n, float(c["gap"])
 
 
 def _load(model):
@@ -86,17 +124,21 @@ def _load(model):
     return model, None
 
 
-def _settle_chunk(model, states, periods, window, tol):
+def _settle_chunk(model, states, periods, window, tol, phases=None):
     # (Top level: the executors pickle it by name.)
-    return _nsmodal._settle(model, states, periods, window, tol)
+    return _nsmodal._settle(model, states, periods, window, tol, phases)
 
 
-def _basin_chunk(model, states, periods, window, tol):
-    r = _settle_chunk(model, states, periods, window, tol)
+def _basin_chunk(model, states, periods, window, tol, phases=None):
+    r = _settle_chunk(model, states, periods, window, tol, phases)
+
+    def joined(rows):
+        return np.array([",".join(repr(float(t)) for t in ts) for ts in rows], dtype="U")
+
     return {"period": np.asarray(r["period"], dtype=np.int64), "state": np.asarray(r["state"]),
             "repetition": np.asarray(r["repetition"]), "rough": np.asarray(r["zeno_or_sticking"], dtype=bool),
             "contacts": np.array([",".join(map(str, c)) for c in r["impact_contacts"]], dtype="U"),
-            "times": np.array([",".join(repr(float(t)) for t in ts) for ts in r["impact_times"]], dtype="U")}
+            "times": joined(r["impact_times"]), "velocities": joined(r["impact_velocities"])}
 
 
 def _run_chunks(out, request, tasks, describe, workers, executor, scheduler):
@@ -128,6 +170,9 @@ def _run_chunks(out, request, tasks, describe, workers, executor, scheduler):
             if os.path.exists(p):
                 with np.load(p, allow_pickle=False) as d:
                     results[i] = {k: d[k] for k in d.files}
+        if results:
+            print(f"study: resuming: {len(results)} of {len(tasks)} chunks already done in {chunk_dir}",
+                  file=sys.stderr)
     failures = []
     ex = _Executor(executor, workers, scheduler)
     try:
@@ -276,10 +321,15 @@ def _identify(model, table, times):
 
 
 def basin(model, grid, periods=500, out=None, workers=1, executor="processes", scheduler=None, window=32,
-          tol=1e-6, base=None):
+          tol=1e-6, base=None, contact=1):
     """The basins of attraction of a forced model over a grid of two state
     coordinates (``{"x1": (from, to, count), "v1": (from, to, count)}``; the
-    others from ``base``, an (x, v) of 2N values, zero by default).
+    others from ``base``, an (x, v) of 2N values, zero by default), or over
+    the impact section of contact ``contact`` (``{"phase": (from, to,
+    count), "impact_velocity": (from, to, count)}``: each motion starts at
+    t = phase / w on the wall, n . x = d, moving into it at n . v =
+    impact_velocity > 0, the rest of the state from ``base`` (its component
+    along n replaced); the Newton law strikes at once).
 
     Returns {"attractor": (count_1, count_2) int array (-1: not settled, -2: a
     start beyond a wall, -3: not settled, with Zeno or sticking phases),
@@ -302,35 +352,60 @@ def basin(model, grid, periods=500, out=None, workers=1, executor="processes", s
         raise StudyError(f"base: must be 2N = {2 * dofs} finite values (x, v), got {base!r}")
     names = _state_names(dofs)
     coords = [np.linspace(lo, hi, count) for (_, lo, hi, count) in axes]
-    a, b = (names.index(axes[0][0]), names.index(axes[1][0]))
     n1, n2 = len(coords[0]), len(coords[1])
+    first = np.repeat(coords[0], n2)
+    second = np.tile(coords[1], n1)
     states = np.tile(z0, (n1 * n2, 1))
-    states[:, a] = np.repeat(coords[0], n2)
-    states[:, b] = np.tile(coords[1], n1)
+    section = axes[0][0] in SECTION
+    phases = None
+    if section:
+        n, d = _normal(model, contact)
+        by = dict(zip((axes[0][0], axes[1][0]), (first, second)))
+        phases = np.mod(by["phase"], 2 * np.pi)
+        unit = n / (n @ n)
+        x, v = z0[:dofs], z0[dofs:]
+        states[:, :dofs] = x + (d - n @ x) * unit
+        states[:, dofs:] = v + np.outer(by["impact_velocity"] - n @ v, unit)
+    else:
+        states[:, names.index(axes[0][0])] = first
+        states[:, names.index(axes[1][0])] = second
     # periods, window, tol and the model (a force to be stroboscopic in)
     # checked on one point before any work or file.
     try:
-        _nsmodal._settle(model, states[:1], periods, window, tol)
+        _nsmodal._settle(model, states[:1], periods, window, tol, None if phases is None else phases[:1])
     except ValueError as e:
         raise StudyError(str(e)) from None
     request = {"study": "basin", "grid": [list(g) for g in axes], "periods": periods, "window": window,
                "tol": tol, "base": z0.tolist(), "chunk_points": CHUNK_POINTS, "model": pickle.dumps(model).hex()}
+    if section:
+        request["contact"] = contact
     chunks = [(s, min(s + CHUNK_POINTS, len(states))) for s in range(0, len(states), CHUNK_POINTS)]
-    results = _run_chunks(out, request, [(_basin_chunk, (model, states[s:e], periods, window, tol)) for s, e in chunks],
+    results = _run_chunks(out, request, [(_basin_chunk, (model, states[s:e], periods, window, tol,
+                                                         None if phases is None else phases[s:e]))
+                                         for s, e in chunks],
                           lambda i: f"points {chunks[i][0]} to {chunks[i][1] - 1} ({axes[0][0]} = "
-                                    f"{states[chunks[i][0], a]:g} .. {states[chunks[i][1] - 1, a]:g})",
+                                    f"{first[chunks[i][0]]:g} .. {first[chunks[i][1] - 1]:g})",
                           workers, executor, scheduler)
     period = np.concatenate([r["period"] for r in results])
     state = np.concatenate([r["state"] for r in results])
     contacts = [tuple(int(c) for c in s.split(",")) if s else () for r in results for s in r["contacts"]]
     rough = np.concatenate([r["rough"] for r in results])
     times = [s for r in results for s in r["times"]]
+    velocities = [s for r in results for s in r["velocities"]]
     ids, table = _classify(period, state, contacts, rough, dofs)
     _identify(model, table, times)
+    w = model.forcing_frequency
     for t in table:
         t["share"] = t["points"] / len(ids)
+        # Its impacts over one period: forcing phase w t (mod 2 pi), velocity into the wall, contact.
+        ts = [float(x) for x in times[t["first"]].split(",")] if times[t["first"]] else []
+        vs = [float(x) for x in velocities[t["first"]].split(",")] if velocities[t["first"]] else []
+        t["impact_phases"] = np.mod(w * np.asarray(ts), 2 * np.pi)
+        t["impact_velocities"] = np.asarray(vs)
     result = {"attractor": ids.reshape(n1, n2), axes[0][0]: coords[0], axes[1][0]: coords[1],
               "attractors": table, "period": period.reshape(n1, n2)}
+    if section:
+        result["contact"] = contact
     if out is not None:
         _write_h5(os.path.join(out, "study.h5"), result, axes, model, scene_text, request, dofs)
         _draw(os.path.join(out, "basin"), result, axes, names)
@@ -519,7 +594,11 @@ def _write_h5(path, result, axes, model, scene_text, request, dofs):
         d.attrs["dims"] = json.dumps([axes[0][0], axes[1][0]])
         for name, _, _, _ in axes:
             c = f.create_dataset(name, data=result[name], track_times=False)
-            c.attrs["units"] = "m" if name.startswith("x") else "m/s"
+            c.attrs["units"] = _coordinate_unit(name)
+            if name in SECTION:
+                c.attrs["meaning"] = ("the forcing phase w t of the start, on the wall of contact "
+                                      f"{result['contact']}" if name == "phase" else
+                                      "the velocity into the wall just before the start's impact")
         f.create_dataset("period", data=result["period"].astype(np.int32), track_times=False).attrs["meaning"] = (
             "stroboscopic period n of the settled motion, in forcing periods; 0: not settled")
         g = f.create_group("attractors")
@@ -536,6 +615,12 @@ def _write_h5(path, result, axes, model, scene_text, request, dofs):
             g.create_dataset(key, data=np.array([r[key] for r in t], dtype=bool), track_times=False)
         for key in ("orbit_max_multiplier", "orbit_time_error"):
             g.create_dataset(key, data=np.array([r[key] for r in t], dtype=float), track_times=False)
+        for key in ("impact_phases", "impact_velocities"):
+            d = g.create_dataset(key, (len(t),), dtype=h5py.vlen_dtype(np.float64), track_times=False)
+            for k, r in enumerate(t):
+                d[k] = r[key]
+        g["impact_phases"].attrs["units"] = "rad"
+        g["impact_velocities"].attrs["units"] = "m/s"
         g.create_dataset("state", data=np.array([r["state"] for r in t]).reshape(len(t), 2 * dofs),
                          track_times=False).attrs["columns"] = json.dumps(_state_names(dofs))
         _provenance(f, model, scene_text, request)
@@ -561,13 +646,21 @@ def _draw(stem, result, axes, names):
     ax.grid(False)
     ax.pcolormesh(c2, c1, ids + 3, cmap=cmap, vmin=-0.5, vmax=max(n, 1) + 2.5, shading="nearest")
     from matplotlib.patches import Patch
-    a, b = names.index(axes[0][0]), names.index(axes[1][0])
+    section = axes[0][0] in SECTION
     handles = []
     for r in result["attractors"]:
-        # The attractor's canonical stroboscopic point, in its basin's colour's key.
-        ax.plot(r["state"][b], r["state"][a], **style.series("mark"))
+        if section:
+            # The attractor's impacts on the section's wall, at their phase and velocity.
+            mine = [k for k, c in enumerate(r["sequence"].split(",") if r["sequence"] else [])
+                    if int(c) == result["contact"]]
+            at = {"phase": r["impact_phases"][mine], "impact_velocity": r["impact_velocities"][mine]}
+            ax.plot(at[axes[1][0]], at[axes[0][0]], **style.series("mark"))
+        else:
+            # The attractor's canonical stroboscopic point.
+            a, b = names.index(axes[0][0]), names.index(axes[1][0])
+            ax.plot(r["state"][b], r["state"][a], **style.series("mark"))
         handles.append(Patch(facecolor=seq[r["id"] % len(seq)],
-                             label=f"{r['id']}: n = {r['period']}, {r['impacts']} impacts, {100 * r['share']:.1f} %"))
+                             label=f"{r['id']}: n = {r['period']}, {_impacts(r['impacts'])}, {100 * r['share']:.1f} %"))
     if np.any(ids == -1):
         handles.append(Patch(facecolor=style.colour("grey_light"), label="not settled"))
     if np.any(ids == -3):
@@ -575,10 +668,16 @@ def _draw(stem, result, axes, names):
     if np.any(ids == -2):
         handles.append(Patch(facecolor=style.colour("white"), edgecolor=style.colour("grey"),
                              label="start beyond a wall"))
-    handles.append(ax.plot([], [], **style.series("mark"), label="attractor (stroboscopic point)")[0])
+    handles.append(ax.plot([], [], **style.series("mark"),
+                           label=f"attractor (its impacts on contact {result['contact']})" if section else
+                           "attractor (stroboscopic point)")[0])
 
     def label(name):
-        return f"${name[0]}_{{{name[1:]}}}$ ({'m' if name[0] == 'x' else 'm/s'})"
+        if name == "phase":
+            return "forcing phase $\\omega t$ at the start (rad)"
+        if name == "impact_velocity":
+            return "velocity into the wall before the impact (m/s)"
+        return f"${name[0]}_{{{name[1:]}}}$ ({_coordinate_unit(name)})"
 
     ax.set_xlabel(label(axes[1][0]))
     ax.set_ylabel(label(axes[0][0]))
@@ -591,9 +690,12 @@ def _draw(stem, result, axes, names):
 def main(argv=None):
     p = argparse.ArgumentParser(prog="python3 -m nsmodal.study", description=__doc__.split("\n\n")[0])
     sub = p.add_subparsers(dest="command", required=True)
-    b = sub.add_parser("basin", help="basins of attraction over a grid of two state coordinates")
+    b = sub.add_parser("basin", help="basins of attraction over a grid of two state coordinates or the impact "
+                                     "section's phase and impact_velocity")
     b.add_argument("scene")
-    b.add_argument("--grid", action="append", required=True, help="NAME=FROM:TO:COUNT (twice: x1, v1, ...)")
+    b.add_argument("--grid", action="append", required=True,
+                   help="NAME=FROM:TO:COUNT (twice: x1, v1, ...; or phase and impact_velocity)")
+    b.add_argument("--contact", type=int, default=1, help="the impact section's contact (1-based; default 1)")
     b.add_argument("--periods", type=int, default=500)
     b.add_argument("--out", required=True)
     b.add_argument("--workers", type=int, default=1)
@@ -621,7 +723,7 @@ def main(argv=None):
                   f"{a.out}/study.h5 and {a.out}/grid.png")
             return 0
         r = basin(a.scene, a.grid, periods=a.periods, out=a.out, workers=a.workers, executor=a.executor,
-                  scheduler=a.scheduler)
+                  scheduler=a.scheduler, contact=a.contact)
     except (StudyError, ValueError, OSError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
@@ -629,7 +731,7 @@ def main(argv=None):
         orbit = ("the analytic orbit: " + ("admissible" if t["orbit_admissible"] else "NOT admissible") + ", " +
                  ("stable" if t["orbit_stable"] else "unstable") + f", impact times within {t['orbit_time_error']:.1e}"
                  if t["orbit_found"] else "no analytic orbit found from its impact times")
-        print(f"attractor {t['id']}: period {t['period']}, {t['impacts']} impacts ({t['sequence'] or 'none'}), "
+        print(f"attractor {t['id']}: period {t['period']}, {_impacts(t['impacts'])} ({t['sequence'] or 'none'}), "
               f"{100 * t['share']:.2f} % of the grid; {orbit}"
               + ("; Zeno or sticking phases" if t["zeno_or_sticking"] else ""))
     unsettled, beyond = float(np.mean(r["attractor"] == -1)), float(np.mean(r["attractor"] == -2))

@@ -781,6 +781,36 @@ def test_the_impact_dampers_response_by_sequence():
         nsmodal.response(m, sequence=[1, 3], frequency=(1.3, 1.5, 0.1))
 
 
+@pytest.mark.parametrize("integrator,tol", [("exact", 1e-11), ("cvode", 1e-7), ("moreau-jean", 1e-12)])
+def test_simulate_starts_at_t_start_in_the_forcing(integrator, tol):
+    # A forced run from t = 0 to 80 s, and the same motion restarted at
+    # t1 = 31.3 s from its state there: the restart sees the forcing at its
+    # phase w t1, so both reach the same state at 80 s (the flow's
+    # composition; impacts before and after t1). exact: round-off of a few
+    # flights (1e-11 of states of order 1; 1e-16 seen); cvode: its rtol 1e-10
+    # amplified through the impacts and the restart (1.2e-9 seen; 1e-7 leaves
+    # 100x); moreau-jean: the same steps, t1 being on its grid (t1 / h whole),
+    # to the round-off of t0 + k h (5e-15 seen). Started at 0 instead, the
+    # forcing is shifted by w t1 and the states part by order 1.
+    m = nsmodal.load_scene(FORCED)
+    x0, v0 = [0.0, 0.0], [0.0, 0.0]
+    opts = dict(integrator=integrator)
+    if integrator == "moreau-jean":
+        opts["step"] = 1e-3
+    t1 = 31.3
+    whole = nsmodal.simulate(m, x0, v0, t_span=(0, 80.0), t_eval=[t1, 80.0], **opts)["trajectory"]
+    hits = nsmodal.simulate(m, x0, v0, t_end=80.0, sample_dt=0.0, **opts)["impact_log"]["t"]
+    assert np.any(hits < t1) and np.sum(hits > t1) >= 2, hits
+    z1 = [whole[f"x{i}"][0] for i in (1, 2)], [whole[f"v{i}"][0] for i in (1, 2)]
+    rest = nsmodal.simulate(m, *z1, t_span=(t1, 80.0), t_eval=[80.0], **opts)
+    assert rest["final_time"] == 80.0
+    end = rest["trajectory"]
+    err = max(abs(end[k][0] - whole[k][1]) for k in ("x1", "x2", "v1", "v2"))
+    assert err < tol, err
+    shifted = nsmodal.simulate(m, *z1, t_end=80.0 - t1, t_eval=[80.0 - t1], **opts)["trajectory"]
+    assert max(abs(shifted[k][0] - whole[k][1]) for k in ("x1", "x2", "v1", "v2")) > 1e-2
+
+
 def test_simulate_takes_scipys_t_span_and_t_eval(paper):
     x0, v0 = [0.5, 0.0], [0.5, 1.2]
     grid = nsmodal.simulate(paper, x0, v0, t_end=20.0, sample_dt=5.0)["trajectory"]
@@ -793,8 +823,10 @@ def test_simulate_takes_scipys_t_span_and_t_eval(paper):
     # CVODE at the same times, within its tolerance's reach (rtol 1e-10 over 20 s).
     c = nsmodal.simulate(paper, x0, v0, t_span=(0, 20.0), t_eval=[3.3, 17.0], integrator="cvode")["trajectory"]
     assert np.max(np.abs(c["x1"] - odd["x1"])) < 1e-7
-    with pytest.raises(ValueError, match=r"t_span: must be \(0, t_end\)"):
-        nsmodal.simulate(paper, x0, v0, t_span=(1.0, 2.0))
+    with pytest.raises(ValueError, match=r"t_span: must be in \[0, t_end = 2\), got 3"):
+        nsmodal.simulate(paper, x0, v0, t_span=(3.0, 2.0))
+    with pytest.raises(ValueError, match=r"t_eval: must ascend strictly within \[t_start = 1"):
+        nsmodal.simulate(paper, x0, v0, t_span=(1.0, 2.0), t_eval=[0.5])
     with pytest.raises(ValueError, match="t_eval: must ascend strictly"):
         nsmodal.simulate(paper, x0, v0, t_end=5.0, t_eval=[1.0, 0.5])
     with pytest.raises(TypeError, match="give t_eval or sample_dt"):

@@ -78,6 +78,8 @@ def same(a, b):
     for k in a:
         if k == "attrs":
             assert a[k].keys() == b[k].keys() and all(str(a[k][x]) == str(b[k][x]) for x in a[k])
+        elif a[k].dtype == object:  # one array per attractor (its impacts)
+            assert len(a[k]) == len(b[k]) and all(np.array_equal(x, y) for x, y in zip(a[k], b[k])), k
         else:
             assert np.array_equal(a[k], b[k]), k
 
@@ -204,3 +206,63 @@ def test_a_subharmonic_attractor_is_the_analytic_orbit_of_its_sequence():
     assert [(t["period"], t["impacts"]) for t in r["attractors"]] == [(2, 1)]
     t = r["attractors"][0]
     assert t["orbit_found"] and t["orbit_admissible"] and t["orbit_stable"] and t["orbit_time_error"] < 1e-6, t
+
+
+def test_a_basin_on_the_impact_section_finds_the_coexisting_responses_and_each_impact_is_its_own_attractor():
+    # The 1-dof oscillator's two responses (a non-impacting one, a one-impact
+    # one) from starts on the wall: phase w t0 in [0, 2 pi), velocity into the
+    # wall v in (0, 2.5].
+    m = oscillator(1.0)
+    w = m.forcing_frequency
+    r = study.basin(m, {"phase": (0, 2 * np.pi * 15 / 16, 16), "impact_velocity": (0.1, 2.5, 12)}, periods=300)
+    assert r["attractor"].shape == (16, 12) and r["contact"] == 1
+    on_states = study.basin(m, GRID, periods=300)["attractors"]
+    kinds = sorted((t["period"], t["impacts"]) for t in r["attractors"])
+    assert kinds == [(1, 0), (1, 1)], r["attractors"]
+    # The same attractors as from the state plane (1e-6: the repetition tolerance).
+    for t in r["attractors"]:
+        twin = [u for u in on_states if (u["period"], u["impacts"]) == (t["period"], t["impacts"])][0]
+        assert np.max(np.abs(t["state"] - twin["state"])) < 1e-6
+    # The one-impact attractor's own impact, as a start, is on the attractor
+    # from the first period: after 10 periods it has settled to 1e-6 (from
+    # anywhere else the transient decays as e^(-zeta t): 0.05 over 10
+    # periods, not settled), with the same impact (its phase to 1e-6 rad and
+    # velocity to 1e-6 of it: the settled motion's repetition).
+    hit = [t for t in r["attractors"] if t["impacts"] == 1][0]
+    phase, v = float(hit["impact_phases"][0]), float(hit["impact_velocities"][0])
+    assert v > 0
+    own = study.basin(m, {"phase": (phase, phase + 1e-9, 2), "impact_velocity": (v, v + 1e-9, 2)}, periods=10,
+                      window=8)
+    assert np.all(own["attractor"] == 0) and own["attractors"][0]["impacts"] == 1
+    assert abs(own["attractors"][0]["impact_phases"][0] - phase) < 1e-6
+    assert abs(own["attractors"][0]["impact_velocities"][0] - v) < 1e-6 * v
+    # Its stroboscopic state is where a simulation started on that impact at
+    # t0 = phase / w reaches at the next multiple of 2 pi / w (1e-9: the exact
+    # flight's round-off over one period).
+    tf = 2 * np.pi / w
+    s = nsmodal.simulate(m, [1.0], [v], t_span=(phase / w, 3 * tf), t_eval=[2 * tf, 3 * tf])["trajectory"]
+    assert abs(s["x1"][1] - s["x1"][0]) < 1e-6 and abs(s["x1"][1] - hit["state"][0]) < 1e-6
+    # Points of each basin confirmed by 2,000-period runs from the same starts.
+    starts, phases, labels = [], [], []
+    for t in r["attractors"]:
+        i, j = np.nonzero(r["attractor"] == t["id"])
+        for k in np.linspace(0, len(i) - 1, 6).astype(int):
+            starts.append([1.0, r["impact_velocity"][j[k]]])
+            phases.append(np.mod(r["phase"][i[k]], 2 * np.pi))
+            labels.append(t)
+    long = _nsmodal._settle(m, np.array(starts), 2000, phases=np.array(phases))
+    for k, t in enumerate(labels):
+        assert long["period"][k] == t["period"] and len(long["impact_contacts"][k]) == t["impacts"]
+        assert np.max(np.abs(long["state"][k] - t["state"])) < 1e-6
+
+
+def test_a_section_basin_refuses_a_mixed_grid_a_bad_contact_and_a_velocity_away_from_the_wall():
+    m = oscillator(1.0)
+    with pytest.raises(study.StudyError, match="not both, got phase and x1"):
+        study.basin(m, {"phase": (0, 1, 2), "x1": (0, 1, 2)}, periods=100)
+    with pytest.raises(study.StudyError, match="impact_velocity: must be > 0 .* got FROM = -1"):
+        study.basin(m, {"phase": (0, 1, 2), "impact_velocity": (-1, 1, 2)}, periods=100)
+    with pytest.raises(study.StudyError, match="contact: must be a contact of the model, 1 to 1, got 2"):
+        study.basin(m, {"phase": (0, 1, 2), "impact_velocity": (0.5, 1, 2)}, periods=100, contact=2)
+    with pytest.raises(study.StudyError, match="'y1' is not a coordinate of the state .* impact section"):
+        study.basin(m, {"y1": (0, 1, 2), "impact_velocity": (0.5, 1, 2)}, periods=100)

@@ -179,7 +179,7 @@ class Cvode {
     State() = z0;
     mem_ = CVodeCreate(opt.cvode_method == "adams" ? CV_ADAMS : CV_BDF, ctx_);
     if (mem_ == nullptr) throw SolverError("CVodeCreate failed");
-    Check(CVodeInit(mem_, Rhs, 0.0, y_), "CVodeInit");
+    Check(CVodeInit(mem_, Rhs, opt.t_start, y_), "CVodeInit");
     Check(CVodeSStolerances(mem_, opt.rtol, opt.atol), "CVodeSStolerances");
     Check(CVodeSetUserData(mem_, &ud_), "CVodeSetUserData");
     a_ = SUNDenseMatrix(2 * n_, 2 * n_, ctx_);
@@ -294,6 +294,7 @@ class CvodeStepper {
       xtol_.push_back(10.0 * (opt.atol + opt.rtol * cm.contact(j).gap));
       vtol_floor_.push_back(10.0 * (opt.atol + opt.rtol * (std::sqrt(energy * 2.0 * cm.terms[j].w) + 1e-300)));
     }
+    t_ = opt.t_start;
   }
 
   bool Finished() const { return t_ >= t_end_; }

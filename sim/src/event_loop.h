@@ -93,7 +93,7 @@ SimulationSummary RunEventLoop(Stepper& s, const ContactModel& cm, const Simulat
   int released = -1;
   const double zeno_span = ZenoFlightTime(cm, opt);
   Sampler sampler(opt, observer);
-  sampler.Emit(0.0, [&](double) { return s.Physical(); });
+  sampler.Emit(s.Time(), [&](double) { return s.Physical(); });
 
   auto hold = [&](int j, bool counted = true) {
     if (!counted) {

@@ -163,6 +163,7 @@ class ExactStepper {
     Eigen::VectorXd z0(2 * cm.model.dofs());
     z0 << x0, v0;
     y_ = f_.FromPhysical(z0);
+    t_ = opt.t_start;
   }
 
   bool Finished() const { return t_ >= t_end_; }

@@ -20,12 +20,16 @@ inline double ZenoFlightTime(const ContactModel& cm, const SimulateOptions& opt)
 class Sampler {
  public:
   Sampler(const SimulateOptions& options, const SimulationObserver& observer)
-      : dt_(options.sample_dt), t_end_(options.t_end), times_(options.sample_times), observer_(observer) {}
+      : dt_(options.sample_dt),
+        t_start_(options.t_start),
+        t_end_(options.t_end),
+        times_(options.sample_times),
+        observer_(observer) {}
   bool active() const { return (dt_ > 0.0 || !times_.empty()) && static_cast<bool>(observer_.on_sample); }
   // The next sample time: on the sample_dt grid, or the next of sample_times
   // (infinity past the last).
   double NextTime() const {
-    if (times_.empty()) return next_ * dt_;
+    if (times_.empty()) return t_start_ + next_ * dt_;
     return next_ < static_cast<long>(times_.size()) ? times_[next_] : std::numeric_limits<double>::infinity();
   }
   // state_at(t) gives the physical state at a sample time t in (from, to].
@@ -41,7 +45,7 @@ class Sampler {
   }
 
  private:
-  double dt_, t_end_;
+  double dt_, t_start_, t_end_;
   const std::vector<double>& times_;
   const SimulationObserver& observer_;
   long next_ = 0;

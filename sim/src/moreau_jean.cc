@@ -35,7 +35,8 @@ class MoreauJeanStepper {
         th_(opt.theta),
         w_force_(cm.model.forcing.frequency),
         forced_(cm.model.forcing.HasConstant() || cm.model.forcing.HasHarmonic()),
-        steps_(static_cast<long>(std::ceil(opt.t_end / opt.step - 1e-9))),
+        steps_(static_cast<long>(std::ceil((opt.t_end - opt.t_start) / opt.step - 1e-9))),
+        t0_(opt.t_start),
         in_contact_(k_, false),
         p_(Eigen::VectorXd::Zero(k_)),
         x_(x0),
@@ -81,7 +82,7 @@ class MoreauJeanStepper {
     v_free.noalias() = b_v_ * v_;
     v_free.noalias() += b_x_ * x_;
     if (forced_) {
-      const double tk = k_step_ * h;
+      const double tk = t0_ + k_step_ * h;
       v_free += b_f0_ + (th * std::cos(w_force_ * (tk + h)) + (1.0 - th) * std::cos(w_force_ * tk)) * b_f_;
     }
     // The active contacts and their impulses (one: the closed form).
@@ -120,7 +121,7 @@ class MoreauJeanStepper {
     }
     x_ += h * ((1.0 - th) * v_prev + th * v_);
     ++k_step_;
-    t_ = k_step_ * h;
+    t_ = t0_ + k_step_ * h;
     bool sticking = false;
     for (int j = 0, i = 0; j < k_; ++j) {
       const bool active = i < static_cast<int>(active_.size()) && active_[i] == j;
@@ -181,6 +182,7 @@ class MoreauJeanStepper {
   const double h_, th_, w_force_;
   const bool forced_;
   const long steps_;
+  const double t0_;  // the start time
   std::vector<double> vtol_;
   Eigen::MatrixXd b_v_, b_x_, g_;  // g_: the Delassus matrix H W^-1 H'
   Eigen::VectorXd b_f0_, b_f_;
@@ -192,7 +194,7 @@ class MoreauJeanStepper {
   Eigen::VectorXd x_, v_;
   Eigen::VectorXd x_prev_, v_prev_, v_free_;  // the step's start and free velocity
   long k_step_ = 0;
-  double t_ = 0.0;
+  double t_ = t0_;
 };
 
 template NSMODAL_RUN_INTEGRATOR(MoreauJeanStepper);

@@ -41,19 +41,24 @@ void SimulateOptions::Validate(const FieldNames& name) const {
     if (s.check) s.check(s.get(*this), name(s.info.name));
   }
   // Then the settings taken together.
+  if (!(t_start >= 0.0 && t_start < t_end)) {
+    throw InputError(name("t_start"), "must be in [0, t_end = " + FormatValue(t_end) + "), got " + FormatValue(t_start));
+  }
+  const double span = t_end - t_start;
   for (std::size_t i = 0; i < sample_times.size(); ++i) {
     const double t = sample_times[i];
-    if (!(t >= 0.0 && t <= t_end) || (i > 0 && !(t > sample_times[i - 1]))) {
-      throw InputError(name("sample_times"), "must ascend strictly within [0, t_end = " + FormatValue(t_end) +
-                                                 "]; entry " + std::to_string(i + 1) + " is " + FormatValue(t));
+    if (!(t >= t_start && t <= t_end) || (i > 0 && !(t > sample_times[i - 1]))) {
+      throw InputError(name("sample_times"), "must ascend strictly within [t_start = " + FormatValue(t_start) +
+                                                 ", t_end = " + FormatValue(t_end) + "]; entry " +
+                                                 std::to_string(i + 1) + " is " + FormatValue(t));
     }
   }
   if (sample_times.size() > 10000000) throw InputError(name("sample_times"), "has more than 1e7 times");
-  if (sample_times.empty() && sample_dt > 0.0 && t_end / sample_dt > 1e7) {  // (sample_times replace the grid)
-    throw InputError(name("sample_dt"), "gives more than 1e7 samples over t_end = " + FormatValue(t_end));
+  if (sample_times.empty() && sample_dt > 0.0 && span / sample_dt > 1e7) {  // (sample_times replace the grid)
+    throw InputError(name("sample_dt"), "gives more than 1e7 samples over t_end - t_start = " + FormatValue(span));
   }
-  if (integrator == Integrator::kMoreauJean && t_end / step > 1e10) {
-    throw InputError(name("step"), "gives more than 1e10 steps over t_end = " + FormatValue(t_end));
+  if (integrator == Integrator::kMoreauJean && span / step > 1e10) {
+    throw InputError(name("step"), "gives more than 1e10 steps over t_end - t_start = " + FormatValue(span));
   }
   // And the two no face sets.
   if (!(zeno_flight > 0.0) || !std::isfinite(zeno_flight)) {

@@ -17,6 +17,9 @@ void SettleOptions::Validate() const {
                                     std::to_string(periods));
   }
   if (!(tol > 0.0) || !(tol < 1.0)) throw InputError("tol", "must be in (0, 1), got " + FormatValue(tol));
+  if (!(phase >= 0.0 && phase < 2.0 * M_PI)) {
+    throw InputError("phase", "must be in [0, 2 pi), got " + FormatValue(phase));
+  }
 }
 
 Settled Settle(const Model& model, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0, const SettleOptions& o) {
@@ -27,11 +30,13 @@ Settled Settle(const Model& model, const Eigen::VectorXd& x0, const Eigen::Vecto
   const double tf = 2.0 * M_PI / model.forcing.frequency;
   SimulateOptions s;
   s.t_end = o.periods * tf;
+  s.t_start = o.phase / model.forcing.frequency;
   s.sample_dt = 0.0;
   for (int k = 0; k <= o.window; ++k) s.sample_times.push_back(std::min(s.t_end, (o.periods - o.window + k) * tf));
   std::vector<Eigen::VectorXd> z;
   std::vector<double> times;
   std::vector<int> contacts;
+  std::vector<double> velocities;
   const double window_start = (o.periods - o.window) * tf;
   SimulationObserver obs;
   obs.on_sample = [&z](double, const Eigen::VectorXd& state) { z.push_back(state); };
@@ -39,6 +44,7 @@ Settled Settle(const Model& model, const Eigen::VectorXd& x0, const Eigen::Vecto
     if (e.t > window_start) {
       times.push_back(e.t);
       contacts.push_back(e.contact);
+      velocities.push_back(model.contacts[static_cast<std::size_t>(e.contact)].Along(e.before.tail(model.dofs())));
     }
   };
   const SimulationSummary sum = Simulate(model, x0, v0, s, obs);
@@ -73,18 +79,21 @@ Settled Settle(const Model& model, const Eigen::VectorXd& x0, const Eigen::Vecto
       if (t < 0.0) t += n * tf;
       out.impact_times.push_back(t);
       out.impact_contacts.push_back(contacts[i]);
+      out.impact_velocities.push_back(velocities[i]);
     }
     std::vector<std::size_t> order(out.impact_times.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return out.impact_times[a] < out.impact_times[b]; });
-    std::vector<double> t_sorted;
+    std::vector<double> t_sorted, v_sorted;
     std::vector<int> c_sorted;
     for (std::size_t i : order) {
       t_sorted.push_back(out.impact_times[i]);
       c_sorted.push_back(out.impact_contacts[i]);
+      v_sorted.push_back(out.impact_velocities[i]);
     }
     out.impact_times = t_sorted;
     out.impact_contacts = c_sorted;
+    out.impact_velocities = v_sorted;
     return out;
   }
   out.message = "no period up to " + std::to_string(o.window / 2) + " forcing periods repeats to " + FormatValue(o.tol) +

@@ -52,8 +52,13 @@ Integrator ParseIntegrator(const std::string& name, const std::string& field = "
 struct SimulateOptions {
   Integrator integrator = Integrator::kExact;
   double t_end = 100.0;
-  double sample_dt = 0.01;  // trajectory samples every sample_dt (0: none)
-  // Trajectory samples at these times instead (ascending, in [0, t_end];
+  // The run's start time, in [0, t_end): the state (x0, v0) is taken at
+  // t_start, so a harmonic force starts at the phase w t_start (a basin on the
+  // impact section starts each motion on the wall at its impact phase). Not a
+  // scene setting: Python's t_start.
+  double t_start = 0.0;
+  double sample_dt = 0.01;  // trajectory samples every sample_dt from t_start (0: none)
+  // Trajectory samples at these times instead (ascending, in [t_start, t_end];
   // empty: the sample_dt grid). Not a scene setting: Python's t_eval.
   std::vector<double> sample_times;
   // exact: contact is reached when x_c - d >= -root_tol * max(d, amplitude of x_c).

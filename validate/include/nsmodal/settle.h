@@ -10,7 +10,9 @@
 // points, written by its canonical one (the point of least x_1), with the
 // impacts of its last n periods (their count, the contacts struck and the
 // times, which identify its impact sequence). Otherwise the motion has not
-// settled (chaotic, quasi-periodic, or slower than the horizon).
+// settled (chaotic, quasi-periodic, or slower than the horizon). A start at
+// the forcing phase `phase` (w t_0, on the impact section: on a wall at an
+// impact's phase) runs from t_0 = phase / w to the same end, periods T_f.
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
@@ -23,8 +25,9 @@ struct SettleOptions {
   int periods = 500;  // forcing periods simulated
   int window = 32;    // stroboscopic samples compared (the longest period found: window / 2)
   double tol = 1e-6;  // relative repetition of the samples
+  double phase = 0.0;  // the forcing phase w t_0 of the start, in [0, 2 pi)
 
-  // Throws InputError naming "periods", "window" or "tol".
+  // Throws InputError naming "periods", "window", "tol" or "phase".
   void Validate() const;
 };
 
@@ -34,6 +37,7 @@ struct Settled {
   Eigen::VectorXd state;       // the canonical stroboscopic state (x, v); empty when not settled
   std::vector<double> impact_times;  // of the last n periods, from the canonical sample's time
   std::vector<int> impact_contacts;  // 0-based, one per impact
+  std::vector<double> impact_velocities;  // n_j . v before each impact (> 0: into the wall)
   bool zeno_or_sticking = false;     // the run had a Zeno sequence or a sticking phase
   double repetition = 0.0;     // max |z_k - z_{k-n}| / scale over the last n + 1 samples (n: the period, or window / 2)
   std::string message;         // why not settled (the simulation's status), empty otherwise
