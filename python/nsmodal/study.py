@@ -43,7 +43,7 @@ import numpy as np
 
 from . import _nsmodal
 
-__all__ = ["basin", "grid", "response_summary", "StudyError", "EXECUTORS", "ANALYSES"]
+__all__ = ["basin", "grid", "response_summary", "basin_summary", "StudyError", "EXECUTORS", "ANALYSES"]
 
 EXECUTORS = ("processes", "dask", "mpi")
 MATCH_TOL = 1e-4  # states of one attractor: the same to this fraction of the motion's scale
@@ -141,7 +141,7 @@ def _basin_chunk(model, states, periods, window, tol, phases=None):
             "times": joined(r["impact_times"]), "velocities": joined(r["impact_velocities"])}
 
 
-def _run_chunks(out, request, tasks, describe, workers, executor, scheduler):
+def _run_chunks(out, request, tasks, describe, workers, executor, scheduler, progress=True):
     """Runs tasks [(fn, args)] (one a chunk; each returns a dict of arrays)
     over the executor; with `out`, each finished chunk is kept in
     out/chunks and a run of the same request resumes from them. Returns the
@@ -177,7 +177,8 @@ def _run_chunks(out, request, tasks, describe, workers, executor, scheduler):
     ex = _Executor(executor, workers, scheduler)
     try:
         futures = {ex.submit(fn, *args): i for i, (fn, args) in enumerate(tasks) if i not in results}
-        _progress(len(results), len(tasks))
+        if progress:
+            _progress(len(results), len(tasks))
         for f in ex.as_completed(list(futures)):
             i = futures[f]
             try:
@@ -188,7 +189,8 @@ def _run_chunks(out, request, tasks, describe, workers, executor, scheduler):
             results[i] = r
             if chunk_dir is not None:
                 _atomic_save(os.path.join(chunk_dir, f"chunk_{i:06d}.npz"), **r)
-            _progress(len(results), len(tasks))
+            if progress:
+                _progress(len(results), len(tasks))
     except KeyboardInterrupt:
         raise StudyError(f"interrupted: {len(results)} of {len(tasks)} chunks done"
                          + (f" and kept in {chunk_dir}: run the same study again to resume" if chunk_dir else ""))
@@ -321,7 +323,7 @@ def _identify(model, table, times):
 
 
 def basin(model, grid, periods=500, out=None, workers=1, executor="processes", scheduler=None, window=32,
-          tol=1e-6, base=None, contact=1):
+          tol=1e-6, base=None, contact=1, progress=True):
     """The basins of attraction of a forced model over a grid of two state
     coordinates (``{"x1": (from, to, count), "v1": (from, to, count)}``; the
     others from ``base``, an (x, v) of 2N values, zero by default), or over
@@ -329,7 +331,8 @@ def basin(model, grid, periods=500, out=None, workers=1, executor="processes", s
     count), "impact_velocity": (from, to, count)}``: each motion starts at
     t = phase / w on the wall, n . x = d, moving into it at n . v =
     impact_velocity > 0, the rest of the state from ``base`` (its component
-    along n replaced); the Newton law strikes at once).
+    along n replaced); the Newton law strikes at once). ``progress``: the
+    chunks' progress on a terminal's standard error.
 
     Returns {"attractor": (count_1, count_2) int array (-1: not settled, -2: a
     start beyond a wall, -3: not settled, with Zeno or sticking phases),
@@ -385,7 +388,7 @@ def basin(model, grid, periods=500, out=None, workers=1, executor="processes", s
                                          for s, e in chunks],
                           lambda i: f"points {chunks[i][0]} to {chunks[i][1] - 1} ({axes[0][0]} = "
                                     f"{first[chunks[i][0]]:g} .. {first[chunks[i][1] - 1]:g})",
-                          workers, executor, scheduler)
+                          workers, executor, scheduler, progress)
     period = np.concatenate([r["period"] for r in results])
     state = np.concatenate([r["state"] for r in results])
     contacts = [tuple(int(c) for c in s.split(",")) if s else () for r in results for s in r["contacts"]]
@@ -434,6 +437,23 @@ def response_summary(model, frequency, impacts=1, periods=1):
             "stable_share": float(np.mean(stable)) if len(stable) else 0.0}
 
 
+def basin_summary(model, states, periods=500, window=32, tol=1e-6, base=None, contact=1):
+    """A basin's summary (``basin(model, states, periods, ...)`` in this
+    process, ``states`` its grid of two state or section coordinates): the
+    number of attractors, the largest basin's share, the share of the
+    starts that settle on an impacting attractor, the share that does not
+    settle (-1 and -3), and the longest attractor period (forcing periods;
+    0 when none settles)."""
+    r = basin(model, states, periods=periods, window=window, tol=tol, base=base, contact=contact, progress=False)
+    ids, table = r["attractor"], r["attractors"]
+    impacting = [t["id"] for t in table if t["impacts"] > 0]
+    return {"attractors": len(table),
+            "largest_share": max((t["share"] for t in table), default=0.0),
+            "impacting_share": float(np.mean(np.isin(ids, impacting))),
+            "unsettled_share": float(np.mean((ids == -1) | (ids == -3))),
+            "max_period": max((t["period"] for t in table), default=0)}
+
+
 # Units of a grid's coordinates, by the parameter's key (before any index).
 PARAMETER_UNITS = {"frequency": "rad/s", "amplitude": "N", "gap": "m", "restitution": "", "masses": "kg",
                    "springs": "N/m", "damping_ratios": "", "rayleigh_damping": "", "contact": ""}
@@ -441,7 +461,9 @@ PARAMETER_UNITS = {"frequency": "rad/s", "amplitude": "N", "gap": "m", "restitut
 
 ANALYSES = {"response": (response_summary, {"peak_energy": "J", "peak_frequency": "rad/s", "folds": "",
                                             "period_doublings": "", "max_impact_velocity": "m/s",
-                                            "stable_share": ""})}
+                                            "stable_share": ""}),
+            "basin": (basin_summary, {"attractors": "", "largest_share": "", "impacting_share": "",
+                                      "unsettled_share": "", "max_period": "forcing periods"})}
 
 
 def _grid_chunk(model, names, values, analysis, options):
@@ -465,8 +487,10 @@ def grid(model, grid, analysis="response", out=None, workers=1, executor="proces
     in continue_parameter), collected into one dataset: each named scalar
     the analysis returns, as a (count_1, count_2) array, with the grid's
     coordinates. ``analysis``: "response" (response_summary; options
-    frequency=(from, to, step), impacts, periods) or a picklable function
-    model -> {name: scalar} run with ``options``. Returns {name: array, the
+    frequency=(from, to, step), impacts, periods), "basin" (basin_summary;
+    options states={"x1": (from, to, count), "v1": ...} or the section's,
+    periods, window, tol, base, contact) or a picklable function model ->
+    {name: scalar} run with ``options``. Returns {name: array, the
     coordinates under their names}; with ``out``, writes out/study.h5 and
     out/grid.png (the first quantity's map)."""
     model, scene_text = _load(model)
@@ -571,12 +595,22 @@ def _draw_grid(stem, result, names, key, unit):
     style.use("png")
     fig, ax = plt.subplots(figsize=style.figsize("png"))
     ax.grid(False)
-    mesh = ax.pcolormesh(result[names[1]], result[names[0]], result[key], cmap=style.colormap("level"),
+    values = np.asarray(result[key])
+    norm = None
+    finite = values[np.isfinite(values)] if values.dtype.kind == "f" else values
+    if values.dtype.kind in "iu" and finite.size and finite.max() - finite.min() <= 12:
+        # Counts: one colour per value, the colour bar's ticks on them.
+        from matplotlib.colors import BoundaryNorm
+        lo, hi = int(finite.min()), int(finite.max())
+        norm = BoundaryNorm(np.arange(lo - 0.5, hi + 1.5), style.colormap("level").N)
+    mesh = ax.pcolormesh(result[names[1]], result[names[0]], values, cmap=style.colormap("level"), norm=norm,
                          shading="nearest")
     def label(name, u):
         return f"{name.replace('_', ' ')} ({u})" if u else name.replace("_", " ")
 
-    fig.colorbar(mesh, ax=ax, label=label(key, unit))
+    bar = fig.colorbar(mesh, ax=ax, label=label(key, unit))
+    if norm is not None:
+        bar.set_ticks(np.arange(int(finite.min()), int(finite.max()) + 1))
     ax.set_xlabel(label(names[1], PARAMETER_UNITS.get(names[1].split("[")[0], "")))
     ax.set_ylabel(label(names[0], PARAMETER_UNITS.get(names[0].split("[")[0], "")))
     fig.tight_layout()
@@ -706,9 +740,13 @@ def main(argv=None):
     g.add_argument("--grid", action="append", required=True,
                    help="NAME=FROM:TO:COUNT (twice: amplitude, gap, springs[2], ...)")
     g.add_argument("--analysis", default="response", choices=sorted(ANALYSES))
-    g.add_argument("--frequency", required=True, help="the response's frequency grid FROM:TO:STEP")
-    g.add_argument("--impacts", type=int, default=1)
-    g.add_argument("--periods", type=int, default=1, help="forcing periods per response period n")
+    g.add_argument("--frequency", help="response: the frequency grid FROM:TO:STEP")
+    g.add_argument("--impacts", type=int, default=1, help="response: impacts per period")
+    g.add_argument("--periods", type=int, help="response: forcing periods per response period n (default 1); "
+                                               "basin: forcing periods simulated (default 500)")
+    g.add_argument("--states", action="append", help="basin: NAME=FROM:TO:COUNT (twice: x1, v1, ...; or phase "
+                                                     "and impact_velocity)")
+    g.add_argument("--contact", type=int, default=1, help="basin: the impact section's contact")
     g.add_argument("--out", required=True)
     g.add_argument("--workers", type=int, default=1)
     g.add_argument("--executor", default="processes", choices=EXECUTORS)
@@ -716,8 +754,17 @@ def main(argv=None):
     a = p.parse_args(argv)
     try:
         if a.command == "grid":
+            if a.analysis == "response":
+                if a.frequency is None or a.states:
+                    raise StudyError("--analysis response needs --frequency FROM:TO:STEP and takes no --states")
+                options = dict(frequency=a.frequency, impacts=a.impacts, periods=a.periods or 1)
+            else:
+                if not a.states or a.frequency is not None:
+                    raise StudyError("--analysis basin needs --states NAME=FROM:TO:COUNT (twice) and takes no "
+                                     "--frequency")
+                options = dict(states=a.states, periods=a.periods or 500, contact=a.contact)
             r = grid(a.scene, a.grid, analysis=a.analysis, out=a.out, workers=a.workers, executor=a.executor,
-                     scheduler=a.scheduler, frequency=a.frequency, impacts=a.impacts, periods=a.periods)
+                     scheduler=a.scheduler, **options)
             names = [k for k in r if np.ndim(r[k]) == 1]
             print(f"wrote {' x '.join(str(len(r[n])) for n in names)} points ({', '.join(names)}) to "
                   f"{a.out}/study.h5 and {a.out}/grid.png")

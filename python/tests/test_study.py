@@ -266,3 +266,32 @@ def test_a_section_basin_refuses_a_mixed_grid_a_bad_contact_and_a_velocity_away_
         study.basin(m, {"phase": (0, 1, 2), "impact_velocity": (0.5, 1, 2)}, periods=100, contact=2)
     with pytest.raises(study.StudyError, match="'y1' is not a coordinate of the state .* impact section"):
         study.basin(m, {"y1": (0, 1, 2), "impact_velocity": (0.5, 1, 2)}, periods=100)
+
+
+def test_a_parameter_grid_of_basins_is_each_points_basin(tmp_path):
+    # The one-mass oscillator with its wall at d = 1 (two coexisting
+    # responses) and far away (d = 100: the linear steady state alone), at two
+    # forcing levels: each grid point's summary is the basin computed there
+    # on its own.
+    m = oscillator(1.0)
+    states = {"x1": (-3, 1, 8), "v1": (-3, 3, 8)}
+    r = study.grid(m, {"gap": (1, 100, 2), "amplitude": (0.3, 0.35, 2)}, analysis="basin", states=states,
+                   periods=200, out=str(tmp_path / "g"))
+    assert r["attractors"].shape == (2, 2)
+    assert np.all(r["attractors"][1] == 1) and np.all(r["impacting_share"][1] == 0)
+    assert np.all(r["largest_share"][1] == 1.0)
+    for j, a in enumerate(r["amplitude"]):
+        alone = study.basin_summary(nsmodal.with_parameter(m, "amplitude", float(a)), states, periods=200)
+        assert {k: r[k][0, j] for k in alone} == alone
+    assert r["attractors"][0, 0] == 2 and 0 < r["impacting_share"][0, 0] < 1
+    cli = subprocess.run([sys.executable, "-m", "nsmodal.study", "grid", os.path.join(
+        os.environ.get("NSMODAL_SOURCE_DIR", "."), "configs", "oscillator.toml"), "--grid", "gap=1:100:2",
+        "--grid", "amplitude=0.3:0.35:2", "--analysis", "basin", "--states", "x1=-3:1:8", "--states", "v1=-3:3:8",
+        "--periods", "200", "--out", str(tmp_path / "c")], capture_output=True, text=True)
+    assert cli.returncode == 0, cli.stderr
+    got = read(tmp_path / "c" / "study.h5")
+    assert np.array_equal(got["impacting_share"], r["impacting_share"])
+    bad = subprocess.run([sys.executable, "-m", "nsmodal.study", "grid", "x.toml", "--grid", "gap=1:2:2", "--grid",
+                          "amplitude=0.3:0.4:2", "--analysis", "basin", "--out", str(tmp_path / "b")],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2 and "--analysis basin needs --states" in bad.stderr
