@@ -229,19 +229,46 @@ std::string FepChart(Context& c, const FepTable& table, const std::string& fep, 
 void FepTable::Write(std::ostream& out) const {
   // One blank line between the families and the branches (two would start
   // a new dataset).
-  out << "family,T,t2,energy,stable,branch\n";
+  out << "family,T,t2,energy,stable,branch,mark\n";
   bool first = true;
   for (const Family* f : {&one_, &half_, &three_}) {
     if (f->last < 0) continue;
     out << (first ? "" : "\n") << f->rows.str();
     first = false;
   }
+  // A 2-ipp branch's markers at equal steps of its length in the frame
+  // (T over the roots' span of periods, log E over their decades: the
+  // frame of a plot of the whole table, or of a zoom on it), not every k-th
+  // point: where a branch is steep its points crowd and k-th markers made a
+  // chain of beads.
+  double t_lo = INFINITY, t_hi = 0.0, e_lo = INFINITY, e_hi = 0.0;
+  for (const Root& r : roots_) {
+    t_lo = std::min(t_lo, r.period);
+    t_hi = std::max(t_hi, r.period);
+    if (r.energy > 0.0) {
+      e_lo = std::min(e_lo, r.energy);
+      e_hi = std::max(e_hi, r.energy);
+    }
+  }
+  const double decades = e_hi > e_lo ? std::max(std::log10(e_hi / e_lo), 0.1) : 1.0;
+  const double t_span = t_hi > t_lo ? t_hi - t_lo : 1.0;
+  constexpr double kMarkStep = 0.03;  // of the frame
   const std::vector<std::vector<Root>> branches = TwoImpactBranches(roots_);
   for (std::size_t b = 0; b < branches.size(); ++b) {
     out << (first ? "" : "\n");
     first = false;
-    for (const Root& r : branches[b]) {
-      out << "2-ipp," << r.period << "," << r.t2 << "," << r.energy << "," << r.stable << "," << b + 1 << "\n";
+    double since = kMarkStep;  // the first point marked
+    for (std::size_t k = 0; k < branches[b].size(); ++k) {
+      const Root& r = branches[b][k];
+      if (k > 0) {
+        const Root& p = branches[b][k - 1];
+        const double dy = r.energy > 0.0 && p.energy > 0.0 ? std::log10(r.energy / p.energy) / decades : 0.0;
+        since += std::hypot((r.period - p.period) / t_span, dy);
+      }
+      const bool mark = since >= kMarkStep;
+      if (mark) since = 0.0;
+      out << "2-ipp," << r.period << "," << r.t2 << "," << r.energy << "," << r.stable << "," << b + 1 << ","
+          << mark << "\n";
     }
   }
 }
@@ -262,11 +289,27 @@ double EnergyTop(std::vector<double> energies) {
   return 30.0 * *mid;
 }
 
-std::string EnergyAxes(const Context& c) {
+// (Not the grid's end: past the admissible orbits it holds potential ones
+// only, and the right of the chart would be empty.)
+double PeriodTop(const Context& c, bool one_only) {
+  double top = 0.0;
+  for (const Sweep* sweep : {&c.atlas.one, &c.atlas.two}) {
+    if (one_only && sweep != &c.atlas.one) continue;
+    for (const auto& list : sweep->at) {
+      for (const OrbitRecord& r : list) {
+        if (r.orbit.admissible) top = std::max(top, r.orbit.period);
+      }
+    }
+  }
+  if (top <= 0.0) return c.periods.back();
+  return std::min(c.periods.back(), 2.0 * std::ceil(0.5 * 1.05 * top));
+}
+
+std::string EnergyAxes(const Context& c, bool one_only) {
   const auto [lo, hi] = EnergyRange(c);
   std::ostringstream os;
   os << "set logscale y\n" << LogTics("y", lo, hi) << "set yrange [" << lo << ":" << hi << "]\n"
-     << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n"
+     << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << PeriodTop(c, one_only) << "]\n"
      << "set key below maxrows 4\n";
   return os.str();
 }

@@ -69,6 +69,17 @@ class Plot {
     }
     return legend.str();
   }
+  // A key entry alone (a legend-only "NaN" layer), for a series drawn as
+  // unkeyed layers (a line and its markers apart); the check accepts it
+  // when those layers draw its style.
+  Plot& KeyOnly(const std::string& style, const std::string& title) {
+    if (keys_ == Keys::kShown) {
+      layers_.push_back("NaN " + style + " title '" + title + "'");
+    } else {
+      collected_.push_back({title, style});
+    }
+    return *this;
+  }
   // A layer with no key entry (drawn whatever its count).
   Plot& Unkeyed(const std::string& spec, const std::string& style) {
     layers_.push_back(Resolve(spec) + " " + style + " notitle");
@@ -167,7 +178,12 @@ std::string FamilyBarTics(double lo, double hi);
 // A tick step of 1, 2 or 5 times a power of 10 giving about `ticks` ticks on
 // [lo, hi] (small panels, 3-D axes and column PDFs need few).
 double NiceStep(double lo, double hi, int ticks);
-std::string EnergyAxes(const Context& c);
+// The period axis's end: the admissible orbits' longest period plus 5 %, on
+// a multiple of 2 s, within the atlas's period grid; of the 1-ipp orbits
+// alone when `one_only`.
+double PeriodTop(const Context& c, bool one_only = false);
+// The energy axis (log) and the period axis (0 to PeriodTop) of a frequency-energy plot.
+std::string EnergyAxes(const Context& c, bool one_only = false);
 
 void WriteBridges(std::ostream& out, const std::vector<Bridge>& bridges);
 // Labels B1, B2, ... at the top of each bridge of the atlas (Figs. 8, 17,
@@ -208,7 +224,7 @@ class FepTable {
     f.last = step;
     (IsStable(s) ? f.stable : f.unstable) += 1;
     f.rows << (one ? "1-ipp" : half ? "2-ipp-half" : "3-ipp") << "," << o.period << "," << (one ? 0.0 : o.times[0])
-           << "," << o.energy << "," << IsStable(s) << ",0\n";
+           << "," << o.energy << "," << IsStable(s) << ",0,0\n";
   }
   // The plot of the CSV `csv` written by Write and of a bridges CSV with
   // `bridges` rows (WriteBridges): solid stable, dashed unstable. `index` >=
@@ -225,17 +241,23 @@ class FepTable {
     auto select = [&](const char* family, const char* stable) {
       return "'" + csv + "'" + ix + " using 2:(strcol(1) eq '" + family + "'" + stable + " ? $4 : 1/0)";
     };
-    // (pi: a marker every 12th point of a branch.)
-    plot.Add(select("2-ipp", " && $5 == 1"), With("two_stable", "linespoints") + " pi 12", "2-ipp, stable", two_stable_)
-        .Add(select("2-ipp", " && $5 == 0"), With("two_unstable", "linespoints") + " pi 12", "2-ipp, unstable",
-             two_unstable_)
-        .Add(select("1-ipp", " && $5 == 1"), With("one_stable"), "1-ipp, stable", one_.stable)
+    // The 2-ipp branches: each a line, its markers at the rows the table
+    // marks (equal steps along it), keyed as one line with markers.
+    for (const auto& [role, stable, title, count] :
+         {std::tuple<const char*, const char*, const char*, long>{"two_stable", " && $5 == 1", "2-ipp, stable", two_stable_},
+          {"two_unstable", " && $5 == 0", "2-ipp, unstable", two_unstable_}}) {
+      if (count <= 0) continue;
+      plot.KeyOnly(With(role, "linespoints"), title)
+          .Unkeyed(select("2-ipp", stable), With(role, "lines"))
+          .Unkeyed(select("2-ipp", (std::string(stable) + " && $7 == 1").c_str()), With(role, "points"));
+    }
+    plot.Add(select("1-ipp", " && $5 == 1"), With("one_stable"), "1-ipp, stable", one_.stable)
         .Add(select("1-ipp", " && $5 == 0"), With("one_unstable"), "1-ipp, unstable", one_.unstable)
         .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp, t_2 = T/2",
-             half_.stable + half_.unstable)
-        // (A dot on every stable orbit: the stretch may be a few orbits, too
-        // short a line to see.)
-        .Add(select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints"), "3-ipp, stable",
+             half_.stable + half_.unstable);
+    // (A dot on every stable orbit: the stretch may be a few orbits, too
+    // short a line to see.)
+    plot.Add(select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints"), "3-ipp, stable",
              three_.stable)
         .Add(select("3-ipp", " && $5 == 0"), With("three_unstable"), "3-ipp, unstable", three_.unstable)
         .Add("'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)", With("bridge"), "bridge", bridge_count);

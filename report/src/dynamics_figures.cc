@@ -154,12 +154,20 @@ void FigureMultipliers(Context& c) {
   long stable = 0, unstable = 0, points = 0;
   double t_lo = INFINITY, t_hi = -INFINITY, m_hi = 1.0;
   int last = -2;
+  // The branch's largest modulus, one row per orbit (T, stable, max |mu|),
+  // a blank line at each gap: the left panel's lines.
+  std::ostringstream branch;
+  branch << "$branch << EOD\n";
   for (std::size_t k = 0; k < c.atlas.one.at.size(); ++k) {
     const OrbitRecord& r = c.atlas.one.at[k].front();
     if (!r.orbit.admissible || !r.stability || r.stability->multipliers.size() == 0) continue;
-    if (last >= 0 && static_cast<int>(k) != last + 1) out << "\n";  // a gap in the branch breaks its line
+    if (last >= 0 && static_cast<int>(k) != last + 1) {  // a gap in the branch breaks its line
+      out << "\n";
+      branch << "\n";
+    }
     last = static_cast<int>(k);
     const Stability& s = *r.stability;
+    branch << r.orbit.period << "," << s.stable << "," << s.max_modulus << "\n";
     (s.stable ? stable : unstable) += 1;
     t_lo = std::min(t_lo, r.orbit.period);
     t_hi = std::max(t_hi, r.orbit.period);
@@ -181,7 +189,7 @@ void FigureMultipliers(Context& c) {
     if (t.kind == TransitionKind::kMultiplierMinusOne) minus.push_back(t.period);
   }
   std::ostringstream marks;
-  marks << "$plus << EOD\n";
+  marks << branch.str() << "EOD\n$plus << EOD\n";
   for (double t : plus) marks << t << ",1\n";
   marks << "EOD\n$minus << EOD\n";
   for (double t : minus) marks << t << ",1\n";
@@ -198,12 +206,12 @@ void FigureMultipliers(Context& c) {
        // |mu| = 1, and the ends' points clear of the frame.)
        << "set ylabel 'largest modulus max |{/Symbol m}|'\nset logscale y\nset yrange [0.7:" << m_top << "]\n"
        << "set xrange [" << t_lo - 0.02 * (t_hi - t_lo) << ":" << t_hi + 0.02 * (t_hi - t_lo) << "]\n";
-  // |mu| = 1 first: the stable orbits' points sit on it, drawn over it.
+  // |mu| = 1 first: the stable stretches lie on it, a thick solid line over
+  // its thin dashes; the unstable ones dashed, as on Fig. 3.
   Plot left;
   left.Add("1", With("unit_circle"), "|{/Symbol m}| = 1")
-      .Add("'multipliers_one_impact.csv' using ($4 == 0 && $2 == 1 ? $1 : 1/0):3", With("one_stable", "points"),
-           "stable orbit", stable)
-      .Add("'' using ($4 == 0 && $2 == 0 ? $1 : 1/0):3", With("one_unstable", "points"), "unstable orbit", unstable)
+      .Add("$branch using 1:($2 == 1 ? $3 : 1/0)", With("one_stable"), "stable orbits", stable)
+      .Add("$branch using 1:($2 == 0 ? $3 : 1/0)", With("one_unstable"), "unstable orbits", unstable)
       .Add("$plus using 1:2", With("multiplier_plus_one"), "multipliers through +1", static_cast<long>(plus.size()))
       .Add("$minus using 1:2", With("multiplier_minus_one"), "multipliers through -1", static_cast<long>(minus.size()));
   // The complex plane: the multipliers within 2.5 of 0 (the larger real ones
@@ -461,15 +469,34 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
   hits.Commit();
   std::ostringstream body;
   const double m = std::max(1.0, std::ceil(u_max * 10) / 10);
-  body << "set datafile separator ','\nset multiplot\nset lmargin at screen 0.12\nset rmargin at screen 0.82\n"
+  // Contours every 0.5 d, solid above 0 and dashed below: the sign read in
+  // greyscale, where the diverging map's two ends are the same grey.
+  std::ostringstream positive, negative;
+  for (double level = 0.5; level < m; level += 0.5) {
+    positive << (level > 0.5 ? "," : "") << level;
+    negative << (level > 0.5 ? "," : "") << -level;
+  }
+  body << "set datafile separator ','\nset contour base\nunset surface\nset view map\n";
+  for (const auto& [block, levels] : {std::pair<const char*, std::string>{"$positive", positive.str()},
+                                      {"$negative", negative.str()}}) {
+    body << "set cntrparam levels discrete " << levels << "\nset table " << block
+         << "\nsplot 'bar_spacetime.csv' using 1:2:3 with lines notitle\nunset table\n";
+  }
+  body << "unset contour\nset surface\n";
+  body << "set multiplot\nset lmargin at screen 0.12\nset rmargin at screen 0.82\n"
        << "set origin 0, 0.36\nset size 1, 0.64\nset bmargin 0.5\nset format x ''\nset ylabel 'position along the bar x (m)'\n"
        // (a strip above x = L: the impacts marked there are not cut.)
        << "set xrange [0:" << 1e3 * opt.t_end << "]\nset yrange [0:" << 1.04 * bar.length << "]\nset ytics "
        << NiceStep(0.0, bar.length, 4) << "\n"
-           << style::Palette("displacement", "u / d") << "set cbrange [" << -m << ":" << m
+           << style::Palette("displacement", "u / d (contours every 0.5: solid > 0, dashed < 0)") << "set cbrange [" << -m << ":" << m
        << "]\nunset key\n";
   Plot map;
+  // (The contour tables are written with spaces, read here through the
+  // comma separator as one field of words.)
+  const std::string words = " using (real(word(strcol(1), 1))):(real(word(strcol(1), 2)))";
   map.Unkeyed("'bar_spacetime.csv' using 1:2:3", "with image")
+      .Unkeyed("$positive" + words, With("contour_positive"))
+      .Unkeyed("$negative" + words, With("contour_negative"))
       .Unkeyed("'bar_spacetime_impacts.csv' using 1:2", With("impact"));
   body << map.str() << "set origin 0, 0\nset size 1, 0.36\nset tmargin 0.5\nset bmargin 3.5\nunset colorbox\n"
        << "set format x '% g'\nset xlabel 'time t (ms)'\nset ylabel 'u(L) / d'\nset yrange ["

@@ -39,6 +39,26 @@
 namespace nsmodal::report {
 namespace {
 
+// A layer circling the point (t, x) as `role` (a one-point datablock).
+void Mark(Plot& plot, double t, double x, const char* role, const std::string& title) {
+  std::ostringstream spec;
+  spec << "'+' using (" << t << "):(" << x << ") every ::0::0";
+  if (title.empty()) {
+    plot.Unkeyed(spec.str(), With(role));
+  } else {
+    plot.Add(spec.str(), With(role), title);
+  }
+}
+
+// Layers marking the points (t, d) where orbits strike the obstacle.
+std::function<void(Plot&)> ImpactMarks(const Context& c, const std::vector<double>& times) {
+  const double d = c.b.gap;
+  const std::string title = "impact: " + Xc(c) + " = d";
+  return [times, d, title](Plot& plot) {
+    for (std::size_t k = 0; k < times.size(); ++k) Mark(plot, times[k], d, "orbit_impact", k ? "" : title);
+  };
+}
+
 // A chart of x_c(t) over one period of one orbit (Figs. 2, 5, 9) drawn as
 // `role`: the orbit's samples to DIR/NAME.csv, the obstacle at d, the part
 // of x_c above d filled (an NC3 failure is seen, not read off a number).
@@ -61,19 +81,10 @@ void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const cha
            Xc(c) + " > d", above)
       .Add("'' using " + xc, With(role), Xc(c) + "(t), T = " + Num(o.period))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+  // Its impact at t = 0, again at T (each orbit is computed from one).
+  ImpactMarks(c, {0.0, o.period})(plot);
   if (marks) marks(plot);
   Draw(c, name, body.str() + plot.str(), note);
-}
-
-// A layer circling the point (t, x) as `role` (a one-point datablock).
-void Mark(Plot& plot, double t, double x, const char* role, const std::string& title) {
-  std::ostringstream spec;
-  spec << "'+' using (" << t << "):(" << x << ") every ::0::0";
-  if (title.empty()) {
-    plot.Unkeyed(spec.str(), With(role));
-  } else {
-    plot.Add(spec.str(), With(role), title);
-  }
 }
 
 // The set-up of a multi-panel chart's one key (Plot::Legend, the plot that
@@ -138,7 +149,7 @@ void Figure3(Context& c) {
     (IsStable(stability) ? stable : unstable) += o.admissible;
   }
   std::ostringstream body;
-  body << EnergyAxes(c);
+  body << EnergyAxes(c, true);
   // The transition lines under the family, their marks over it.
   Plot plot;
   TransitionLines(c, "fig03_transitions.csv", true, body, plot);
@@ -336,7 +347,7 @@ void Figure7(Context& c) {
   // coloured by its energy (their stability is Fig. 8's: filled and open
   // marks this dense could not be told apart), the line t2 = T/2 over them.
   body << "set xlabel 'period T (s)'\nset ylabel 'second impact time over the period t_2 / T'\nset key below\n"
-       << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:1]\n"
+       << "set xrange [0:" << PeriodTop(c) << "]\nset yrange [0:1]\n"
        << style::Palette("energy", "energy E (J)") << "set logscale cb\n" << LogTics("cb", e_lo, e_hi)
        << "set cbrange [" << e_lo << ":" << e_hi << "]\n";
   Plot plot;
@@ -655,6 +666,9 @@ void Figures13To15(Context& c) {
                "2-ipp, s = 0." + std::to_string(pct / 10) + " s_{end}");
     }
     plot.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+    // The impacts every orbit of the bridge shares: 0, t2, T (at t2 the
+    // grazing orbit's graze, the 2-ipp orbits' second impact).
+    ImpactMarks(c, {0.0, br->t2, t})(plot);
     body << plot.str();
     out.Commit();
     std::ostringstream note;
@@ -979,7 +993,7 @@ void Figure18(Context& c) {
   // the families fill the frame, their diverging ends leave it.
   const double top = std::min(2.0 * hi, EnergyTop(energies));
   body << "set logscale y\n" << LogTics("y", 0.5 * lo, top) << "set yrange [" << 0.5 * lo << ":" << top << "]\n"
-       << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << c.periods.back() << "]\n"
+       << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << PeriodTop(c) << "]\n"
        << "set key below\n";
   // One colour per sequence (the sequences cycle); stability as everywhere:
   // a 1-impact family solid / dashed, a 2-impact one filled / open points.
@@ -1168,7 +1182,7 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
   int failed = 0;
   for (const auto& [name, col, label] :
        {std::tuple<std::string, int, std::string>{"response_energy", 5, "mean energy (J)"},
-        {"response_amplitude", 7, "impact velocity |v_c^-| (m/s)"}}) {
+        {"response_amplitude", 7, "impact velocity v_c^- (m/s)"}}) {
     std::ostringstream body;
     body << std::setprecision(17) << "set datafile separator ','\nset key below\n"
          << "set xlabel '" << (frequency ? "forcing frequency {/Symbol w} (rad/s)" : "forcing amplitude a (N)") << "'\n"

@@ -104,7 +104,7 @@ ChartStatus DrawChart(const OutputDir& dir, const std::string& name, const std::
     // temporary name while the script, rerun by hand, draws NAME.EXT.
     WriteResult(dir, script,
                 "set terminal " + f.Terminal(aspect) + "\nif (!exists('nsmodal_output')) nsmodal_output = '" + image +
-                    "'\nset output nsmodal_output\n" + style::ChartSetup() + body + "\n");
+                    "'\nset output nsmodal_output\n" + style::ChartSetup(f) + body + "\n");
     const std::string log = script + ".log";
     std::string error = Run({"gnuplot", "-e", "nsmodal_output='" + temp + "'", script}, dir.path(), log);
     // A signal that reached gnuplot too (Ctrl-C reaches the whole process

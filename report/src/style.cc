@@ -122,6 +122,7 @@ Declaration Parse() {
       os << " pointscale " << Number(points);
     }
     format.options = os.str();
+    format.key = Value<std::string>(f, "key", where);
     d.formats.push_back(format);
   }
   return d;
@@ -232,8 +233,8 @@ std::string CycleColour(std::string_view cycle, std::size_t k) {
   return Colour((*names)[k % names->size()].value<std::string>().value_or(""));
 }
 
-std::string ChartSetup() {
-  return "set grid lt 1 lw 0.5 lc rgb '" + Colour("grid") + "'\nset key samplen 3 spacing 1 height 1 noautotitle\n";
+std::string ChartSetup(const Format& format) {
+  return "set grid lt 1 lw 0.5 lc rgb '" + Colour("grid") + "'\nset key " + format.key + " noautotitle\n";
 }
 
 std::string Json() {

@@ -20,6 +20,7 @@ struct Format {
   double width = 0.0, height = 0.0;
   std::string unit;       // of width and height: "" (pixels) or "cm"
   std::string options;    // font, line width, marker scale
+  std::string key;        // the key's set-up (samplen, spacing, height, width)
   // The "set terminal" line; `aspect` > 0: height = aspect * width (a chart
   // whose subject has its own shape, the model's drawing), else the format's.
   std::string Terminal(double aspect = 0.0) const;
@@ -56,8 +57,9 @@ std::string MapColour(std::string_view map, double f);
 // The k-th colour of a cycle of [cycles] (repeats past its end).
 std::string CycleColour(std::string_view cycle, std::size_t k);
 
-// Gnuplot set-up shared by every chart: the grid's colour, a compact key.
-std::string ChartSetup();
+// Gnuplot set-up shared by every chart: the grid's colour, a compact key
+// (the format's).
+std::string ChartSetup(const Format& format);
 
 // The whole declaration as JSON (for the Python module's nsmodal.style).
 std::string Json();
