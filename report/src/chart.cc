@@ -236,41 +236,53 @@ void FepTable::Write(std::ostream& out) const {
     out << (first ? "" : "\n") << f->rows.str();
     first = false;
   }
-  // A 2-ipp branch's markers at equal steps of its length in the frame
-  // (T over the roots' span of periods, log E over their decades: the
-  // frame of a plot of the whole table, or of a zoom on it), not every k-th
-  // point: where a branch is steep its points crowd and k-th markers made a
-  // chain of beads.
+  const std::vector<std::vector<Root>> branches = TwoImpactBranches(roots_);
+  const std::vector<std::vector<bool>> marks = EqualStepMarks(branches);
+  for (std::size_t b = 0; b < branches.size(); ++b) {
+    out << (first ? "" : "\n");
+    first = false;
+    for (std::size_t k = 0; k < branches[b].size(); ++k) {
+      const Root& r = branches[b][k];
+      out << "2-ipp," << r.period << "," << r.t2 << "," << r.energy << "," << r.stable << "," << b + 1 << ","
+          << marks[b][k] << "\n";
+    }
+  }
+}
+
+// (T over the roots' span of periods, log E over their decades: the frame
+// of a plot of the whole table, or of a zoom on it.)
+std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepTable::Root>>& branches) {
   double t_lo = INFINITY, t_hi = 0.0, e_lo = INFINITY, e_hi = 0.0;
-  for (const Root& r : roots_) {
-    t_lo = std::min(t_lo, r.period);
-    t_hi = std::max(t_hi, r.period);
-    if (r.energy > 0.0) {
-      e_lo = std::min(e_lo, r.energy);
-      e_hi = std::max(e_hi, r.energy);
+  for (const auto& branch : branches) {
+    for (const FepTable::Root& r : branch) {
+      t_lo = std::min(t_lo, r.period);
+      t_hi = std::max(t_hi, r.period);
+      if (r.energy > 0.0) {
+        e_lo = std::min(e_lo, r.energy);
+        e_hi = std::max(e_hi, r.energy);
+      }
     }
   }
   const double decades = e_hi > e_lo ? std::max(std::log10(e_hi / e_lo), 0.1) : 1.0;
   const double t_span = t_hi > t_lo ? t_hi - t_lo : 1.0;
-  constexpr double kMarkStep = 0.03;  // of the frame
-  const std::vector<std::vector<Root>> branches = TwoImpactBranches(roots_);
-  for (std::size_t b = 0; b < branches.size(); ++b) {
-    out << (first ? "" : "\n");
-    first = false;
+  constexpr double kMarkStep = 0.06;  // of the frame
+  std::vector<std::vector<bool>> marks;
+  for (const auto& branch : branches) {
+    marks.emplace_back(branch.size(), false);
     double since = kMarkStep;  // the first point marked
-    for (std::size_t k = 0; k < branches[b].size(); ++k) {
-      const Root& r = branches[b][k];
+    for (std::size_t k = 0; k < branch.size(); ++k) {
       if (k > 0) {
-        const Root& p = branches[b][k - 1];
+        const FepTable::Root &r = branch[k], &p = branch[k - 1];
         const double dy = r.energy > 0.0 && p.energy > 0.0 ? std::log10(r.energy / p.energy) / decades : 0.0;
         since += std::hypot((r.period - p.period) / t_span, dy);
       }
-      const bool mark = since >= kMarkStep;
-      if (mark) since = 0.0;
-      out << "2-ipp," << r.period << "," << r.t2 << "," << r.energy << "," << r.stable << "," << b + 1 << ","
-          << mark << "\n";
+      if (since >= kMarkStep) {
+        marks.back()[k] = true;
+        since = 0.0;
+      }
     }
   }
+  return marks;
 }
 
 double NiceStep(double lo, double hi, int ticks) {

@@ -289,6 +289,11 @@ class FepTable {
 // in T, where two roots meet and vanish, ends both branches.
 std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable::Root> roots);
 
+// Where to put a branch's markers: at equal steps of its length in the
+// frame (6 % of it), the first point marked, not every k-th point (where a
+// branch is steep its points crowd, and k-th markers made a chain of beads).
+std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepTable::Root>>& branches);
+
 // The transitions of the 1-ipp family on a frequency-energy plot, written
 // to CSV `name` (T,kind,energy): singular ones (T_S) and, if `all`, modal
 // ones as vertical lines (TransitionLines, drawn first: under the families),

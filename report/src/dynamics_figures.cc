@@ -200,8 +200,10 @@ void FigureMultipliers(Context& c) {
   std::ostringstream body;
   // A wide canvas (height 0.6 width): the complex plane's square panel fills
   // the lower four fifths of its half, the left panel's key above it.
+  // The left panel's key inside its frame, at the top (above the branch's
+  // tallest peaks but the first, at its left edge).
   body << marks.str() << "set multiplot\nset size 0.52, 1\nset origin 0, 0\n"
-       << "set key at screen 0.97, screen 0.99 right top\nset xlabel 'period T (s)'\n"
+       << "set key at graph 0.78, graph 0.98 right top\nset xlabel 'period T (s)'\n"
        // (From 0.7 and 2 % beyond the branch's ends: the stable orbits, at
        // |mu| = 1, and the ends' points clear of the frame.)
        << "set ylabel 'largest modulus max |{/Symbol m}|'\nset logscale y\nset yrange [0.7:" << m_top << "]\n"
@@ -220,13 +222,17 @@ void FigureMultipliers(Context& c) {
        << "set xrange [-2.5:2.5]\nset yrange [-2.5:2.5]\n"
        << "set xlabel 'Re {/Symbol m}'\nset ylabel 'Im {/Symbol m}'\n"
        << style::Palette("family", "T (s) along the 1-ipp branch") << FamilyBarTics(t_lo, t_hi)
-       << "set cbrange [0:1]\nunset key\n";
-  // The unit circle over the points (the line |mu| = 1 of the left panel).
+       << "set cbrange [0:1]\nset key at screen 0.97, screen 0.99 right top\n";
+  // The multipliers of the unstable orbits open, of the stable ones filled
+  // over them; the unit circle over the points (the line |mu| = 1 of the
+  // left panel).
+  const std::string shade = ":(($1 - " + std::to_string(t_lo) + ") / " + std::to_string(std::max(t_hi - t_lo, 1e-300)) + ")";
   Plot right;
-  right.Unkeyed("'multipliers_one_impact.csv' using 5:6:(($1 - " + std::to_string(t_lo) + ") / " +
-                    std::to_string(std::max(t_hi - t_lo, 1e-300)) + ")",
-                style::WithPalette("one_stable"))
-      .Unkeyed("$circle using 1:2", With("function"));
+  right.Add("'multipliers_one_impact.csv' using ($2 == 0 ? $5 : 1/0):6" + shade, style::WithPalette("map_unstable"),
+            "multipliers of an unstable orbit", unstable)
+      .Add("'' using ($2 == 1 ? $5 : 1/0):6" + shade, style::WithPalette("map_stable"),
+           "multipliers of a stable orbit", stable)
+      .Add("$circle using 1:2", With("unit_circle"), "unit circle", 1);
   body << right.str() << "unset multiplot";
   Draw(c, "multipliers_one_impact", body.str(),
        std::to_string(stable + unstable) + " admissible orbits, T from " + Num(t_lo) + " to " + Num(t_hi) +

@@ -615,9 +615,10 @@ void Figures11And12(Context& c) {
        << ", the shortest linear period) to " << summary.str()
        << "; T spans [" << tmin << ", " << tmax << "]";
   Draw(c, "fig11_two_impact_orbits", body.str(), note.str());
-  // Fig. 12: the branch's orbits as a surface, finer than Fig. 11's curves.
+  // Fig. 12: the branch's orbits in the section, 11 of them (41 made a
+  // tangle in the projection where no orbit could be followed).
   SectionFamily family{"arclength s", {}};
-  const int scans = 40;
+  const int scans = 10;
   for (int j = 0; j <= scans; ++j) {
     const BranchPoint& p = AtArclength(m, static_cast<double>(j) / scans);
     family.orbits.emplace_back(std::abs(p.arclength - branch[run.front()].arclength),
@@ -646,13 +647,16 @@ void Figures13To15(Context& c) {
     const Eigen::MatrixXd one_tr = OrbitTrajectory(c.b, one, kSamples);
     WriteTrajectory(out.stream(), "one", t, one_tr);
     WriteTrajectory(out.stream(), "one_shifted", t, ShiftTrajectory(one_tr, t - br->t2, t));
-    for (const auto& [label, f] : {std::pair<const char*, double>{"s20", 0.2}, {"s50", 0.5}, {"s80", 0.8}}) {
+    // s = 0.1, 0.3, 0.5 s_end: orbit s_end - s is orbit s shifted by T/2
+    // (Fig. 14's symmetry), so the half of the bridge holds every orbit once.
+    for (const auto& [label, f] : {std::pair<const char*, double>{"s10", 0.1}, {"s30", 0.3}, {"s50", 0.5}}) {
       WriteTrajectory(out.stream(), label, t, OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, f * br->s_end), kSamples));
     }
     std::ostringstream body;
     // The ends of the bridge (the grazing orbit and its shift) black, as in
     // Fig. 14; the three 2-ipp orbits between in the family map's colours at
-    // their positions (each keyed: three curves need no colour bar).
+    // their positions along the half, as Fig. 14 shades them (each keyed:
+    // three curves need no colour bar).
     const std::string xc = std::to_string(XCol(c, c.contact));
     body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset xrange [0:" << t << "]\n";
     Plot plot;
@@ -660,9 +664,9 @@ void Figures13To15(Context& c) {
              "grazing 1-ipp orbit (s = 0)")
         .Add("'' using (strcol(1) eq 'one_shifted' ? $3 : 1/0):" + xc, With("limit_shifted"),
              "the same, shifted (s = s_{end})");
-    for (int pct : {20, 50, 80}) {
+    for (int pct : {10, 30, 50}) {
       plot.Add("'' using (strcol(1) eq 's" + std::to_string(pct) + "' ? $3 : 1/0):" + xc,
-               With("orbit", "lines", style::MapColour("family", pct / 100.0)),
+               With("orbit", "lines", style::MapColour("family", pct / 50.0)),
                "2-ipp, s = 0." + std::to_string(pct / 10) + " s_{end}");
     }
     plot.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
@@ -819,8 +823,11 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   }
   report::ResultFile one(c.dir, "fig16_one_impact.csv");
   one << "T,energy,admissible,stable\n";
+  // The period axis over the admissible stretch, 15 % of it before and 50 %
+  // after (where the family, no longer admissible, turns back: the caption
+  // follows it there).
   const double width = pick.admissible_to - pick.admissible_from;
-  const double t_lo = pick.admissible_from - 0.5 * width, t_hi = pick.admissible_to + 0.5 * width;
+  const double t_lo = pick.admissible_from - 0.15 * width, t_hi = pick.admissible_to + 0.5 * width;
   long one_stable = 0, one_unstable = 0;
   for (const auto& list : c.atlas.one.at) {
     const OrbitRecord& r = list.front();
@@ -833,28 +840,46 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   report::ResultFile orbit(c.dir, "fig16_orbit.csv");
   WriteTrajectoryHeader(orbit.stream(), c);
   WriteTrajectory(orbit.stream(), "x", pick.start.period, OrbitTrajectory(c.b, pick.start, kSamples));
-  // The energy axis from just below the lowest drawn orbit (3-ipp or
-  // 1-ipp in the window) to 1.5 times the highest admissible 3-ipp one.
+  // The energy axis (log) from just below the lowest drawn orbit (3-ipp or
+  // 1-ipp in the window) to above the family's highest, not admissible ones
+  // included (the continuation the caption follows), at most 300 times the
+  // lowest.
   double e_hi = 0.0, e_lo = INFINITY;
   for (const Orbit& o : pick.family) {
-    if (o.admissible) e_hi = std::max(e_hi, o.energy);
-    if (o.period >= t_lo && o.period <= t_hi) e_lo = std::min(e_lo, o.energy);
+    if (o.period < t_lo || o.period > t_hi) continue;
+    e_hi = std::max(e_hi, o.energy);
+    e_lo = std::min(e_lo, o.energy);
   }
   for (const auto& list : c.atlas.one.at) {
     const Orbit& o = list.front().orbit;
     if (o.admissible && o.period >= t_lo && o.period <= t_hi) e_lo = std::min(e_lo, o.energy);
   }
-  if (!std::isfinite(e_lo) || !(e_lo < e_hi)) e_lo = 0.0;
+  if (!std::isfinite(e_lo) || !(e_lo < e_hi)) e_lo = 1e-3 * e_hi;
+  const double bottom = 0.8 * e_lo, top = std::min(1.5 * e_hi, 300.0 * e_lo);
   std::ostringstream body;
   // Two panels above one key for both (a key under each ran into the other
   // panel at the column's width); the energy axis from 0.8 of the lowest
   // orbit drawn, so that the lowest stretch clears the frame.
-  const double bottom = 0.8 * e_lo;
-  body << "set multiplot\nset tmargin at screen 0.97\nset bmargin at screen 0.36\n"
+  body << "set multiplot\nset tmargin at screen 0.97\nset bmargin at screen 0.3\n"
        << "set lmargin at screen 0.13\nset rmargin at screen 0.47\n"
-       << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\n"
-       << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << bottom << ":" << 1.5 * e_hi << "]\n"
-       << VerticalLines("ends", {pick.admissible_from, pick.admissible_to}, bottom, 1.5 * e_hi);
+       << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset logscale y\n" << LogTics("y", bottom, top)
+       << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << bottom << ":" << top << "]\n"
+       << VerticalLines("ends", {pick.admissible_from, pick.admissible_to}, bottom, top);
+  // The stable stretch, a few orbits long, named where it is.
+  double s_t = 0.0, s_e = 0.0;
+  long s_n = 0;
+  for (const Orbit& o : pick.family) {
+    if (!o.admissible) continue;
+    const Stability s = OrbitStability(c.b, o);
+    if (s.defined && s.stable) {
+      s_t += o.period;
+      s_e += o.energy;
+      ++s_n;
+    }
+  }
+  if (s_n > 0) {
+    body << "set label 'stable' at " << s_t / s_n << ", " << s_e / s_n << " center offset 0, 1.2 front\n";
+  }
   Plot energies("plot", Plot::Keys::kCollected);
   energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)", With("not_admissible"), "3-ipp, not admissible", three[0])
       .Add("'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0)", With("three_unstable"), "3-ipp, unstable", three[1])
@@ -865,7 +890,7 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
       .Add("$ends using 1:2", With("range_end"), "ends of admissibility");
   // The orbit drawn on the right is marked on its branch, and its stability named.
   const bool start_stable = OrbitStability(c.b, pick.start).stable;
-  Mark(energies, pick.start.period, pick.start.energy, "mark",
+  Mark(energies, pick.start.period, pick.start.energy, "picked",
        std::string("orbit at right, ") + (start_stable ? "stable" : "unstable"));
   // Where the family ends on the 1-ipp branch: its grazing orbit at T_G.
   const Orbit graze = OneImpactOrbit(c.b, pick.admissible_to);
@@ -881,11 +906,11 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   orbit_plot.Unkeyed("'fig16_orbit.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)),
                      With("orbit_three"))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d")
-      .Add("$impacts using 1:2", With("mark"), "impacts");
+      .Add("$impacts using 1:2", With("orbit_impact"), "impacts (t = 0 again at T)");
   std::vector<Plot::Entry> entries = energies.Collected();
   entries.insert(entries.end(), orbit_plot.Collected().begin(), orbit_plot.Collected().end());
   body << energies.str() << impacts.str() << "set lmargin at screen 0.64\nset rmargin at screen 0.98\n"
-       << "set autoscale y\nset xrange [0:" << pick.start.period << "]\n"
+       << "unset logscale y\nunset label\nset ytics autofreq\nset mytics default\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
        << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << LegendPanel(0.2)
        << Plot::Legend(entries) << "unset multiplot";
   out.Commit();
@@ -928,7 +953,7 @@ void Figure18(Context& c) {
   }
   report::ResultFile out(c.dir, "fig18_sequences_fep.csv");
   std::ostream& os = out.stream();
-  os << "sequence,index,T,t2,energy,stable,branch\n";
+  os << "sequence,index,T,t2,energy,stable,branch,mark\n";
   std::vector<std::string> labels, titles;
   SweepOptions opt;
   opt.stability = StabilityPolicy::kAdmissible;
@@ -973,13 +998,16 @@ void Figure18(Context& c) {
         branches.back().push_back(r);
       }
     }
+    // A 2-impact sequence's markers at equal steps along its branches.
+    const std::vector<std::vector<bool>> marks = EqualStepMarks(branches);
     for (std::size_t b = 0; b < branches.size(); ++b) {
       // (One blank line between branches: gnuplot breaks the line there.)
       os << (first ? "" : "\n");
       first = false;
-      for (const FepTable::Root& r : branches[b]) {
+      for (std::size_t i = 0; i < branches[b].size(); ++i) {
+        const FepTable::Root& r = branches[b][i];
         os << labels.back() << "," << s << "," << r.period << "," << r.t2 << "," << r.energy << "," << r.stable << ","
-           << b + 1 << "\n";
+           << b + 1 << "," << (seq.size() == 2 && marks[b][i]) << "\n";
       }
     }
   }
@@ -995,30 +1023,44 @@ void Figure18(Context& c) {
   body << "set logscale y\n" << LogTics("y", 0.5 * lo, top) << "set yrange [" << 0.5 * lo << ":" << top << "]\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << PeriodTop(c) << "]\n"
        << "set key below\n";
-  // One colour per sequence (the sequences cycle); stability as everywhere:
-  // a 1-impact family solid / dashed, a 2-impact one filled / open points.
-  // The 1-impact families last, over the 2-impact branches they meet.
+  // The 1-impact sequences as Fig. 8's 1-ipp family (solid and dashed lines,
+  // no markers: the first in its blue and sky, the others in the sequences'
+  // colours), under the 2-impact ones; each 2-impact sequence a line with
+  // markers at equal steps, in a role of its own (Fig. 8's 2-ipp vermillion
+  // dots and orange circles first, then purple squares, grey triangles):
+  // filled stable, open unstable, told apart in greyscale by their shapes.
   Plot plot;
   std::vector<std::size_t> order;
   for (std::size_t s = 0; s < sequences.size(); ++s) {
-    if (sequences[s].size() == 2) order.push_back(s);
-  }
-  for (std::size_t s = 0; s < sequences.size(); ++s) {
     if (sequences[s].size() == 1) order.push_back(s);
   }
+  for (std::size_t s = 0; s < sequences.size(); ++s) {
+    if (sequences[s].size() == 2) order.push_back(s);
+  }
+  const std::pair<const char*, const char*> two_roles[] = {
+      {"two_stable", "two_unstable"}, {"sequence_b_stable", "sequence_b_unstable"},
+      {"sequence_c_stable", "sequence_c_unstable"}};
+  std::size_t ones = 0, twos = 0;
   for (const std::size_t s : order) {
     const bool one = sequences[s].size() == 1;
+    const std::size_t k = one ? ones++ : twos++;
+    // Past the roles: the first ones again, coloured from the sequences' cycle.
+    const std::string colour = one ? (k == 0 ? "" : style::CycleColour("sequences", k + 1))
+                                   : (k < 3 ? "" : style::CycleColour("sequences", k));
     for (int stable : {1, 0}) {
+      if (counts[s][stable] == 0) continue;
       std::ostringstream spec;
-      spec << "'fig18_sequences_fep.csv' using 3:(strcol(1) eq '" << labels[s] << "' && $6 == " << stable
-           << " ? $5 : 1/0)";
-      // The role gives the line or point; the sequence the colour.
-      const std::string role = one ? (stable ? "one_stable" : "one_unstable") : (stable ? "two_stable" : "two_unstable");
-      // (pi: a marker every 12th point of a branch, as Fig. 8's; the
-      // 1-impact families' too, whose stable stretches may be a few periods.)
-      const std::string with = With(role, "linespoints", style::CycleColour("sequences", s)) + " pi 12";
-      plot.Add(spec.str(), with, titles[s] + (stable ? " stable" : " unstable"),
-               counts[s][stable]);
+      spec << "'fig18_sequences_fep.csv' using 3:(strcol(1) eq '" << labels[s] << "' && $6 == " << stable;
+      const std::string title = titles[s] + (stable ? " stable" : " unstable");
+      if (one) {
+        plot.Add(spec.str() + " ? $5 : 1/0)", With(stable ? "one_stable" : "one_unstable", "lines", colour), title,
+                 counts[s][stable]);
+        continue;
+      }
+      const char* role = stable ? two_roles[k % 3].first : two_roles[k % 3].second;
+      plot.KeyOnly(With(role, "linespoints", colour), title)
+          .Unkeyed(spec.str() + " ? $5 : 1/0)", With(role, "lines", colour))
+          .Unkeyed(spec.str() + " && $8 == 1 ? $5 : 1/0)", With(role, "points", colour));
     }
   }
   body << plot.str();
