@@ -297,13 +297,13 @@ void Figure6(Context& c) {
   std::ostringstream plane;
   // t2 / T in [0, 1]: the roots fill the frame (t2 < T leaves half of a
   // (T, t2) frame empty), the trivial line is t2 / T = 1/2, drawn over them.
-  plane << "set xlabel 'period T (s)'\nset ylabel 'second impact time over the period t_2 / T'\nset key below\n"
+  plane << "set xlabel 'period T (s)'\nset ylabel 'second impact time t_2 / T'\nset key below\n"
         << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:1]\n";
   Plot plot;
   plot.Add("'fig06_root_curves.csv' using 1:($4 == 1 && $3 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other"),
            "other root, not admissible", other)
       .Add("'' using 1:($4 == 1 && $3 == 1 ? $2 / $1 : 1/0)", With("root_cloud"), "other root, admissible", admissible)
-      .Add("0.5", With("two_half"), "trivial root t_2 = T/2 (the dilated 1-ipp)");
+      .Add("0.5", With("two_half"), "trivial root t_2 = T/2");
   Draw(c, "fig06_root_curves", plane.str() + plot.str());
 }
 
@@ -346,12 +346,12 @@ void Figure7(Context& c) {
   // t2 / T in [0, 1], as Fig. 6's root curves; one mark per admissible root
   // coloured by its energy (their stability is Fig. 8's: filled and open
   // marks this dense could not be told apart), the line t2 = T/2 over them.
-  body << "set xlabel 'period T (s)'\nset ylabel 'second impact time over the period t_2 / T'\nset key below\n"
+  body << "set xlabel 'period T (s)'\nset ylabel 'second impact time t_2 / T'\nset key below\n"
        << "set xrange [0:" << PeriodTop(c) << "]\nset yrange [0:1]\n"
        << style::Palette("energy", "energy E (J)") << "set logscale cb\n" << LogTics("cb", e_lo, e_hi)
        << "set cbrange [" << e_lo << ":" << e_hi << "]\n";
   Plot plot;
-  plot.Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 0 ? $2 / $1 : 1/0)", With("potential", "points"),
+  plot.Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "points", style::Colour("grey_faint")),
            "potential, not admissible", grey)
       .Add("'' using 1:($9 == 1 && $5 == 1 ? $2 / $1 : 1/0):3", style::WithPalette("map_stable"),
            "admissible (colour: its energy)", stable + unstable)
@@ -1266,7 +1266,7 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
           const std::string spec = "'response.csv' using ($" + branch_col + " == " + std::to_string(branch) +
                                    (what == 0 ? " && $8 == 0" : " && $8 == 1 && $9 == " + std::to_string(what - 1)) +
                                    " ? $" + x + " : 1/0):" + y;
-          const char* role = what == 2 ? "response_stable" : what == 1 ? "response_unstable" : "not_admissible";
+          const char* role = what == 2 ? "response_stable" : what == 1 ? "response_unstable" : "response_not_admissible";
           const std::string look = With(role, "lines", colour);
           if (keyed) {
             plot.Unkeyed(spec, look);
