@@ -335,8 +335,9 @@ void WriteBridges(std::ostream& out, const std::vector<Bridge>& bridges) {
 }
 
 
-std::pair<double, double> AddOrbitsNear(const Context& c, double t, double w, FepTable& table) {
-  double lo = INFINITY, hi = -INFINITY;
+std::pair<double, double> AddOrbitsNear(const Context& c, double t, double w, FepTable& table,
+                                        std::pair<double, double>* periods) {
+  double lo = INFINITY, hi = -INFINITY, t_lo = INFINITY, t_hi = -INFINITY;
   SweepOptions admissible_only;
   admissible_only.stability = StabilityPolicy::kAdmissible;
   for (int j = 0; j <= 400; ++j) {
@@ -347,9 +348,12 @@ std::pair<double, double> AddOrbitsNear(const Context& c, double t, double w, Fe
         table.Add(j, r.orbit, r.stability);
         lo = std::min(lo, r.orbit.energy);
         hi = std::max(hi, r.orbit.energy);
+        t_lo = std::min(t_lo, r.orbit.period);
+        t_hi = std::max(t_hi, r.orbit.period);
       }
     }
   }
+  if (periods) *periods = {t_lo, t_hi};
   return {lo, hi};
 }
 

@@ -320,7 +320,9 @@ std::string FepChart(Context& c, const FepTable& table, const std::string& fep, 
                      const std::string& transitions);
 
 // The admissible 1- and 2-ipp orbits of 401 periods over [t - w, t + w]
-// into `table`; returns the range of their energies.
-std::pair<double, double> AddOrbitsNear(const Context& c, double t, double w, FepTable& table);
+// into `table`; returns the range of their energies (and, with `periods`,
+// sets the range of their periods).
+std::pair<double, double> AddOrbitsNear(const Context& c, double t, double w, FepTable& table,
+                                        std::pair<double, double>* periods = nullptr);
 
 }  // namespace nsmodal::report

@@ -766,7 +766,15 @@ void Figure17(Context& c) {
     const Bridge& br = c.bridges[k];
     const double w = 0.01 * br.period, height = br.energy_max - br.energy_min;
     FepTable table;
-    AddOrbitsNear(c, br.period, w, table);
+    std::pair<double, double> found;
+    AddOrbitsNear(c, br.period, w, table, &found);
+    // The panel's periods: the admissible orbits found, the bridge inside,
+    // 4 % of that span beyond (not all of [T - w, T + w]: B3's orbits took
+    // its middle third).
+    const double p_lo = std::min(found.first, br.period), p_hi = std::max(found.second, br.period);
+    const double margin = 0.04 * std::max(p_hi - p_lo, 1e-3 * br.period);
+    const double x_lo = std::isfinite(p_lo) ? p_lo - margin : br.period - w;
+    const double x_hi = std::isfinite(p_hi) ? p_hi + margin : br.period + w;
     table.Write(out.stream());
     out << "\n\n";
     WriteBridges(bo.stream(), {br});
@@ -778,12 +786,15 @@ void Figure17(Context& c) {
     body << "set lmargin at screen " << x0 + 0.26 * cw << "\nset rmargin at screen " << x0 + 0.97 * cw
          << "\nset tmargin at screen " << y0 + 0.88 * ch << "\nset bmargin at screen " << y0 + 0.24 * ch << "\n"
          << "set ylabel '" << (k % cols == 0 ? "energy E (J)" : "") << "'\n"
-         << "set xtics " << NiceStep(br.period - w, br.period + w, 3) << "\nset ytics " << NiceStep(lo, hi, 4) << "\n"
-         << "set xrange [" << br.period - w << ":" << br.period + w << "]\nset yrange [" << lo << ":" << hi << "]\n"
+         << "set xtics " << NiceStep(x_lo, x_hi, 3) << "\nset ytics " << NiceStep(lo, hi, 4) << "\n"
+         << "set xrange [" << x_lo << ":" << x_hi << "]\nset yrange [" << lo << ":" << hi << "]\n"
          << "set title 'B" << k + 1 << ": " << (IsGrazing(br) ? "grazing" : "period doubling") << ", T = "
-         << std::setprecision(5) << br.period << "' offset 0, -0.6\n";
+         << std::fixed << std::setprecision(3) << br.period << std::defaultfloat << std::setprecision(6)
+         << " s' offset 0, -0.6\n";
     Plot plot("plot", Plot::Keys::kCollected);
     table.AddLayers(plot, "fig17_bridges_fep.csv", "fig17_bridges.csv", 1, k);
+    // A grazing bridge's top is the grazing 1-ipp orbit: circled, as on Fig. 8.
+    if (IsGrazing(br)) Mark(plot, br.period, br.energy_max, "grazing", "grazing, T_G");
     body << plot.str();
     entries.insert(entries.end(), plot.Collected().begin(), plot.Collected().end());
   }
