@@ -269,14 +269,19 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
   std::vector<std::vector<bool>> marks;
   for (const auto& branch : branches) {
     marks.emplace_back(branch.size(), false);
-    double since = kMarkStep;  // the first point marked
+    // Each stretch of one stability (drawn as a series of its own) marked
+    // from its first point, and at its last when that is a third of a step
+    // on: a short stretch carries two marks, a one-point one its one.
+    double since = kMarkStep;
     for (std::size_t k = 0; k < branch.size(); ++k) {
       if (k > 0) {
         const FepTable::Root &r = branch[k], &p = branch[k - 1];
         const double dy = r.energy > 0.0 && p.energy > 0.0 ? std::log10(r.energy / p.energy) / decades : 0.0;
         since += std::hypot((r.period - p.period) / t_span, dy);
+        if (r.stable != p.stable) since = kMarkStep;
       }
-      if (since >= kMarkStep) {
+      const bool last = k + 1 == branch.size() || branch[k + 1].stable != branch[k].stable;
+      if (since >= kMarkStep || (last && since >= kMarkStep / 3)) {
         marks.back()[k] = true;
         since = 0.0;
       }

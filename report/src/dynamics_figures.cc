@@ -198,12 +198,11 @@ void FigureMultipliers(Context& c) {
   marks << "EOD\n";
   const double m_top = std::min(m_hi, 1e3) * 1.5;
   std::ostringstream body;
-  // A wide canvas (height 0.6 width): the complex plane's square panel fills
-  // the lower four fifths of its half, the left panel's key above it.
-  // The left panel's key inside its frame, at the top (above the branch's
-  // tallest peaks but the first, at its left edge).
+  // A wide canvas (height 0.7 width): the complex plane's square panel fills
+  // the lower four fifths of its half, its key above it; the left panel's
+  // key, short, below its frame (inside it, it covered the branch's peaks).
   body << marks.str() << "set multiplot\nset size 0.52, 1\nset origin 0, 0\n"
-       << "set key at graph 0.78, graph 0.98 right top\nset xlabel 'period T (s)'\n"
+       << "set key below maxrows 3\nset xlabel 'period T (s)'\n"
        // (From 0.7 and 2 % beyond the branch's ends: the stable orbits, at
        // |mu| = 1, and the ends' points clear of the frame.)
        << "set ylabel 'largest modulus max |{/Symbol m}|'\nset logscale y\nset yrange [0.7:" << m_top << "]\n"
@@ -212,10 +211,10 @@ void FigureMultipliers(Context& c) {
   // its thin dashes; the unstable ones dashed, as on Fig. 3.
   Plot left;
   left.Add("1", With("unit_circle"), "|{/Symbol m}| = 1")
-      .Add("$branch using 1:($2 == 1 ? $3 : 1/0)", With("one_stable"), "stable orbits", stable)
-      .Add("$branch using 1:($2 == 0 ? $3 : 1/0)", With("one_unstable"), "unstable orbits", unstable)
-      .Add("$plus using 1:2", With("multiplier_plus_one"), "multipliers through +1", static_cast<long>(plus.size()))
-      .Add("$minus using 1:2", With("multiplier_minus_one"), "multipliers through -1", static_cast<long>(minus.size()));
+      .Add("$branch using 1:($2 == 1 ? $3 : 1/0)", With("one_stable"), "stable", stable)
+      .Add("$branch using 1:($2 == 0 ? $3 : 1/0)", With("one_unstable"), "unstable", unstable)
+      .Add("$plus using 1:2", With("multiplier_plus_one"), "{/Symbol m} through +1", static_cast<long>(plus.size()))
+      .Add("$minus using 1:2", With("multiplier_minus_one"), "{/Symbol m} through -1", static_cast<long>(minus.size()));
   // The complex plane: the multipliers within 2.5 of 0 (the larger real ones
   // of the unstable orbits are on the left panel).
   body << left.str() << "unset logscale y\nset size 0.48, 0.8\nset origin 0.52, 0\nset size ratio -1\n"
@@ -229,15 +228,15 @@ void FigureMultipliers(Context& c) {
   const std::string shade = ":(($1 - " + std::to_string(t_lo) + ") / " + std::to_string(std::max(t_hi - t_lo, 1e-300)) + ")";
   Plot right;
   right.Add("'multipliers_one_impact.csv' using ($2 == 0 ? $5 : 1/0):6" + shade, style::WithPalette("map_unstable"),
-            "multipliers of an unstable orbit", unstable)
+            "unstable orbits", unstable)
       .Add("'' using ($2 == 1 ? $5 : 1/0):6" + shade, style::WithPalette("map_stable"),
-           "multipliers of a stable orbit", stable)
+           "stable orbits", stable)
       .Add("$circle using 1:2", With("unit_circle"), "unit circle", 1);
   body << right.str() << "unset multiplot";
   Draw(c, "multipliers_one_impact", body.str(),
        std::to_string(stable + unstable) + " admissible orbits, T from " + Num(t_lo) + " to " + Num(t_hi) +
            ", largest |mu| " + Num(m_hi),
-       0.6);
+       0.7);
 }
 
 // time_history: x and v of the contact dof (and x of the others) over three

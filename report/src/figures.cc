@@ -874,6 +874,7 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   body << "set multiplot\nset tmargin at screen 0.97\nset bmargin at screen 0.3\n"
        << "set lmargin at screen 0.13\nset rmargin at screen 0.47\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset logscale y\n" << LogTics("y", bottom, top)
+       << "set xtics " << NiceStep(t_lo, t_hi, 5) << "\n"
        << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << bottom << ":" << top << "]\n"
        << VerticalLines("ends", {pick.admissible_from, pick.admissible_to}, bottom, top);
   // The stable stretch, a few orbits long, named where it is.
@@ -921,7 +922,7 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   std::vector<Plot::Entry> entries = energies.Collected();
   entries.insert(entries.end(), orbit_plot.Collected().begin(), orbit_plot.Collected().end());
   body << energies.str() << impacts.str() << "set lmargin at screen 0.64\nset rmargin at screen 0.98\n"
-       << "unset logscale y\nunset label\nset ytics autofreq\nset mytics default\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
+       << "unset logscale y\nunset label\nset xtics autofreq\nset ytics autofreq\nset mytics default\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
        << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << LegendPanel(0.2)
        << Plot::Legend(entries) << "unset multiplot";
   out.Commit();
