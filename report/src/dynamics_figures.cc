@@ -373,8 +373,8 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
   dev.Commit();
   const int cols = static_cast<int>(orbits.size());
   // One key at the top, above the panels' titles: the panels draw the same
-  // series. (A multiplot panel's key is as wide as the panel: two short
-  // entries; the obstacle, dashed at d as in every chart, is unkeyed.)
+  // series. (A multiplot panel's key is as wide as the panel: three short
+  // entries.)
   // (Margins and gaps wide enough for the column PDF's tick labels.)
   body << "set multiplot layout 2," << cols << " margins 0.14, 0.96, 0.11, 0.84 spacing 0.09, 0.14\n"
        << "set key at screen 0.5, screen 0.995 center top\n";
@@ -390,7 +390,7 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
           With("analytic"), "analytic")
         .Add("'' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'simulated' ? $3 : 1/0):4", With("simulated"),
              "simulated, " + std::to_string(shown) + "th period")
-        .Unkeyed(std::to_string(c.b.gap), With("obstacle"));
+        .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
     body << p.str();
   }
   // The deviations on one scale, the panels compared at a glance.
@@ -398,7 +398,7 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
   const double decade_hi = std::ceil(std::log10(dev_hi > 0.0 ? dev_hi : 1e-15));
   body << "unset title\nset logscale y\nset format y '10^{%T}'\nset yrange [1e" << decade_lo << ":1e" << decade_hi
        << "]\nset ytics " << std::pow(10.0, std::max(1.0, std::ceil((decade_hi - decade_lo) / 4))) << "\nset xrange [0:"
-       << vopt.periods << "]\nset xtics 0, " << vopt.periods / 2 << ", " << vopt.periods / 2
+       << vopt.periods << "]\nset xtics 0, " << vopt.periods / 2 << ", " << vopt.periods
        << "\nset mxtics 2\nset mytics 1\nset xlabel 'periods k'\n";
   for (int k = 0; k < cols; ++k) {
     // One scale: its tick labels on the first panel only.

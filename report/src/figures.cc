@@ -615,10 +615,10 @@ void Figures11And12(Context& c) {
        << ", the shortest linear period) to " << summary.str()
        << "; T spans [" << tmin << ", " << tmax << "]";
   Draw(c, "fig11_two_impact_orbits", body.str(), note.str());
-  // Fig. 12: the branch's orbits in the section, 11 of them (41 made a
-  // tangle in the projection where no orbit could be followed).
+  // Fig. 12: the branch's orbits in the section, 6 of them (41 made a
+  // tangle in the projection where no orbit could be followed; 11 too).
   SectionFamily family{"arclength s", {}};
-  const int scans = 10;
+  const int scans = 5;
   for (int j = 0; j <= scans; ++j) {
     const BranchPoint& p = AtArclength(m, static_cast<double>(j) / scans);
     family.orbits.emplace_back(std::abs(p.arclength - branch[run.front()].arclength),
