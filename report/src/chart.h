@@ -241,26 +241,49 @@ class FepTable {
     auto select = [&](const char* family, const char* stable) {
       return "'" + csv + "'" + ix + " using 2:(strcol(1) eq '" + family + "'" + stable + " ? $4 : 1/0)";
     };
+    // The key by family (1-ipp, 2-ipp, the dilated 1-ipp, 3-ipp, bridge),
+    // first and alone; the layers after it, unkeyed, in the drawing's order
+    // (the 1-ipp lines over the 2-ipp branches they meet).
+    struct Series {
+      const char* role;
+      const char* kind;  // as keyed
+      const char* title;
+      long count;
+    };
+    const Series keyed[] = {{"one_stable", "", "1-ipp, stable", one_.stable},
+                            {"one_unstable", "", "1-ipp, unstable", one_.unstable},
+                            {"two_stable", "linespoints", "2-ipp, stable", two_stable_},
+                            {"two_unstable", "linespoints", "2-ipp, unstable", two_unstable_},
+                            {"two_half", "", "2-ipp, t_2 = T/2", half_.stable + half_.unstable},
+                            {"three_stable", "linespoints", "3-ipp, stable", three_.stable},
+                            {"three_unstable", "", "3-ipp, unstable", three_.unstable},
+                            {"bridge", "", "bridge", bridge_count}};
+    for (const Series& k : keyed) {
+      if (k.count > 0) plot.KeyOnly(With(k.role, k.kind), k.title);
+    }
     // The 2-ipp branches: each a line, its markers at the rows the table
-    // marks (equal steps along it), keyed as one line with markers.
-    for (const auto& [role, stable, title, count] :
-         {std::tuple<const char*, const char*, const char*, long>{"two_stable", " && $5 == 1", "2-ipp, stable", two_stable_},
-          {"two_unstable", " && $5 == 0", "2-ipp, unstable", two_unstable_}}) {
+    // marks (equal steps along it).
+    for (const auto& [role, stable, count] :
+         {std::tuple<const char*, const char*, long>{"two_stable", " && $5 == 1", two_stable_},
+          {"two_unstable", " && $5 == 0", two_unstable_}}) {
       if (count <= 0) continue;
-      plot.KeyOnly(With(role, "linespoints"), title)
-          .Unkeyed(select("2-ipp", stable), With(role, "lines"))
+      plot.Unkeyed(select("2-ipp", stable), With(role, "lines"))
           .Unkeyed(select("2-ipp", (std::string(stable) + " && $7 == 1").c_str()), With(role, "points"));
     }
-    plot.Add(select("1-ipp", " && $5 == 1"), With("one_stable"), "1-ipp, stable", one_.stable)
-        .Add(select("1-ipp", " && $5 == 0"), With("one_unstable"), "1-ipp, unstable", one_.unstable)
-        .Add(select("2-ipp-half", ""), With("two_half"), "2-ipp, t_2 = T/2",
-             half_.stable + half_.unstable);
-    // (A dot on every stable orbit: the stretch may be a few orbits, too
-    // short a line to see.)
-    plot.Add(select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints"), "3-ipp, stable",
-             three_.stable)
-        .Add(select("3-ipp", " && $5 == 0"), With("three_unstable"), "3-ipp, unstable", three_.unstable)
-        .Add("'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)", With("bridge"), "bridge", bridge_count);
+    // (A dot on every stable 3-ipp orbit: the stretch may be a few orbits,
+    // too short a line to see.)
+    const std::pair<std::string, std::string> layers[] = {
+        {select("1-ipp", " && $5 == 1"), With("one_stable")},
+        {select("1-ipp", " && $5 == 0"), With("one_unstable")},
+        {select("2-ipp-half", ""), With("two_half")},
+        {select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints")},
+        {select("3-ipp", " && $5 == 0"), With("three_unstable")},
+        {"'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)", With("bridge")}};
+    const long counts[] = {one_.stable, one_.unstable, half_.stable + half_.unstable, three_.stable, three_.unstable,
+                           bridge_count};
+    for (std::size_t k = 0; k < std::size(layers); ++k) {
+      if (counts[k] > 0) plot.Unkeyed(layers[k].first, layers[k].second);
+    }
   }
   void Write(std::ostream& out) const;
 
