@@ -783,12 +783,12 @@ void Figure17(Context& c) {
     // (The energy label on the left column only: the right one's would run
     // into its neighbour.)
     const double lo = br.energy_min - 0.5 * height, hi = br.energy_max + 0.5 * height;
-    body << "set lmargin at screen " << x0 + 0.26 * cw << "\nset rmargin at screen " << x0 + 0.97 * cw
+    body << "set lmargin at screen " << x0 + 0.3 * cw << "\nset rmargin at screen " << x0 + 0.95 * cw
          << "\nset tmargin at screen " << y0 + 0.88 * ch << "\nset bmargin at screen " << y0 + 0.24 * ch << "\n"
          << "set ylabel '" << (k % cols == 0 ? "energy E (J)" : "") << "'\n"
          << "set xtics " << NiceStep(x_lo, x_hi, 3) << "\nset ytics " << NiceStep(lo, hi, 4) << "\n"
          << "set xrange [" << x_lo << ":" << x_hi << "]\nset yrange [" << lo << ":" << hi << "]\n"
-         << "set title 'B" << k + 1 << ": " << (IsGrazing(br) ? "grazing" : "period doubling") << ", T = "
+         << "set title 'B" << k + 1 << ", " << (IsGrazing(br) ? "grazing" : "period doubling") << ": "
          << std::fixed << std::setprecision(3) << br.period << std::defaultfloat << std::setprecision(6)
          << " s' offset 0, -0.6\n";
     Plot plot("plot", Plot::Keys::kCollected);
@@ -798,6 +798,12 @@ void Figure17(Context& c) {
     body << plot.str();
     entries.insert(entries.end(), plot.Collected().begin(), plot.Collected().end());
   }
+  // The one key by family, as Fig. 8's (each panel collected its own in turn).
+  const std::vector<std::string> order = {"1-ipp, stable", "1-ipp, unstable", "2-ipp, stable", "2-ipp, unstable",
+                                          "2-ipp, t_2 = T/2", "3-ipp, stable", "3-ipp, unstable", "bridge"};
+  std::stable_sort(entries.begin(), entries.end(), [&order](const Plot::Entry& a, const Plot::Entry& b) {
+    return std::find(order.begin(), order.end(), a.title) < std::find(order.begin(), order.end(), b.title);
+  });
   body << LegendPanel(key_band) << Plot::Legend(entries);
   body << "unset multiplot";
   out.Commit();
