@@ -247,7 +247,7 @@ void Figure6(Context& c) {
   // Ten small panels: labels shared (y on the left column, x on the bottom
   // row), ticks at 0 and T and about three on det, the two kinds of root
   // keyed once each below the panels (by the first panel that draws one).
-  body << "set multiplot layout 2,5 margins 0.09, 0.98, 0.17, 0.94 spacing 0.05, 0.13\n"
+  body << "set multiplot layout 2,5 margins 0.1, 0.97, 0.17, 0.91 spacing 0.065, 0.15\n"
        << "set format y '%g'\nset ytics scale 0.5\nset key horizontal\n";
   bool keyed[2] = {false, false};
   for (int period = 1; period <= 10; ++period) {
