@@ -493,7 +493,7 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
        // (a strip above x = L: the impacts marked there are not cut.)
        << "set xrange [0:" << 1e3 * opt.t_end << "]\nset yrange [0:" << 1.04 * bar.length << "]\nset ytics "
        << NiceStep(0.0, bar.length, 4) << "\n"
-           << style::Palette("displacement", "u / d (contours every 0.5: solid > 0, dashed < 0)") << "set cbrange [" << -m << ":" << m
+           << style::Palette("displacement", "u / d (contours: solid > 0, dashed < 0)") << "set cbrange [" << -m << ":" << m
        << "]\nunset key\n";
   Plot map;
   // (The contour tables are written with spaces, read here through the
