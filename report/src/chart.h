@@ -6,6 +6,7 @@
 // one visual language (report/style.toml, style.h); no colour is named here.
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <optional>
 #include <ostream>
 #include <sstream>
@@ -109,6 +110,17 @@ class Plot {
   std::vector<std::string> layers_;
   std::vector<Entry> collected_;
 };
+
+// A line of `role` (colour: `colour`, or the role's) with its markers at
+// the rows whose column `mark` is 1 (EqualStepMarks), both unkeyed: the
+// points of `source` with x and y where `condition` holds. (Keyed apart, as
+// a line with markers: Plot::KeyOnly.)
+inline void MarkedLine(Plot& plot, const std::string& source, const std::string& x, const std::string& condition,
+                       const std::string& y, int mark, const char* role, const std::string& colour = "") {
+  const std::string spec = source + " using " + x + ":(" + condition;
+  plot.Unkeyed(spec + " ? " + y + " : 1/0)", With(role, "lines", colour))
+      .Unkeyed(spec + " && $" + std::to_string(mark) + " == 1 ? " + y + " : 1/0)", With(role, "points", colour));
+}
 
 // A datablock NAME of vertical segments x = x_k from y = lo to y = hi (one
 // per blank-line-separated block): transitions and stretch ends drawn as
@@ -241,50 +253,39 @@ class FepTable {
     auto select = [&](const char* family, const char* stable) {
       return "'" + csv + "'" + ix + " using 2:(strcol(1) eq '" + family + "'" + stable + " ? $4 : 1/0)";
     };
-    // The key by family (1-ipp, 2-ipp, the dilated 1-ipp, 3-ipp, bridge),
-    // first and alone; the layers after it, unkeyed, in the drawing's order
-    // (the 1-ipp lines over the 2-ipp branches they meet).
-    struct Series {
-      const char* role;
-      const char* kind;  // as keyed
-      const char* title;
-      long count;
-    };
-    const Series keyed[] = {{"one_stable", "", "1-ipp, stable", one_.stable},
-                            {"one_unstable", "", "1-ipp, unstable", one_.unstable},
-                            {"two_stable", "linespoints", "2-ipp, stable", two_stable_},
-                            {"two_unstable", "linespoints", "2-ipp, unstable", two_unstable_},
-                            {"two_half", "", "2-ipp, t_2 = T/2", half_.stable + half_.unstable},
-                            {"three_stable", "linespoints", "3-ipp, stable", three_.stable},
-                            {"three_unstable", "", "3-ipp, unstable", three_.unstable},
-                            {"bridge", "", "bridge", bridge_count}};
-    for (const Series& k : keyed) {
-      if (k.count > 0) plot.KeyOnly(With(k.role, k.kind), k.title);
+    // The key by family (kKeyTitles' order), first and alone; the layers
+    // after it, unkeyed, in the drawing's order (the 1-ipp lines over the
+    // 2-ipp branches they meet).
+    const long counts[] = {one_.stable,  one_.unstable, two_stable_, two_unstable_, half_.stable + half_.unstable,
+                           three_.stable, three_.unstable, bridge_count};
+    const char* roles[] = {"one_stable", "one_unstable", "two_stable", "two_unstable",
+                           "two_half",   "three_stable", "three_unstable", "bridge"};
+    const char* kinds[] = {"", "", "linespoints", "linespoints", "", "linespoints", "", ""};  // as keyed
+    for (std::size_t k = 0; k < kKeyTitles.size(); ++k) {
+      if (counts[k] > 0) plot.KeyOnly(With(roles[k], kinds[k]), kKeyTitles[k]);
     }
-    // The 2-ipp branches: each a line, its markers at the rows the table
-    // marks (equal steps along it).
-    for (const auto& [role, stable, count] :
-         {std::tuple<const char*, const char*, long>{"two_stable", " && $5 == 1", two_stable_},
-          {"two_unstable", " && $5 == 0", two_unstable_}}) {
-      if (count <= 0) continue;
-      plot.Unkeyed(select("2-ipp", stable), With(role, "lines"))
-          .Unkeyed(select("2-ipp", (std::string(stable) + " && $7 == 1").c_str()), With(role, "points"));
-    }
+    // The 2-ipp branches: each a line with its markers at the rows the
+    // table marks (equal steps along it).
+    const std::string source = "'" + csv + "'" + ix;
+    if (two_stable_ > 0) MarkedLine(plot, source, "2", "strcol(1) eq '2-ipp' && $5 == 1", "$4", 7, "two_stable");
+    if (two_unstable_ > 0) MarkedLine(plot, source, "2", "strcol(1) eq '2-ipp' && $5 == 0", "$4", 7, "two_unstable");
     // (A dot on every stable 3-ipp orbit: the stretch may be a few orbits,
     // too short a line to see.)
-    const std::pair<std::string, std::string> layers[] = {
-        {select("1-ipp", " && $5 == 1"), With("one_stable")},
-        {select("1-ipp", " && $5 == 0"), With("one_unstable")},
-        {select("2-ipp-half", ""), With("two_half")},
-        {select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints")},
-        {select("3-ipp", " && $5 == 0"), With("three_unstable")},
-        {"'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)", With("bridge")}};
-    const long counts[] = {one_.stable, one_.unstable, half_.stable + half_.unstable, three_.stable, three_.unstable,
-                           bridge_count};
-    for (std::size_t k = 0; k < std::size(layers); ++k) {
-      if (counts[k] > 0) plot.Unkeyed(layers[k].first, layers[k].second);
+    const std::tuple<std::string, std::string, long> layers[] = {
+        {select("1-ipp", " && $5 == 1"), With("one_stable"), one_.stable},
+        {select("1-ipp", " && $5 == 0"), With("one_unstable"), one_.unstable},
+        {select("2-ipp-half", ""), With("two_half"), half_.stable + half_.unstable},
+        {select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints"), three_.stable},
+        {select("3-ipp", " && $5 == 0"), With("three_unstable"), three_.unstable},
+        {"'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)", With("bridge"), bridge_count}};
+    for (const auto& [spec, look, count] : layers) {
+      if (count > 0) plot.Unkeyed(spec, look);
     }
   }
+  // The key's entries, by family (Fig. 17 orders its panels' collected ones so).
+  static constexpr std::array<const char*, 8> kKeyTitles = {
+      "1-ipp, stable",    "1-ipp, unstable", "2-ipp, stable",   "2-ipp, unstable",
+      "2-ipp, t_2 = T/2", "3-ipp, stable",   "3-ipp, unstable", "bridge"};
   void Write(std::ostream& out) const;
 
   struct Root {

@@ -799,9 +799,8 @@ void Figure17(Context& c) {
     entries.insert(entries.end(), plot.Collected().begin(), plot.Collected().end());
   }
   // The one key by family, as Fig. 8's (each panel collected its own in turn).
-  const std::vector<std::string> order = {"1-ipp, stable", "1-ipp, unstable", "2-ipp, stable", "2-ipp, unstable",
-                                          "2-ipp, t_2 = T/2", "3-ipp, stable", "3-ipp, unstable", "bridge"};
-  std::stable_sort(entries.begin(), entries.end(), [&order](const Plot::Entry& a, const Plot::Entry& b) {
+  std::stable_sort(entries.begin(), entries.end(), [](const Plot::Entry& a, const Plot::Entry& b) {
+    const auto& order = FepTable::kKeyTitles;
     return std::find(order.begin(), order.end(), a.title) < std::find(order.begin(), order.end(), b.title);
   });
   body << LegendPanel(key_band) << Plot::Legend(entries);
@@ -826,12 +825,18 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   report::ResultFile out(c.dir, "fig16_three_impact_family.csv");
   out << "T,t2,t3,energy,admissible,stable,max_multiplier\n";
   long three[3] = {0, 0, 0};  // not admissible, unstable, stable
+  // The stable stretch, a few orbits long, is named where it is (its mean).
+  double s_t = 0.0, s_e = 0.0;
   for (const Orbit& o : pick.family) {
     out << o.period << "," << o.times[0] << "," << o.times[1] << "," << o.energy << "," << o.admissible << ",";
     if (o.admissible) {
       const Stability s = OrbitStability(c.b, o);
       out << (s.defined && s.stable) << "," << s.max_modulus;
       ++three[s.defined && s.stable ? 2 : 1];
+      if (s.defined && s.stable) {
+        s_t += o.period;
+        s_e += o.energy;
+      }
     } else {
       out << "0,";
       ++three[0];
@@ -883,20 +888,8 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
        << "set xtics " << NiceStep(t_lo, t_hi, 5) << "\n"
        << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << bottom << ":" << top << "]\n"
        << VerticalLines("ends", {pick.admissible_from, pick.admissible_to}, bottom, top);
-  // The stable stretch, a few orbits long, named where it is.
-  double s_t = 0.0, s_e = 0.0;
-  long s_n = 0;
-  for (const Orbit& o : pick.family) {
-    if (!o.admissible) continue;
-    const Stability s = OrbitStability(c.b, o);
-    if (s.defined && s.stable) {
-      s_t += o.period;
-      s_e += o.energy;
-      ++s_n;
-    }
-  }
-  if (s_n > 0) {
-    body << "set label 'stable' at " << s_t / s_n << ", " << s_e / s_n << " center offset 0, 1.2 front\n";
+  if (three[2] > 0) {
+    body << "set label 'stable' at " << s_t / three[2] << ", " << s_e / three[2] << " center offset 0, 1.2 front\n";
   }
   Plot energies("plot", Plot::Keys::kCollected);
   energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)", With("not_admissible"), "3-ipp, not admissible", three[0])
@@ -1067,18 +1060,16 @@ void Figure18(Context& c) {
                                    : (k < 3 ? "" : style::CycleColour("sequences", k));
     for (int stable : {1, 0}) {
       if (counts[s][stable] == 0) continue;
-      std::ostringstream spec;
-      spec << "'fig18_sequences_fep.csv' using 3:(strcol(1) eq '" << labels[s] << "' && $6 == " << stable;
+      const std::string rows = "strcol(1) eq '" + labels[s] + "' && $6 == " + std::to_string(stable);
       const std::string title = titles[s] + (stable ? " stable" : " unstable");
       if (one) {
-        plot.Add(spec.str() + " ? $5 : 1/0)", With(stable ? "one_stable" : "one_unstable", "lines", colour), title,
-                 counts[s][stable]);
+        plot.Add("'fig18_sequences_fep.csv' using 3:(" + rows + " ? $5 : 1/0)",
+                 With(stable ? "one_stable" : "one_unstable", "lines", colour), title, counts[s][stable]);
         continue;
       }
       const char* role = stable ? two_roles[k % 3].first : two_roles[k % 3].second;
-      plot.KeyOnly(With(role, "linespoints", colour), title)
-          .Unkeyed(spec.str() + " ? $5 : 1/0)", With(role, "lines", colour))
-          .Unkeyed(spec.str() + " && $8 == 1 ? $5 : 1/0)", With(role, "points", colour));
+      plot.KeyOnly(With(role, "linespoints", colour), title);
+      MarkedLine(plot, "'fig18_sequences_fep.csv'", "3", rows, "$5", 8, role, colour);
     }
   }
   body << plot.str();
