@@ -34,17 +34,19 @@ Settled Settle(const Model& model, const Eigen::VectorXd& x0, const Eigen::Vecto
   s.sample_dt = 0.0;
   for (int k = 0; k <= o.window; ++k) s.sample_times.push_back(std::min(s.t_end, (o.periods - o.window + k) * tf));
   std::vector<Eigen::VectorXd> z;
-  std::vector<double> times;
-  std::vector<int> contacts;
-  std::vector<double> velocities;
+  struct Hit {
+    double t;
+    int contact;
+    double velocity;  // into the wall, before
+  };
+  std::vector<Hit> hits;  // the impacts of the window
   const double window_start = (o.periods - o.window) * tf;
   SimulationObserver obs;
   obs.on_sample = [&z](double, const Eigen::VectorXd& state) { z.push_back(state); };
   obs.on_impact = [&](const ContactEvent& e) {
     if (e.t > window_start) {
-      times.push_back(e.t);
-      contacts.push_back(e.contact);
-      velocities.push_back(model.contacts[static_cast<std::size_t>(e.contact)].Along(e.before.tail(model.dofs())));
+      hits.push_back({e.t, e.contact,
+                      model.contacts[static_cast<std::size_t>(e.contact)].Along(e.before.tail(model.dofs()))});
     }
   };
   const SimulationSummary sum = Simulate(model, x0, v0, s, obs);
@@ -72,28 +74,20 @@ Settled Settle(const Model& model, const Eigen::VectorXd& x0, const Eigen::Vecto
     out.state = z[best];
     const double t0 = (o.periods - o.window + best) * tf;
     // The impacts of one period of the attractor, from the canonical sample:
-    // those of the last n periods, shifted into [t0, t0 + n T_f).
-    for (std::size_t i = 0; i < times.size(); ++i) {
-      if (times[i] <= s.t_end - n * tf) continue;
-      double t = times[i] - t0;
-      if (t < 0.0) t += n * tf;
-      out.impact_times.push_back(t);
-      out.impact_contacts.push_back(contacts[i]);
-      out.impact_velocities.push_back(velocities[i]);
+    // those of the last n periods, shifted into [t0, t0 + n T_f), in order.
+    std::vector<Hit> period;
+    for (Hit h : hits) {
+      if (h.t <= s.t_end - n * tf) continue;
+      h.t -= t0;
+      if (h.t < 0.0) h.t += n * tf;
+      period.push_back(h);
     }
-    std::vector<std::size_t> order(out.impact_times.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return out.impact_times[a] < out.impact_times[b]; });
-    std::vector<double> t_sorted, v_sorted;
-    std::vector<int> c_sorted;
-    for (std::size_t i : order) {
-      t_sorted.push_back(out.impact_times[i]);
-      c_sorted.push_back(out.impact_contacts[i]);
-      v_sorted.push_back(out.impact_velocities[i]);
+    std::sort(period.begin(), period.end(), [](const Hit& a, const Hit& b) { return a.t < b.t; });
+    for (const Hit& h : period) {
+      out.impact_times.push_back(h.t);
+      out.impact_contacts.push_back(h.contact);
+      out.impact_velocities.push_back(h.velocity);
     }
-    out.impact_times = t_sorted;
-    out.impact_contacts = c_sorted;
-    out.impact_velocities = v_sorted;
     return out;
   }
   out.message = "no period up to " + std::to_string(o.window / 2) + " forcing periods repeats to " + FormatValue(o.tol) +
