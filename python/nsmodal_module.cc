@@ -1506,6 +1506,19 @@ as a scene is (a ValueError naming the scene's field and the value).)doc"));
       py::arg("model"), py::arg("parameter"), "Internal (nsmodal.study): the model's own value of a parameter.");
 
   mod.def(
+      "_contact_normal",
+      [](const Model& model, Integer<"contact"> contact) {
+        if (contact < 1 || contact > model.NumContacts()) {
+          throw InputError("contact", "must be a contact of the model, 1 to " + std::to_string(model.NumContacts()) +
+                                          ", got " + std::to_string(contact));
+        }
+        const Contact& c = model.contacts[static_cast<std::size_t>(contact - 1)];
+        return py::make_tuple(Eigen::VectorXd(c.normal), c.gap);
+      },
+      py::arg("model"), py::arg("contact"),
+      "Internal (nsmodal.study): contact `contact`'s (1-based) normal n and gap d (n . x <= d), as the model holds "
+      "them.");
+  mod.def(
       "_settle",
       [](const Model& model, const Eigen::MatrixXd& states, Integer<"periods"> periods, Integer<"window"> window,
          double tol, const std::optional<Eigen::VectorXd>& phases) {

@@ -94,19 +94,9 @@ def _coordinate_unit(name):
     return "rad" if name == "phase" else "m" if name.startswith("x") else "m/s"
 
 
-def _normal(model, contact):
-    """Contact `contact`'s (1-based) normal n (gap = n . x)."""
-    if isinstance(contact, bool) or not isinstance(contact, int) or not 1 <= contact <= len(model.contacts):
-        raise StudyError(f"contact: must be a contact of the model, 1 to {len(model.contacts)}, got {contact!r}")
-    c = model.contacts[contact - 1]
-    n = np.zeros(model.dofs)
-    if "dof" in c:
-        n[c["dof"] - 1] = 1.0 if c["side"] == "upper" else -1.0
-    elif "between" in c:
-        n[c["between"][0] - 1], n[c["between"][1] - 1] = 1.0, -1.0
-    else:
-        n = np.asarray(c["normal"], dtype=float)
-    return n, float(c["gap"])
+def _floats(text):
+    """The numbers of a chunk's comma-joined field ("" for none)."""
+    return [float(x) for x in text.split(",")] if text else []
 
 
 def _load(model):
@@ -312,7 +302,7 @@ def _identify(model, table, times):
     attractor's first point; its admissibility, stability and how far its
     impact times are from the simulated ones."""
     for t in table:
-        ts = [float(x) for x in times[t["first"]].split(",")] if times[t["first"]] else []
+        ts = _floats(times[t["first"]])
         contacts = [int(c) for c in t["sequence"].split(",")] if t["sequence"] else []
         r = _nsmodal._identify(model, contacts, t["period"], ts)
         t["orbit_found"] = bool(r["found"])
@@ -362,7 +352,10 @@ def basin(model, grid, periods=500, out=None, workers=1, executor="processes", s
     section = axes[0][0] in SECTION
     phases = None
     if section:
-        n, d = _normal(model, contact)
+        try:
+            n, d = _nsmodal._contact_normal(model, contact)
+        except (ValueError, TypeError) as e:
+            raise StudyError(str(e)) from None
         by = dict(zip((axes[0][0], axes[1][0]), (first, second)))
         phases = np.mod(by["phase"], 2 * np.pi)
         unit = n / (n @ n)
@@ -401,10 +394,8 @@ def basin(model, grid, periods=500, out=None, workers=1, executor="processes", s
     for t in table:
         t["share"] = t["points"] / len(ids)
         # Its impacts over one period: forcing phase w t (mod 2 pi), velocity into the wall, contact.
-        ts = [float(x) for x in times[t["first"]].split(",")] if times[t["first"]] else []
-        vs = [float(x) for x in velocities[t["first"]].split(",")] if velocities[t["first"]] else []
-        t["impact_phases"] = np.mod(w * np.asarray(ts), 2 * np.pi)
-        t["impact_velocities"] = np.asarray(vs)
+        t["impact_phases"] = np.mod(w * np.asarray(_floats(times[t["first"]])), 2 * np.pi)
+        t["impact_velocities"] = np.asarray(_floats(velocities[t["first"]]))
     result = {"attractor": ids.reshape(n1, n2), axes[0][0]: coords[0], axes[1][0]: coords[1],
               "attractors": table, "period": period.reshape(n1, n2)}
     if section:
