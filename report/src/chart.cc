@@ -72,8 +72,8 @@ int TCol() { return 3; }
 int XCol(const Context&, int dof) { return 4 + dof; }
 
 
-// Energy range of a frequency-energy plot: from half the lowest potential
-// energy up to 30 times the median admissible one (at most four decades):
+// Energy range of a frequency-energy plot: from 0.8 of the lowest potential
+// energy (a margin of a tenth of a decade below the lowest family) up to 30 times the median admissible one (at most four decades):
 // the families fill the frame; towards a singular transition, where the
 // energy diverges, they leave it at the top.
 std::pair<double, double> EnergyRange(const Context& c) {
@@ -90,7 +90,7 @@ std::pair<double, double> EnergyRange(const Context& c) {
   double hi = 1.0;
   if (!admissible.empty()) hi = EnergyTop(admissible);
   if (!std::isfinite(lo)) lo = 1e-3 * hi;
-  return {0.5 * lo, std::min(hi, 1e4 * lo)};
+  return {0.8 * lo, std::min(hi, 1e4 * lo)};
 }
 
 std::string LogTics(const char* axis, double lo, double hi) {
@@ -222,8 +222,124 @@ std::string FepChart(Context& c, const FepTable& table, const std::string& fep, 
   table.AddLayers(plot, fep, bridges, static_cast<long>(c.bridges.size()));
   TransitionMarks(c, transitions, false, plot);
   BridgeLabels(c, body);
-  body << plot.str();
+  body << BridgeInsets(c, plot);
   return body.str();
+}
+
+namespace {
+
+// A frame's free space: which of its 100 x 100 cells something drawn
+// crosses (T linear, E logarithmic, as EnergyAxes).
+class Occupancy {
+ public:
+  Occupancy(double t_top, double e_lo, double e_hi) : t_top_(t_top), e_lo_(e_lo), e_hi_(e_hi) {}
+  double X(double t) const { return t / t_top_; }
+  double Y(double e) const { return std::log(e / e_lo_) / std::log(e_hi_ / e_lo_); }
+  void Mark(double fx, double fy) {
+    if (fx < 0.0 || fx >= 1.0 || fy < 0.0 || fy >= 1.0 || !std::isfinite(fx) || !std::isfinite(fy)) return;
+    cells_[static_cast<int>(fx * kCells) * kCells + static_cast<int>(fy * kCells)] = true;
+  }
+  void MarkBox(double x0, double y0, double x1, double y1) {
+    for (double x = x0; x <= x1; x += 0.5 / kCells) {
+      for (double y = y0; y <= y1; y += 0.5 / kCells) Mark(x, y);
+    }
+  }
+  long Count(double x0, double y0, double x1, double y1) const {
+    long n = 0;
+    for (int i = std::max(0, static_cast<int>(x0 * kCells)); i < std::min(kCells, static_cast<int>(x1 * kCells) + 1); ++i) {
+      for (int j = std::max(0, static_cast<int>(y0 * kCells)); j < std::min(kCells, static_cast<int>(y1 * kCells) + 1);
+           ++j) {
+        n += cells_[i * kCells + j];
+      }
+    }
+    return n;
+  }
+
+ private:
+  static constexpr int kCells = 100;
+  double t_top_, e_lo_, e_hi_;
+  std::array<bool, kCells * kCells> cells_{};
+};
+
+}  // namespace
+
+std::string BridgeInsets(const Context& c, const Plot& plot) {
+  const auto [lo, hi] = EnergyRange(c);
+  const double t_top = PeriodTop(c, false);
+  Occupancy free(t_top, lo, hi);
+  for (const Sweep* sweep : {&c.atlas.one, &c.atlas.two}) {
+    for (const auto& list : sweep->at) {
+      for (const OrbitRecord& r : list) {
+        if (r.orbit.admissible) free.Mark(free.X(r.orbit.period), free.Y(r.orbit.energy));
+      }
+    }
+  }
+  for (const Transition& t : c.transitions) {
+    if (t.kind == TransitionKind::kSingular) free.MarkBox(free.X(t.period), 0.0, free.X(t.period), 1.0);
+  }
+  // A bridge, with its label above it (BridgeLabels).
+  for (const Bridge& b : c.bridges) {
+    free.MarkBox(free.X(b.period) - 0.03, free.Y(b.energy_min), free.X(b.period) + 0.01, free.Y(b.energy_max) + 0.08);
+  }
+  // An inset: 27 % of the frame's width, 30 % of its height, its own frame
+  // inside it clear of its tick labels (left and below).
+  constexpr double kW = 0.27, kH = 0.30, kLeft = 0.085, kBelow = 0.075, kEdge = 0.012;
+  std::ostringstream boxes, insets;
+  int shown = 0;
+  for (std::size_t k = 0; k < c.bridges.size(); ++k) {
+    const Bridge& b = c.bridges[k];
+    // Seen at the chart's scale: a bridge over 4 % of the energy axis.
+    if (!(b.energy_max > b.energy_min) || free.Y(b.energy_max) - free.Y(b.energy_min) > 0.04) continue;
+    // The zoom: the bridge over 2/3 of the inset's height, T within 2 % of
+    // the period axis on each side.
+    const double pad = 0.25 * (b.energy_max - b.energy_min), dt = 0.02 * t_top;
+    const double t_lo = b.period - dt, t_hi = b.period + dt, e_lo = b.energy_min - pad, e_hi = b.energy_max + pad;
+    // The free place nearest the bridge, highest first: fewest cells
+    // covered, then nearest.
+    double best = INFINITY, bx = 0.0, by = 0.0;
+    for (double y = 1.0 - kH - 0.01; y >= 0.0; y -= 0.02) {
+      for (double x = 0.0; x <= 1.0 - kW + 1e-9; x += 0.01) {
+        const double cost = 1e3 * static_cast<double>(free.Count(x, y, x + kW, y + kH)) +
+                            std::abs(x + 0.5 * kW - free.X(b.period)) + 0.5 * (1.0 - kH - y);
+        if (cost < best) {
+          best = cost;
+          bx = x;
+          by = y;
+        }
+      }
+    }
+    if (best >= 1e3) {
+      // (No free place: the bridge is labelled but not zoomed.)
+      continue;
+    }
+    free.MarkBox(bx, by, bx + kW, by + kH);
+    free.MarkBox(free.X(t_lo), free.Y(e_lo), free.X(t_hi), free.Y(e_hi));
+    ++shown;
+    boxes << "set object " << 10 + k << " rect from " << t_lo << ", " << e_lo << " to " << t_hi << ", " << e_hi
+          << " front fillstyle empty border lc rgb '" << style::Colour("black") << "' lw 0.6\n";
+    // In the inset: the frame placed on the main frame (gnuplot's terminal
+    // coordinates of the plot before, GPVAL_TERM_*, as fractions of the
+    // canvas), a white ground under it and its tick labels.
+    auto sx = [](double f) { return "(ns_x0 + " + std::to_string(f) + " * (ns_x1 - ns_x0))"; };
+    auto sy = [](double f) { return "(ns_y0 + " + std::to_string(f) + " * (ns_y1 - ns_y0))"; };
+    insets << "unset object\nunset label\nunset key\nunset x2tics\nunset logscale y\nunset xlabel\nunset ylabel\n"
+           << "set object 1 rect from screen " << sx(bx) << ", screen " << sy(by) << " to screen " << sx(bx + kW)
+           << ", screen " << sy(by + kH) << " behind fillcolor rgb '" << style::Colour("white")
+           << "' fillstyle solid 1.0 noborder\n"
+           << "set lmargin at screen " << sx(bx + kLeft) << "\nset rmargin at screen " << sx(bx + kW - kEdge)
+           << "\nset bmargin at screen " << sy(by + kBelow) << "\nset tmargin at screen " << sy(by + kH - kEdge) << "\n"
+           << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << e_lo << ":" << e_hi << "]\n"
+           << "set xtics " << NiceStep(t_lo, t_hi, 2) << "\nset ytics " << NiceStep(e_lo, e_hi, 2)
+           << "\nset tics scale 0.5\nset format y '%g'\n"
+           << "set label 'B" << k + 1 << "' at graph 0.06, graph 0.86 front\n" << plot.Untitled();
+  }
+  if (shown == 0) return plot.str();
+  return boxes.str() + "set multiplot\n" + plot.str() +
+         "ns_x0 = GPVAL_TERM_XMIN * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_XSIZE\n"
+         "ns_x1 = GPVAL_TERM_XMAX * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_XSIZE\n"
+         "ns_y0 = GPVAL_TERM_YMIN * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_YSIZE\n"
+         "ns_y1 = GPVAL_TERM_YMAX * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_YSIZE\n" +
+         insets.str() + "unset multiplot\n";
 }
 
 void FepTable::Write(std::ostream& out) const {
@@ -373,18 +489,29 @@ void TransitionLines(Context& c, const std::string& name, bool all, std::ostream
   tr.Commit();
   const auto [lo, hi] = EnergyRange(c);
   const std::string block = name.substr(0, name.find('.'));
-  body << VerticalLines(block + "_singular", at[TransitionKind::kSingular], lo, hi)
-       << VerticalLines(block + "_modal", all ? at[TransitionKind::kModal] : std::vector<double>{}, lo, hi);
-  // A label per singular transition at the foot of its line (the families
-  // crowd the top, where the energy diverges), each on a row of its own when
-  // the previous one is near (7 % of the axis: a label's width in the column
-  // PDF, where the text is largest against the axis).
-  double last_label = -INFINITY;
-  int row = 0;
+  body << VerticalLines(block + "_singular", at[TransitionKind::kSingular], lo, hi);
+  // T_S above the singular transitions' lines, outside the frame (the
+  // families crowd the top of the frame, where the energy diverges), all on
+  // one row: tick labels of the upper axis, which follows the lower one.
+  // Transitions nearer each other than a label's width (6 % of the axis in
+  // the column PDF, where the text is largest against the axis) share one
+  // label, at their middle.
+  std::vector<std::pair<double, double>> groups;  // first and last T of each
   for (double t : at[TransitionKind::kSingular]) {
-    row = t - last_label < 0.07 * c.periods.back() ? row + 1 : 0;
-    body << "set label 'T_S' at " << t << ", graph 0 offset 0.3, " << 0.8 + 1.1 * row << " front\n";
-    last_label = t;
+    if (!groups.empty() && t - groups.back().second < 0.06 * c.periods.back()) {
+      groups.back().second = t;
+    } else {
+      groups.push_back({t, t});
+    }
+  }
+  if (!groups.empty()) {
+    body << "set link x2\nset x2tics scale 0 offset 0, -0.3 (";
+    const char* sep = "";
+    for (const auto& [first, last] : groups) {
+      body << sep << "'T_S' " << 0.5 * (first + last);
+      sep = ", ";
+    }
+    body << ")\n";
   }
   // T_G beside each grazing circle, to its left (the stability changes that
   // follow a graze are marked to its right); where the bridges are labelled
@@ -396,17 +523,18 @@ void TransitionLines(Context& c, const std::string& name, bool all, std::ostream
   }
   plot.Add("$" + block + "_singular using 1:2", With("singular"), "singular, T_S",
            static_cast<long>(at[TransitionKind::kSingular].size()));
-  if (all) {
-    plot.Add("$" + block + "_modal using 1:2", With("modal"), "modal, k T_i",
-             static_cast<long>(at[TransitionKind::kModal].size()));
-  }
 }
 
 void TransitionMarks(const Context& c, const std::string& name, bool all, Plot& plot) {
+  // Each mark at its energy, counted if in the frame. A linear modal
+  // transition too: a point (the grazing linear mode's energy, where the
+  // 1-ipp branch ends on it), not a line across all energies.
+  const auto [lo, hi] = EnergyRange(c);
   std::map<TransitionKind, long> count;
-  for (const Transition& t : c.transitions) ++count[t.kind];
+  for (const Transition& t : c.transitions) count[t.kind] += t.energy >= lo && t.energy <= hi;
   for (const auto& [kind, role, title] :
        {std::tuple<TransitionKind, const char*, const char*>{TransitionKind::kGrazing, "grazing", "grazing, T_G"},
+        {TransitionKind::kModal, "modal_point", "modal, k T_i"},
         {TransitionKind::kMultiplierPlusOne, "multiplier_plus_one", "{/Symbol m} through +1"},
         {TransitionKind::kMultiplierMinusOne, "multiplier_minus_one", "{/Symbol m} through -1"}}) {
     if (!all && kind != TransitionKind::kGrazing) continue;

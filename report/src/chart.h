@@ -92,6 +92,19 @@ class Plot {
     for (std::size_t k = 0; k < layers_.size(); ++k) out += (k ? ", \\\n  " : "") + layers_[k];
     return out + "\n";
   }
+  // The same layers without key entries (and without the legend-only ones):
+  // the plot again, as a zoom on a part of it.
+  std::string Untitled() const {
+    std::string out = command_ + " ";
+    const char* sep = "";
+    for (const std::string& layer : layers_) {
+      if (layer.rfind("NaN ", 0) == 0) continue;
+      const std::size_t at = layer.rfind(" title '");
+      out += sep + (at == std::string::npos ? layer : layer.substr(0, at) + " notitle");
+      sep = ", \\\n  ";
+    }
+    return out + "\n";
+  }
 
  private:
   std::string Resolve(const std::string& spec) {
@@ -319,11 +332,16 @@ std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable:
 std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepTable::Root>>& branches);
 
 // The transitions of the 1-ipp family on a frequency-energy plot, written
-// to CSV `name` (T,kind,energy): singular ones (T_S) and, if `all`, modal
-// ones as vertical lines (TransitionLines, drawn first: under the families),
-// grazing ones (T_G) and, if `all`, the stability changes as marks on the
-// branch (TransitionMarks, drawn last: over them); T_S and T_G labelled
-// where they are (the paper's captions name them).
+// to CSV `name` (T,kind,energy): singular ones (T_S) as vertical lines
+// (TransitionLines, drawn first: under the families), labelled above the
+// frame; grazing ones (T_G) and, if `all`, the modal ones and the stability
+// changes as marks at their energies (TransitionMarks, drawn last: over
+// them); T_S and T_G labelled (the paper's captions name them).
+// The plot of a frequency-energy chart, with an inset zooming on each bridge
+// too short to see at the chart's scale, in the frame's freest place near it
+// (the zoomed window boxed on the chart).
+std::string BridgeInsets(const Context& c, const Plot& plot);
+
 void TransitionLines(Context& c, const std::string& name, bool all, std::ostream& body, Plot& plot);
 void TransitionMarks(const Context& c, const std::string& name, bool all, Plot& plot);
 

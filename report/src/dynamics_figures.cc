@@ -144,9 +144,9 @@ void FigureModel(Context& c) {
 }
 
 // multipliers_one_impact: the Floquet multipliers of the admissible 1-ipp
-// orbits along the branch. Left: the largest modulus against T (solid where
+// orbits along the branch. Above: the largest modulus against T (solid where
 // the orbit is stable, dashed where not), |mu| = 1 and the stability changes
-// marked. Right: every multiplier in the complex plane with the unit circle,
+// marked. Below: every multiplier in the complex plane with the unit circle,
 // shaded by the orbit's position along the branch.
 void FigureMultipliers(Context& c) {
   report::ResultFile out(c.dir, "multipliers_one_impact.csv");
@@ -155,7 +155,7 @@ void FigureMultipliers(Context& c) {
   double t_lo = INFINITY, t_hi = -INFINITY, m_hi = 1.0;
   int last = -2;
   // The branch's largest modulus, one row per orbit (T, stable, max |mu|),
-  // a blank line at each gap: the left panel's lines.
+  // a blank line at each gap: the upper panel's lines.
   std::ostringstream branch;
   branch << "$branch << EOD\n";
   for (std::size_t k = 0; k < c.atlas.one.at.size(); ++k) {
@@ -198,11 +198,12 @@ void FigureMultipliers(Context& c) {
   marks << "EOD\n";
   const double m_top = std::min(m_hi, 1e3) * 1.5;
   std::ostringstream body;
-  // A wide canvas (height 0.7 width): the complex plane's square panel fills
-  // the lower four fifths of its half, its key above it; the left panel's
-  // key, short, below its frame (inside it, it covered the branch's peaks).
-  body << marks.str() << "set multiplot\nset size 0.52, 1\nset origin 0, 0\n"
-       << "set key below maxrows 3\nset xlabel 'period T (s)'\n"
+  // Two panels stacked (height 1.15 width): the branch across the whole
+  // width, where the stability changes 1.1 apart in T stand apart even in a
+  // journal's column; below, the complex plane's square panel on the right,
+  // one key for both panels on its left.
+  body << marks.str() << "set multiplot\nset size 1, 0.5\nset origin 0, 0.5\n"
+       << "set key at screen 0.02, screen 0.47 left top Left reverse samplen 2 maxrows 8\nset xlabel 'period T (s)'\n"
        // (From 0.7 and 2 % beyond the branch's ends: the stable orbits, at
        // |mu| = 1, and the ends' points clear of the frame.)
        << "set ylabel 'largest modulus max |{/Symbol m}|'\nset logscale y\nset yrange [0.7:" << m_top << "]\n"
@@ -216,27 +217,27 @@ void FigureMultipliers(Context& c) {
       .Add("$plus using 1:2", With("multiplier_plus_one"), "{/Symbol m} through +1", static_cast<long>(plus.size()))
       .Add("$minus using 1:2", With("multiplier_minus_one"), "{/Symbol m} through -1", static_cast<long>(minus.size()));
   // The complex plane: the multipliers within 2.5 of 0 (the larger real ones
-  // of the unstable orbits are on the left panel).
-  body << left.str() << "unset logscale y\nset size 0.48, 0.8\nset origin 0.52, 0\nset size ratio -1\n"
-       << "set xrange [-2.5:2.5]\nset yrange [-2.5:2.5]\n"
+  // of the unstable orbits are on the upper panel).
+  body << left.str() << "unset logscale y\nset size 0.68, 0.5\nset origin 0.32, 0\nset size ratio -1\n"
+       << "set xrange [-2.5:2.5]\nset yrange [-2.5:2.5]\nset xtics 1\nset ytics 1\n"
        << "set xlabel 'Re {/Symbol m}'\nset ylabel 'Im {/Symbol m}'\n"
        << style::Palette("family", "T (s) along the 1-ipp branch") << FamilyBarTics(t_lo, t_hi)
-       << "set cbrange [0:1]\nset key at screen 0.97, screen 0.99 right top\n";
+       << "set cbrange [0:1]\nset key at screen 0.02, screen 0.3 left top Left reverse samplen 2\n";
   // The multipliers of the unstable orbits open, of the stable ones filled
   // over them; the unit circle over the points (the line |mu| = 1 of the
-  // left panel).
+  // upper panel).
   const std::string shade = ":(($1 - " + std::to_string(t_lo) + ") / " + std::to_string(std::max(t_hi - t_lo, 1e-300)) + ")";
   Plot right;
   right.Add("'multipliers_one_impact.csv' using ($2 == 0 ? $5 : 1/0):6" + shade, style::WithPalette("map_unstable"),
             "unstable orbits", unstable)
       .Add("'' using ($2 == 1 ? $5 : 1/0):6" + shade, style::WithPalette("map_stable"),
            "stable orbits", stable)
-      .Add("$circle using 1:2", With("unit_circle"), "unit circle", 1);
+      .Add("$circle using 1:2", With("unit_circle"), "", 1);  // keyed with |mu| = 1
   body << right.str() << "unset multiplot";
   Draw(c, "multipliers_one_impact", body.str(),
        std::to_string(stable + unstable) + " admissible orbits, T from " + Num(t_lo) + " to " + Num(t_hi) +
            ", largest |mu| " + Num(m_hi),
-       0.7);
+       1.15);
 }
 
 // time_history: x and v of the contact dof (and x of the others) over three

@@ -25,6 +25,7 @@ struct Declaration {
   std::map<std::string, std::string, std::less<>> colours;
   std::map<std::string, Series, std::less<>> series;
   std::vector<Format> formats;
+  std::string dash_patterns;  // "set dashtype N (on, off, ...)" of each dash beyond gnuplot's five
 };
 
 // Aborts naming what is wrong: style.toml is the project's, built in.
@@ -67,6 +68,15 @@ Declaration Parse() {
     d.colours.emplace(std::string(name.str()), *c);
   }
   const toml::table &dashes = Table(d.table, "dashes"), &markers = Table(d.table, "markers");
+  // A dash of its own pattern (gnuplot's own five have none): declared in
+  // every chart's set-up under its number.
+  for (const auto& [name, v] : dashes) {
+    const std::string where = "dashes." + std::string(name.str());
+    const toml::table* t = v.as_table();
+    if (!t) Broken(where + " is not a table");
+    const std::optional<std::string> pattern = (*t)["pattern"].value<std::string>();
+    if (pattern) d.dash_patterns += "set dashtype " + std::to_string(Value<int>(*t, "gnuplot", where)) + " " + *pattern + "\n";
+  }
   for (const auto& [name, v] : Table(d.table, "series")) {
     const std::string where = "series." + std::string(name.str());
     const toml::table* t = v.as_table();
@@ -234,7 +244,8 @@ std::string CycleColour(std::string_view cycle, std::size_t k) {
 }
 
 std::string ChartSetup(const Format& format) {
-  return "set grid lt 1 lw 0.5 lc rgb '" + Colour("grid") + "'\nset key " + format.key + " noautotitle\n";
+  return The().dash_patterns + "set grid lt 1 lw 0.5 lc rgb '" + Colour("grid") + "'\nset key " + format.key +
+         " noautotitle\n";
 }
 
 std::string Json() {
