@@ -509,7 +509,7 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
        << end_min - 0.15 * (1.0 - end_min) << ":" << 1.0 + 0.2 * (1.0 - end_min) << "]\nset ytics "
        << NiceStep(end_min, 1.0, 3) << "\n"
        // The key beside the panel, under the colour bar: nothing of the curve under it.
-       << "set key at screen 0.995, screen 0.33 right top vertical\n";
+       << "set key at screen 0.835, screen 0.33 left top Left reverse samplen 1.5 vertical\n";
   Plot end;
   end.Add("'bar_spacetime_end.csv' using 1:2", With("dof_contact"), "u(L)/d")
       .Add("1", With("obstacle"), "wall")

@@ -646,38 +646,77 @@ void Figures13To15(Context& c) {
     const Orbit one = OneImpactOrbit(c.b, t);
     const Eigen::MatrixXd one_tr = OrbitTrajectory(c.b, one, kSamples);
     WriteTrajectory(out.stream(), "one", t, one_tr);
-    WriteTrajectory(out.stream(), "one_shifted", t, ShiftTrajectory(one_tr, t - br->t2, t));
+    const Eigen::MatrixXd shifted = ShiftTrajectory(one_tr, t - br->t2, t);
+    WriteTrajectory(out.stream(), "one_shifted", t, shifted);
     // s = 0.1, 0.3, 0.5 s_end: orbit s_end - s is orbit s shifted by T/2
     // (Fig. 14's symmetry), so the half of the bridge holds every orbit once.
+    // Each orbit's x_c less the grazing orbit's, at its own samples: the
+    // lower panel. (The grazing orbit's x_c between its samples, linear, of
+    // a trajectory sampled 100 times as finely as the drawn ones: steps of
+    // T / 20000 err by about 1e-7 d against differences of 1e-2 d.)
+    report::ResultFile diff(c.dir, "fig13_bridge_differences.csv");
+    diff << "curve,t,dx\n";
+    const long col = 1 + c.contact;
+    const Eigen::MatrixXd fine = OrbitTrajectory(c.b, one, 100 * kSamples);
+    auto difference = [&](const std::string& label, const Eigen::MatrixXd& tr) {
+      const double* ts = fine.col(0).data();
+      const long n = fine.rows();
+      for (long r = 0; r < tr.rows(); ++r) {
+        const double time = tr(r, 0);
+        const long k = std::clamp(static_cast<long>(std::upper_bound(ts, ts + n, time) - ts), 1L, n - 1);
+        const double h = fine(k, 0) - fine(k - 1, 0), f = h > 0.0 ? (time - fine(k - 1, 0)) / h : 0.0;
+        diff << label << "," << time << "," << tr(r, col) - ((1 - f) * fine(k - 1, col) + f * fine(k, col)) << "\n";
+      }
+      diff << "\n";
+    };
+    difference("one_shifted", shifted);
     for (const auto& [label, f] : {std::pair<const char*, double>{"s10", 0.1}, {"s30", 0.3}, {"s50", 0.5}}) {
-      WriteTrajectory(out.stream(), label, t, OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, f * br->s_end), kSamples));
+      const Eigen::MatrixXd tr = OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, f * br->s_end), kSamples);
+      WriteTrajectory(out.stream(), label, t, tr);
+      difference(label, tr);
     }
+    diff.Commit();
     std::ostringstream body;
     // The ends of the bridge (the grazing orbit and its shift) black, as in
     // Fig. 14; the three 2-ipp orbits between in the family map's colours at
     // their positions along the half, as Fig. 14 shades them (each keyed:
-    // three curves need no colour bar).
+    // three curves need no colour bar). Below, each orbit less the grazing
+    // one: the orbits lie within 0.1 d of each other. One key, under both.
     const std::string xc = std::to_string(XCol(c, c.contact));
-    body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset xrange [0:" << t << "]\n";
-    Plot plot;
-    plot.Add("'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" + xc, With("limit"),
-             "grazing 1-ipp orbit (s = 0)")
+    // (Margins in characters: the panels' frames aligned in every format.)
+    body << "set multiplot\nset lmargin 9\nset rmargin 2\n"
+         << "set origin 0, 0.5\nset size 1, 0.5\nset bmargin 0.5\nset format x ''\n"
+         << "set xlabel ' '\nset ylabel '" << XcLabel(c) << "'\nset xrange [0:" << t << "]\n";
+    Plot upper("plot", Plot::Keys::kCollected);
+    upper.Add("'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" + xc, With("limit"),
+              "grazing, s = 0")
         .Add("'' using (strcol(1) eq 'one_shifted' ? $3 : 1/0):" + xc, With("limit_shifted"),
-             "the same, shifted (s = s_{end})");
+             "shifted by T/2");
+    std::vector<std::string> roles;
     for (int pct : {10, 30, 50}) {
-      plot.Add("'' using (strcol(1) eq 's" + std::to_string(pct) + "' ? $3 : 1/0):" + xc,
-               With("orbit", "lines", style::MapColour("family", pct / 50.0)),
-               "2-ipp, s = 0." + std::to_string(pct / 10) + " s_{end}");
+      roles.push_back(With("orbit", "lines", style::MapColour("family", pct / 50.0)));
+      upper.Add("'' using (strcol(1) eq 's" + std::to_string(pct) + "' ? $3 : 1/0):" + xc, roles.back(),
+                "2-ipp, s = 0." + std::to_string(pct / 10) + " s_{end}");
     }
-    plot.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+    upper.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
     // The impacts every orbit of the bridge shares: 0, t2, T (at t2 the
     // grazing orbit's graze, the 2-ipp orbits' second impact).
-    ImpactMarks(c, {0.0, br->t2, t})(plot);
-    body << plot.str();
+    ImpactMarks(c, {0.0, br->t2, t})(upper);
+    // The lower panel: the differences, and the key of both.
+    Plot lower;
+    for (const Plot::Entry& e : upper.Collected()) lower.KeyOnly(e.style, e.title);
+    const std::string d = "'fig13_bridge_differences.csv' using (strcol(1) eq '";
+    lower.Unkeyed("0", With("limit")).Unkeyed(d + "one_shifted' ? $2 : 1/0):3", With("limit_shifted"));
+    for (int pct : {10, 30, 50}) lower.Unkeyed(d + "s" + std::to_string(pct) + "' ? $2 : 1/0):3", roles[(pct - 10) / 20]);
+    const std::string x = Xc(c);
+    body << "unset key\n" << upper.str() << "set key below maxcols 2 maxrows 4\nset origin 0, 0\nset size 1, 0.5\nset tmargin 0.5\n"
+         << "unset bmargin\nset format x '% g'\nset xlabel 'time t (s)'\nset ylabel '" << x << " - " << x
+         << "(s = 0) (m)'\nset ytics " << NiceStep(-c.b.gap, c.b.gap, 4) << "\n"
+         << lower.str() << "unset multiplot\n";
     out.Commit();
     std::ostringstream note;
     note << "T_G = " << t << ", the shift " << t - br->t2;
-    Draw(c, "fig13_bridge_orbits", body.str(), note.str());
+    Draw(c, "fig13_bridge_orbits", body.str(), note.str(), 0.9);
   }
   // Fig. 14: the same in the phase section, with neighbouring 1-ipp orbits.
   {
