@@ -41,6 +41,19 @@ void Draw(Context& c, const std::string& name, const std::string& body, const st
   c.log << "  " << name << (note.empty() ? "" : ": " + note) << (s.drawn ? "" : ": not drawn: " + s.message) << "\n";
 }
 
+// The set-up of a multi-panel chart's one key (Plot::Legend, the plot that
+// follows): an invisible frame, the key centred at the foot of the canvas in
+// up to three columns, in a band `height` high (screen fraction) that the
+// panels leave free.
+std::string LegendPanel(double height) {
+  std::ostringstream os;
+  os << "unset title\nunset border\nunset tics\nunset grid\nunset arrow\nunset label\nunset logscale\nset xlabel ''\nset ylabel ''\n"
+     << "set lmargin at screen 0.01\nset rmargin at screen 0.99\nset tmargin at screen " << height
+     << "\nset bmargin at screen " << height - 0.01 << "\nset xrange [0:1]\nset yrange [0:1]\n"
+     << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 3\n";
+  return os.str();
+}
+
 bool IsStable(const std::optional<Stability>& s) { return s && s->stable; }
 
 

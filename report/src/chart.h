@@ -337,6 +337,12 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
 // frame; grazing ones (T_G) and, if `all`, the modal ones and the stability
 // changes as marks at their energies (TransitionMarks, drawn last: over
 // them); T_S and T_G labelled (the paper's captions name them).
+// The set-up of a multi-panel chart's one key (Plot::Legend, the plot that
+// follows): an invisible frame, the key centred at the foot of the canvas in
+// up to three columns, in a band `height` high (screen fraction) that the
+// panels leave free.
+std::string LegendPanel(double height);
+
 // The plot of a frequency-energy chart, with an inset zooming on each bridge
 // too short to see at the chart's scale, in the frame's freest place near it
 // (the zoomed window boxed on the chart).

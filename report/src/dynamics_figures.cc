@@ -122,13 +122,13 @@ void FigureModel(Context& c) {
   lines << "EOD\n";
   body << "set arrow from " << left(n - 1) + size << ", -0.15 to " << wall << ", -0.15 heads size 0.1,25 "
        << style::Look("function") << "\nset label 'd = " << Num(m.FirstContact().gap) << " m' at "
-       // (Below the masses' labels, and e short: at the column's width the
-       // labels are a larger part of the drawing.)
-       << 0.5 * (left(n - 1) + size + wall) << ", -0.75 center\n"
+       // (In the gap, just above its arrow; e short: at the column's width
+       // the labels are a larger part of the drawing.)
+       << 0.5 * (left(n - 1) + size + wall) << ", 0.15 center\n"
        << "set label 'e = " << Num(stop.restitution) << "' at " << wall << ", 1.6 center\n";
   std::ostringstream chart;
   // The canvas of the drawing's shape: no white bands around it.
-  const double x_lo = -0.6, x_hi = wall + 1.6, y_lo = -1.05, y_hi = 2.0;
+  const double x_lo = -0.6, x_hi = wall + 0.8, y_lo = -1.05, y_hi = 2.0;
   chart << "unset border\nunset tics\nunset grid\nunset key\nset size ratio -1\nset margins 0, 0, 0, 0\nset xrange ["
         << x_lo << ":" << x_hi << "]\nset yrange [" << y_lo << ":" << y_hi << "]\n" << lines.str() << body.str();
   Plot plot;
@@ -291,12 +291,12 @@ void FigureTimeHistory(Context& c) {
   body << "set multiplot layout 2,1\nset key below\nset xrange [0:" << opt.t_end << "]\nset format x ''\n"
        << "set ylabel 'displacement (m)'\nset lmargin 10\n";
   Plot top;
-  top.Add("'time_history.csv' using " + t + ":" + xc, With("dof_contact"), "contact dof x_{" + std::to_string(c.contact + 1) + "}");
+  top.Add("'time_history.csv' using " + t + ":" + xc, With("dof_contact"), "x_{" + std::to_string(c.contact + 1) + "} (contact)");
   for (int i = 0; i < n; ++i) {
     if (i == c.contact) continue;
     if (i == (c.contact == 0 ? 1 : 0)) {
       top.Add("'time_history.csv' using 1:" + std::to_string(2 + i), With("dof_other"),
-              n == 2 ? "x_{" + std::to_string(i + 1) + "}" : std::string("the other dofs"));
+              n == 2 ? "x_{" + std::to_string(i + 1) + "}" : std::string("the other masses' x"));
     } else {
       top.Unkeyed("'time_history.csv' using 1:" + std::to_string(2 + i), With("dof_other"));
     }
@@ -305,7 +305,7 @@ void FigureTimeHistory(Context& c) {
       .Add("'time_history_impacts.csv' using 1:2", With("mark"), "impacts", s.impacts);
   Plot bottom;
   bottom.Add("'time_history.csv' using 1:" + vc, With("dof_contact"), "v_{" + std::to_string(c.contact + 1) + "}")
-      .Add("'time_history_impacts.csv' using 1:3:(0):($4 - $3)", With("velocity_jump"), "velocity jump v^- to v^+ = -e v^-",
+      .Add("'time_history_impacts.csv' using 1:3:(0):($4 - $3)", With("velocity_jump"), "velocity jump at an impact",
            s.impacts);
   body << top.str() << "set format x '% g'\nset xlabel 'time t (s)'\nset ylabel 'contact velocity (m/s)'\nset ytics "
        << NiceStep(v_lo, v_hi, 4) << "\n" << bottom.str()
@@ -373,43 +373,58 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
   out.Commit();
   dev.Commit();
   const int cols = static_cast<int>(orbits.size());
-  // One key at the top, above the panels' titles: the panels draw the same
-  // series. (A multiplot panel's key is as wide as the panel: three short
-  // entries.)
-  // (Margins and gaps wide enough for the column PDF's tick labels.)
-  body << "set multiplot layout 2," << cols << " margins 0.14, 0.96, 0.11, 0.84 spacing 0.09, 0.14\n"
-       << "set key at screen 0.5, screen 0.995 center top\n";
+  // Panels placed by hand (margins and gaps wide enough for the column
+  // PDF's tick labels) over one key for all, at the foot of the canvas as
+  // wide as the canvas: the panels draw the same series.
+  auto panel = [&](int row, int col) {
+    constexpr double kLeft = 0.14, kRight = 0.96, kBottom = 0.18, kTop = 0.9, kGapX = 0.09, kGapY = 0.14;
+    const double w = (kRight - kLeft - (cols - 1) * kGapX) / cols, h = (kTop - kBottom - kGapY) / 2;
+    const double x0 = kLeft + col * (w + kGapX), y0 = kTop - (row + 1) * h - row * kGapY;
+    std::ostringstream os;
+    os << "set lmargin at screen " << x0 << "\nset rmargin at screen " << x0 + w << "\nset bmargin at screen " << y0
+       << "\nset tmargin at screen " << y0 + h << "\n";
+    return os.str();
+  };
+  body << "set multiplot\n";
+  std::vector<Plot::Entry> entries;
   for (int k = 0; k < cols; ++k) {
-    if (k == 1) body << "unset key\n";
     const Orbit& o = orbits[k].second;
     const auto [x_lo, x_hi] = x_range[k];
-    body << "set title '" << orbits[k].first << ", T = " << Num(o.period) << "'\nset xlabel 't / T'\nset ylabel '"
+    body << panel(0, k) << "set title '" << orbits[k].first << ", T = " << Num(o.period) << "'\nset xlabel 't / T'\nset ylabel '"
          << (k == 0 ? XcLabel(c) : std::string()) << "'\nset xrange [0:1]\nset xtics 0.5\nset ytics "
          << NiceStep(x_lo, std::max(x_hi, c.b.gap), 4) << "\n";
-    Plot p;
+    Plot p("plot", Plot::Keys::kCollected);
     p.Add("'validation_orbits.csv' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'analytic' ? $3 : 1/0):4",
           With("analytic"), "analytic")
         .Add("'' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'simulated' ? $3 : 1/0):4", With("simulated"),
              "simulated, " + std::to_string(shown) + "th period")
         .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+    // Its impacts: t = 0 (and T) and each further one.
+    body << "$impacts" << k << " << EOD\n0," << c.b.gap << "\n";
+    for (const double t : o.times) body << t / o.period << "," << c.b.gap << "\n";
+    body << "1," << c.b.gap << "\nEOD\n";
+    p.Add("$impacts" + std::to_string(k) + " using 1:2", With("orbit_impact"), "impacts");
+    entries.insert(entries.end(), p.Collected().begin(), p.Collected().end());
     body << p.str();
   }
   // The deviations on one scale, the panels compared at a glance.
   const double decade_lo = std::floor(std::log10(std::isfinite(dev_lo) ? dev_lo : 1e-16));
   const double decade_hi = std::ceil(std::log10(dev_hi > 0.0 ? dev_hi : 1e-15));
+  // (A label every few decades, at most 4 labels, a tick at each decade.)
+  const double per_label = std::max(1.0, std::ceil((decade_hi - decade_lo) / 4));
   body << "unset title\nset logscale y\nset format y '10^{%T}'\nset yrange [1e" << decade_lo << ":1e" << decade_hi
-       << "]\nset ytics " << std::pow(10.0, std::max(1.0, std::ceil((decade_hi - decade_lo) / 4))) << "\nset xrange [0:"
+       << "]\nset ytics " << std::pow(10.0, per_label) << "\nset xrange [0:"
        << vopt.periods << "]\nset xtics 0, " << vopt.periods / 2 << ", " << vopt.periods
-       << "\nset mxtics 2\nset mytics 1\nset xlabel 'periods k'\n";
+       << "\nset mxtics 2\nset mytics " << per_label << "\nset xlabel 'periods k'\n";
   for (int k = 0; k < cols; ++k) {
     // One scale: its tick labels on the first panel only.
-    body << "set ylabel '" << (k == 0 ? "deviation |z(kT) - z_0| / |z_0|" : "") << "'\n"
+    body << panel(1, k) << "set ylabel '" << (k == 0 ? "deviation |z(kT) - z_0| / |z_0|" : "") << "'\n"
          << (k == 1 ? "set format y ''\n" : "");
     Plot p;
     p.Unkeyed("'validation_deviation.csv' index " + std::to_string(k) + " using 2:($3 > 0 ? $3 : 1/0)", With("function"));
     body << p.str();
   }
-  body << "unset multiplot";
+  body << LegendPanel(0.07) << Plot::Legend(entries) << "unset multiplot";
   Draw(c, "validation_orbits", body.str(), note.str());
 }
 

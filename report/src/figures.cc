@@ -78,7 +78,7 @@ void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const cha
        << "]\n" << setup;
   Plot plot;
   plot.Add("'" + name + ".csv' using " + xc, "with filledcurves above y=" + std::to_string(c.b.gap) + " " + style::Look("excess"),
-           Xc(c) + " > d", above)
+           Xc(c) + " > d: NC3 fails", above)
       .Add("'' using " + xc, With(role), Xc(c) + "(t), T = " + Num(o.period))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
   // Its impact at t = 0, again at T (each orbit is computed from one).
@@ -87,18 +87,6 @@ void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const cha
   Draw(c, name, body.str() + plot.str(), note);
 }
 
-// The set-up of a multi-panel chart's one key (Plot::Legend, the plot that
-// follows): an invisible frame, the key centred at the foot of the canvas in
-// up to three columns, in a band `height` high (screen fraction) that the
-// panels leave free.
-std::string LegendPanel(double height) {
-  std::ostringstream os;
-  os << "unset title\nunset border\nunset tics\nunset grid\nunset arrow\nunset label\nset xlabel ''\nset ylabel ''\n"
-     << "set lmargin at screen 0.01\nset rmargin at screen 0.99\nset tmargin at screen " << height
-     << "\nset bmargin at screen " << height - 0.01 << "\nset xrange [0:1]\nset yrange [0:1]\n"
-     << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 3\n";
-  return os.str();
-}
 
 // Layers circling the points (t, d) where an orbit grazes the obstacle.
 std::function<void(Plot&)> GrazeMarks(const Context& c, const std::vector<double>& times) {
@@ -180,11 +168,15 @@ void Figure4(Context& c, const ModalPick& m) {
   body << "set xlabel 'normalised time t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n";
   const std::string xc = std::to_string(XCol(c, c.contact));
   std::ostringstream in_title, mode_title, beyond_title;  // (periods to 4 digits: the note has them all)
-  in_title << "T = " << Num(in.period) << " (admissible)";
+  // The admissible orbit as the 1-ipp branch draws it there: stable dark
+  // and solid, unstable light and dashed.
+  const bool stable = OrbitStability(c.b, in).stable;
+  in_title << "T = " << Num(in.period) << " (admissible, " << (stable ? "stable" : "unstable") << ")";
   mode_title << "T = " << Num(m.period) << " (grazing linear mode)";
   beyond_title << "T = " << Num(beyond.period) << " (" << Xc(c) << " > d: not admissible)";
   Plot plot;
-  plot.Add("'fig04_modal_transition.csv' using (strcol(1) eq 'admissible' ? $3/$2 : 1/0):" + xc, With("orbit"), in_title.str())
+  plot.Add("'fig04_modal_transition.csv' using (strcol(1) eq 'admissible' ? $3/$2 : 1/0):" + xc,
+           With(stable ? "orbit" : "orbit_unstable"), in_title.str())
       .Add("'' using (strcol(1) eq 'modal' ? $3/$2 : 1/0):" + xc, With("limit"), mode_title.str())
       .Add("'' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" + xc, With("not_admissible"), beyond_title.str())
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
@@ -207,7 +199,8 @@ void Figure5(Context& c) {
   const Bridge& br = *paper;
   std::ostringstream note;
   note << "T_G = " << br.period << ", graze at t = " << br.t2;
-  DrawOneOrbit(c, "fig05_grazing_transition", OneImpactOrbit(c.b, br.period), "orbit", "",
+  // (Black: a grazing orbit is a family's limit, as in Figs. 13-15.)
+  DrawOneOrbit(c, "fig05_grazing_transition", OneImpactOrbit(c.b, br.period), "limit", "",
                GrazeMarks(c, {br.t2}), note.str());
 }
 
@@ -383,7 +376,7 @@ void Figure9(Context& c) {
   std::ostringstream note;
   note << "T = " << br.period << ", grazes at t = " << br.t2 << " and " << br.period - br.t2
        << ", NC2 residual as a 3-ipp orbit " << g->three.nc2_residual;
-  DrawOneOrbit(c, "fig09_two_grazes", g->one, "orbit", "", GrazeMarks(c, {br.t2, br.period - br.t2}),
+  DrawOneOrbit(c, "fig09_two_grazes", g->one, "limit", "", GrazeMarks(c, {br.t2, br.period - br.t2}),
                note.str());
 }
 
@@ -777,6 +770,19 @@ void Figures13To15(Context& c) {
   }
 }
 
+namespace {
+
+// About three ticks on [lo, hi], at least two of them labelled inside it.
+double TwoTicksStep(double lo, double hi) {
+  for (int ticks = 3; ticks < 12; ++ticks) {
+    const double step = NiceStep(lo, hi, ticks);
+    if (std::floor(hi / step) - std::ceil(lo / step) >= 1) return step;
+  }
+  return NiceStep(lo, hi, 12);
+}
+
+}  // namespace
+
 // Fig. 17 (beyond the paper): every bridge of the atlas, one zoomed panel
 // each, labelled B1, B2, ... as in Fig. 8 with its kind: the branches within
 // 1 % of its period (recomputed on 401 periods) and the bridge's vertical
@@ -825,7 +831,7 @@ void Figure17(Context& c) {
     body << "set lmargin at screen " << x0 + 0.3 * cw << "\nset rmargin at screen " << x0 + 0.95 * cw
          << "\nset tmargin at screen " << y0 + 0.88 * ch << "\nset bmargin at screen " << y0 + 0.24 * ch << "\n"
          << "set ylabel '" << (k % cols == 0 ? "energy E (J)" : "") << "'\n"
-         << "set xtics " << NiceStep(x_lo, x_hi, 3) << "\nset ytics " << NiceStep(lo, hi, 4) << "\n"
+         << "set xtics " << TwoTicksStep(x_lo, x_hi) << "\nset ytics " << NiceStep(lo, hi, 4) << "\n"
          << "set xrange [" << x_lo << ":" << x_hi << "]\nset yrange [" << lo << ":" << hi << "]\n"
          << "set title 'B" << k + 1 << ", " << (IsGrazing(br) ? "grazing" : "period doubling") << ": "
          << std::fixed << std::setprecision(3) << br.period << std::defaultfloat << std::setprecision(6)
@@ -903,8 +909,9 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   WriteTrajectory(orbit.stream(), "x", pick.start.period, OrbitTrajectory(c.b, pick.start, kSamples));
   // The energy axis (log) from just below the lowest drawn orbit (3-ipp or
   // 1-ipp in the window) to above the family's highest, not admissible ones
-  // included (the continuation the caption follows), at most 300 times the
-  // lowest.
+  // included (the continuation the caption follows), at most 20 times the
+  // lowest: the admissible stretch fills the frame, the continuation's
+  // spikes leave it at the top.
   double e_hi = 0.0, e_lo = INFINITY;
   for (const Orbit& o : pick.family) {
     if (o.period < t_lo || o.period > t_hi) continue;
@@ -916,7 +923,7 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
     if (o.admissible && o.period >= t_lo && o.period <= t_hi) e_lo = std::min(e_lo, o.energy);
   }
   if (!std::isfinite(e_lo) || !(e_lo < e_hi)) e_lo = 1e-3 * e_hi;
-  const double bottom = 0.8 * e_lo, top = std::min(1.5 * e_hi, 300.0 * e_lo);
+  const double bottom = 0.8 * e_lo, top = std::min(1.5 * e_hi, 20.0 * e_lo);
   std::ostringstream body;
   // Two panels above one key for both (a key under each ran into the other
   // panel at the column's width); the energy axis from 0.8 of the lowest
@@ -928,7 +935,9 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
        << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << bottom << ":" << top << "]\n"
        << VerticalLines("ends", {pick.admissible_from, pick.admissible_to}, bottom, top);
   if (three[2] > 0) {
-    body << "set label 'stable' at " << s_t / three[2] << ", " << s_e / three[2] << " center offset 0, 1.2 front\n";
+    // Below and left of the stretch (above it are the grazing circle and
+    // the 1-ipp branch, below the frame's foot).
+    body << "set label 'stable' at " << s_t / three[2] << ", " << s_e / three[2] << " right offset -0.6, -0.9 front\n";
   }
   Plot energies("plot", Plot::Keys::kCollected);
   energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)", With("not_admissible"), "3-ipp, not admissible", three[0])
@@ -954,7 +963,7 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   // (The orbit unkeyed: the panel's axis names it, the left panel's circle
   // and its branch's line say where it is and its stability.)
   orbit_plot.Unkeyed("'fig16_orbit.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)),
-                     With("orbit_three"))
+                     With(start_stable ? "three_stable" : "three_unstable", "lines"))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d")
       .Add("$impacts using 1:2", With("orbit_impact"), "impacts (t = 0 again at T)");
   std::vector<Plot::Entry> entries = energies.Collected();
