@@ -227,11 +227,13 @@ void FigureMultipliers(Context& c) {
   // over them; the unit circle over the points (the line |mu| = 1 of the
   // upper panel).
   const std::string shade = ":(($1 - " + std::to_string(t_lo) + ") / " + std::to_string(std::max(t_hi - t_lo, 1e-300)) + ")";
+  // (Keyed in black: their colour is T's, the colour bar's.)
   Plot right;
-  right.Add("'multipliers_one_impact.csv' using ($2 == 0 ? $5 : 1/0):6" + shade, style::WithPalette("map_unstable"),
-            "unstable orbits", unstable)
-      .Add("'' using ($2 == 1 ? $5 : 1/0):6" + shade, style::WithPalette("map_stable"),
-           "stable orbits", stable)
+  if (unstable > 0) right.KeyOnly(With("map_unstable", "points", style::Colour("black")), "unstable orbits");
+  if (stable > 0) right.KeyOnly(With("map_stable", "points", style::Colour("black")), "stable orbits");
+  right.Add("'multipliers_one_impact.csv' using ($2 == 0 ? $5 : 1/0):6" + shade, style::WithPalette("map_unstable"), "",
+            unstable)
+      .Add("'' using ($2 == 1 ? $5 : 1/0):6" + shade, style::WithPalette("map_stable"), "", stable)
       .Add("$circle using 1:2", With("unit_circle"), "", 1);  // keyed with |mu| = 1
   body << right.str() << "unset multiplot";
   Draw(c, "multipliers_one_impact", body.str(),
