@@ -1281,7 +1281,7 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
   int failed = 0;
   for (const auto& [name, col, label] :
        {std::tuple<std::string, int, std::string>{"response_energy", 5, "mean energy (J)"},
-        {"response_amplitude", 7, "impact velocity v_c^- (m/s)"}}) {
+        {"response_amplitude", 7, "velocity before impact v_c (m/s)"}}) {
     std::ostringstream body;
     body << std::setprecision(17) << "set datafile separator ','\nset key below\n"
          << "set xlabel '" << (frequency ? "forcing frequency {/Symbol w} (rad/s)" : "forcing amplitude a (N)") << "'\n"
@@ -1289,11 +1289,14 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
          << "set xrange [" << frame_lo << ":" << frame_hi << "]\n";
     // The responses fill the frame; the backbone leaves it where it diverges
     // (towards its singular transitions).
+    // (The impact velocity's axis a little below 0: a zero-velocity impact,
+    // located at -1e-16, is marked on the frame's foot, not cut.)
     if (col == 5) {
-      body << "set logscale y\n" << LogTics("y", 0.5 * e_min, 1.5 * e_max) << "set yrange [" << 0.5 * e_min << ":"
+      body << "set logscale y\n" << LogTics("y", 0.8 * e_min, 1.5 * e_max) << "set yrange [" << 0.8 * e_min << ":"
            << 1.5 * e_max << "]\n";
     } else {
-      body << "set yrange [0:" << (v_max > 0.0 ? 1.3 * v_max : 1.0) << "]\n";
+      const double top = v_max > 0.0 ? 1.3 * v_max : 1.0;
+      body << "set yrange [" << -0.03 * top << ":" << top << "]\n";
     }
     // What each branch draws on this chart: an orbit without impact has no
     // impact velocity, one not admissible may have a negative one (below
@@ -1353,12 +1356,16 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
                                      {"zero-velocity", "zero_velocity"},
                                      {"peak", "peak"},
                                      {"torus", "torus"}}) {
+      // A grazing and a zero-velocity impact bound an admissible stretch:
+      // drawn whichever side of it they were computed on (at a zero
+      // velocity, a round-off of -1e-16 makes the orbit "not admissible").
       const std::string kind_name = kind;  // (a structured binding cannot be captured before C++20's clang 16)
-      const long n = std::count_if(points.begin(), points.end(), [&kind_name](const SpecialPoint& p) {
-        return ToString(p.kind) == kind_name && p.orbit.admissible;
+      const bool boundary = kind_name == "grazing" || kind_name == "zero-velocity";
+      const long n = std::count_if(points.begin(), points.end(), [&kind_name, boundary](const SpecialPoint& p) {
+        return ToString(p.kind) == kind_name && (p.orbit.admissible || boundary);
       });
-      plot.Add("'response_points.csv' using (strcol(3) eq '" + std::string(kind) + "' && $8 == 1 ? $" + x +
-                   " : 1/0):" + std::to_string(pcol),
+      plot.Add("'response_points.csv' using (strcol(3) eq '" + std::string(kind) + "'" + (boundary ? "" : " && $8 == 1") +
+                   " ? $" + x + " : 1/0):" + std::to_string(pcol),
                With(role), kind, n);
     }
     body << plot.str();
