@@ -338,18 +338,20 @@ void Figure7(Context& c) {
   std::ostringstream body;
   // t2 / T in [0, 1], as Fig. 6's root curves; one mark per admissible root
   // coloured by its energy (their stability is Fig. 8's: filled and open
-  // marks this dense could not be told apart), the line t2 = T/2 over them.
+  // marks this dense could not be told apart), the line t2 = T/2 under them
+  // (over them, it hid the colour of the dilated branch's marks).
   body << "set xlabel 'period T (s)'\nset ylabel 'second impact time t_2 / T'\nset key below\n"
        << "set xrange [0:" << PeriodTop(c) << "]\nset yrange [0:1]\n"
        << style::Palette("energy", "energy E (J)") << "set logscale cb\n" << LogTics("cb", e_lo, e_hi)
        << "set cbrange [" << e_lo << ":" << e_hi << "]\n";
   Plot plot;
-  plot.Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "points", style::Colour("grey_faint")),
+  plot.Add("0.5", With("two_half"), "t_2 = T/2")
+      .Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "points", style::Colour("grey_faint")),
            "potential, not admissible", grey)
       .Add("'' using 1:($9 == 1 && $5 == 1 ? $2 / $1 : 1/0):3", style::WithPalette("map_stable"),
-           "admissible (colour: its energy)", stable + unstable)
-      .Add("0.5", With("two_half"), "t_2 = T/2");
-  Draw(c, "fig07_two_impact_energy", body.str() + plot.str());
+           "admissible (colour: its energy)", stable + unstable);
+  Draw(c, "fig07_two_impact_energy", body.str() + plot.str(),
+       "the energy's colours from " + Num(e_lo, 3) + " to " + Num(e_hi, 3) + " J");
 }
 
 // Fig. 8: the combined frequency-energy plot.
