@@ -1081,15 +1081,17 @@ void Figure18(Context& c) {
   // Up to 30 times the median energy, as the other frequency-energy plots:
   // the families fill the frame, their diverging ends leave it.
   const double top = std::min(2.0 * hi, EnergyTop(energies));
-  body << "set logscale y\n" << LogTics("y", 0.5 * lo, top) << "set yrange [" << 0.5 * lo << ":" << top << "]\n"
+  body << "set logscale y\n" << LogTics("y", 0.8 * lo, top) << "set yrange [" << 0.8 * lo << ":" << top << "]\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << PeriodTop(c) << "]\n"
        << "set key below\n";
   // The 1-impact sequences as Fig. 8's 1-ipp family (solid and dashed lines,
   // no markers: the first in its blue and sky, the others in the sequences'
-  // colours), under the 2-impact ones; each 2-impact sequence a line with
-  // markers at equal steps, in a role of its own (Fig. 8's 2-ipp vermillion
-  // dots and orange circles first, then purple squares, grey triangles):
-  // filled stable, open unstable, told apart in greyscale by their shapes.
+  // colours), over the 2-impact ones on a white halo (where a 1-impact
+  // family runs along a 2-impact branch, it showed under its markers); each
+  // 2-impact sequence a line with markers at equal steps, in a role of its
+  // own (Fig. 8's 2-ipp vermillion dots and orange circles first, then
+  // purple squares, grey triangles): filled stable, open unstable, told
+  // apart in greyscale by their shapes. The key first, sequence by sequence.
   Plot plot;
   std::vector<std::size_t> order;
   for (std::size_t s = 0; s < sequences.size(); ++s) {
@@ -1101,6 +1103,12 @@ void Figure18(Context& c) {
   const std::pair<const char*, const char*> two_roles[] = {
       {"two_stable", "two_unstable"}, {"sequence_b_stable", "sequence_b_unstable"},
       {"sequence_c_stable", "sequence_c_unstable"}};
+  struct Layer {
+    std::string rows, look;
+    bool one;
+    const char* role;
+  };
+  std::vector<Layer> layers;
   std::size_t ones = 0, twos = 0;
   for (const std::size_t s : order) {
     const bool one = sequences[s].size() == 1;
@@ -1111,16 +1119,20 @@ void Figure18(Context& c) {
     for (int stable : {1, 0}) {
       if (counts[s][stable] == 0) continue;
       const std::string rows = "strcol(1) eq '" + labels[s] + "' && $6 == " + std::to_string(stable);
-      const std::string title = titles[s] + (stable ? " stable" : " unstable");
-      if (one) {
-        plot.Add("'fig18_sequences_fep.csv' using 3:(" + rows + " ? $5 : 1/0)",
-                 With(stable ? "one_stable" : "one_unstable", "lines", colour), title, counts[s][stable]);
-        continue;
-      }
-      const char* role = stable ? two_roles[k % 3].first : two_roles[k % 3].second;
-      plot.KeyOnly(With(role, "linespoints", colour), title);
-      MarkedLine(plot, "'fig18_sequences_fep.csv'", "3", rows, "$5", 8, role, colour);
+      const char* role = one ? (stable ? "one_stable" : "one_unstable") : stable ? two_roles[k % 3].first
+                                                                                 : two_roles[k % 3].second;
+      const std::string look = With(role, one ? "lines" : "linespoints", colour);
+      plot.KeyOnly(look, titles[s] + (stable ? " stable" : " unstable"));
+      layers.push_back({rows, one ? look : colour, one, role});
     }
+  }
+  for (const Layer& l : layers) {
+    if (!l.one) MarkedLine(plot, "'fig18_sequences_fep.csv'", "3", l.rows, "$5", 8, l.role, l.look);
+  }
+  for (const Layer& l : layers) {
+    if (!l.one) continue;
+    const std::string spec = "'fig18_sequences_fep.csv' using 3:(" + l.rows + " ? $5 : 1/0)";
+    plot.Unkeyed(spec, With("halo")).Unkeyed(spec, l.look);
   }
   body << plot.str();
   Draw(c, "fig18_sequences_fep", body.str(), std::to_string(sequences.size()) + " impact sequences");
