@@ -276,11 +276,16 @@ class Occupancy {
 
 }  // namespace
 
-std::string BridgeInsets(const Context& c, const Plot& plot) {
+namespace {
+
+// The frame of a frequency-energy chart (EnergyAxes): what it draws, as
+// occupied cells. The admissible orbits (the 1-ipp ones alone if
+// `one_only`), the singular transitions' lines, the bridges and their labels.
+Occupancy FepOccupancy(const Context& c, bool one_only) {
   const auto [lo, hi] = EnergyRange(c);
-  const double t_top = PeriodTop(c, false);
-  Occupancy free(t_top, lo, hi);
+  Occupancy free(PeriodTop(c, one_only), lo, hi);
   for (const Sweep* sweep : {&c.atlas.one, &c.atlas.two}) {
+    if (one_only && sweep != &c.atlas.one) continue;
     for (const auto& list : sweep->at) {
       for (const OrbitRecord& r : list) {
         if (r.orbit.admissible) free.Mark(free.X(r.orbit.period), free.Y(r.orbit.energy));
@@ -289,31 +294,37 @@ std::string BridgeInsets(const Context& c, const Plot& plot) {
   }
   for (const Transition& t : c.transitions) {
     if (t.kind == TransitionKind::kSingular) free.MarkBox(free.X(t.period), 0.0, free.X(t.period), 1.0);
+    // A mark with its label to its left (T_G).
+    if (t.kind != TransitionKind::kSingular && t.energy >= lo && t.energy <= hi) {
+      free.MarkBox(free.X(t.period) - 0.07, free.Y(t.energy) - 0.03, free.X(t.period) + 0.02, free.Y(t.energy) + 0.03);
+    }
   }
-  // A bridge, with its label above it (BridgeLabels).
-  for (const Bridge& b : c.bridges) {
-    free.MarkBox(free.X(b.period) - 0.03, free.Y(b.energy_min), free.X(b.period) + 0.01, free.Y(b.energy_max) + 0.08);
+  if (!one_only) {
+    for (const Bridge& b : c.bridges) {  // with its label above it (BridgeLabels)
+      free.MarkBox(free.X(b.period) - 0.03, free.Y(b.energy_min), free.X(b.period) + 0.01, free.Y(b.energy_max) + 0.08);
+    }
   }
+  return free;
+}
+
+}  // namespace
+
+std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const std::vector<Zoom>& zooms) {
+  Occupancy free = FepOccupancy(c, one_only);
   // An inset: 27 % of the frame's width, 30 % of its height, its own frame
   // inside it clear of its tick labels (left and below).
   constexpr double kW = 0.27, kH = 0.30, kLeft = 0.085, kBelow = 0.075, kEdge = 0.012;
   std::ostringstream boxes, insets;
   int shown = 0;
-  for (std::size_t k = 0; k < c.bridges.size(); ++k) {
-    const Bridge& b = c.bridges[k];
-    // Seen at the chart's scale: a bridge over 4 % of the energy axis.
-    if (!(b.energy_max > b.energy_min) || free.Y(b.energy_max) - free.Y(b.energy_min) > 0.04) continue;
-    // The zoom: the bridge over 2/3 of the inset's height, T within 2 % of
-    // the period axis on each side.
-    const double pad = 0.25 * (b.energy_max - b.energy_min), dt = 0.02 * t_top;
-    const double t_lo = b.period - dt, t_hi = b.period + dt, e_lo = b.energy_min - pad, e_hi = b.energy_max + pad;
-    // The free place nearest the bridge, highest first: fewest cells
+  for (const Zoom& z : zooms) {
+    // The free place nearest the zoomed window, highest first: fewest cells
     // covered, then nearest.
+    const double at = free.X(0.5 * (z.t_lo + z.t_hi));
     double best = INFINITY, bx = 0.0, by = 0.0;
     for (double y = 1.0 - kH - 0.01; y >= 0.0; y -= 0.02) {
       for (double x = 0.0; x <= 1.0 - kW + 1e-9; x += 0.01) {
-        const double cost = 1e3 * static_cast<double>(free.Count(x, y, x + kW, y + kH)) +
-                            std::abs(x + 0.5 * kW - free.X(b.period)) + 0.5 * (1.0 - kH - y);
+        const double cost = 1e3 * static_cast<double>(free.Count(x, y, x + kW, y + kH)) + std::abs(x + 0.5 * kW - at) +
+                            0.5 * (1.0 - kH - y);
         if (cost < best) {
           best = cost;
           bx = x;
@@ -321,18 +332,15 @@ std::string BridgeInsets(const Context& c, const Plot& plot) {
         }
       }
     }
-    if (best >= 1e3) {
-      // (No free place: the bridge is labelled but not zoomed.)
-      continue;
-    }
+    if (best >= 1e3) continue;  // (no free place: not zoomed)
     free.MarkBox(bx, by, bx + kW, by + kH);
-    free.MarkBox(free.X(t_lo), free.Y(e_lo), free.X(t_hi), free.Y(e_hi));
+    free.MarkBox(free.X(z.t_lo), free.Y(z.e_lo), free.X(z.t_hi), free.Y(z.e_hi));
     ++shown;
-    boxes << "set object " << 10 + k << " rect from " << t_lo << ", " << e_lo << " to " << t_hi << ", " << e_hi
+    boxes << "set object " << 10 + shown << " rect from " << z.t_lo << ", " << z.e_lo << " to " << z.t_hi << ", " << z.e_hi
           << " front fillstyle empty border lc rgb '" << style::Colour("black") << "' lw 0.6\n";
     // In the inset: the frame placed on the main frame (gnuplot's terminal
     // coordinates of the plot before, GPVAL_TERM_*, as fractions of the
-    // canvas), a white ground under it and its tick labels.
+    // canvas), a white ground under it and its tick labels; E linear.
     auto sx = [](double f) { return "(ns_x0 + " + std::to_string(f) + " * (ns_x1 - ns_x0))"; };
     auto sy = [](double f) { return "(ns_y0 + " + std::to_string(f) + " * (ns_y1 - ns_y0))"; };
     insets << "unset object\nunset label\nunset key\nunset x2tics\nunset logscale y\nunset xlabel\nunset ylabel\n"
@@ -341,10 +349,10 @@ std::string BridgeInsets(const Context& c, const Plot& plot) {
            << "' fillstyle solid 1.0 noborder\n"
            << "set lmargin at screen " << sx(bx + kLeft) << "\nset rmargin at screen " << sx(bx + kW - kEdge)
            << "\nset bmargin at screen " << sy(by + kBelow) << "\nset tmargin at screen " << sy(by + kH - kEdge) << "\n"
-           << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << e_lo << ":" << e_hi << "]\n"
-           << "set xtics " << NiceStep(t_lo, t_hi, 2) << "\nset ytics " << NiceStep(e_lo, e_hi, 2)
+           << "set xrange [" << z.t_lo << ":" << z.t_hi << "]\nset yrange [" << z.e_lo << ":" << z.e_hi << "]\n"
+           << "set xtics " << TwoTicksStep(z.t_lo, z.t_hi) << "\nset ytics " << TwoTicksStep(z.e_lo, z.e_hi)
            << "\nset tics scale 0.5\nset format y '%g'\n"
-           << "set label 'B" << k + 1 << "' at graph 0.06, graph 0.86 front\n" << plot.Untitled();
+           << (z.label.empty() ? "" : "set label '" + z.label + "' at graph 0.06, graph 0.86 front\n") << plot.Untitled();
   }
   if (shown == 0) return plot.str();
   return boxes.str() + "set multiplot\n" + plot.str() +
@@ -353,6 +361,59 @@ std::string BridgeInsets(const Context& c, const Plot& plot) {
          "ns_y0 = GPVAL_TERM_YMIN * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_YSIZE\n"
          "ns_y1 = GPVAL_TERM_YMAX * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_YSIZE\n" +
          insets.str() + "unset multiplot\n";
+}
+
+std::string BridgeInsets(const Context& c, const Plot& plot) {
+  const auto [lo, hi] = EnergyRange(c);
+  const double t_top = PeriodTop(c, false);
+  std::vector<Zoom> zooms;
+  for (std::size_t k = 0; k < c.bridges.size(); ++k) {
+    const Bridge& b = c.bridges[k];
+    // Seen at the chart's scale: a bridge over 4 % of the energy axis.
+    if (!(b.energy_max > b.energy_min) || std::log(b.energy_max / b.energy_min) > 0.04 * std::log(hi / lo)) continue;
+    // The zoom: the bridge over 2/3 of the inset's height, T within 2 % of
+    // the period axis on each side.
+    const double pad = 0.25 * (b.energy_max - b.energy_min), dt = 0.02 * t_top;
+    std::string label = "B";  // (not "B" + ...: GCC 12's -Wrestrict false positive on it)
+    label += std::to_string(k + 1);
+    zooms.push_back({b.period - dt, b.period + dt, b.energy_min - pad, b.energy_max + pad, label});
+  }
+  return ZoomInsets(c, plot, false, zooms);
+}
+
+std::string StableStretchInsets(const Context& c, const Plot& plot) {
+  const double t_top = PeriodTop(c, true);
+  // The admissible 1-ipp branch's stable stretches, each as its first and
+  // last period.
+  std::vector<std::pair<double, double>> stretches;
+  bool in = false;
+  for (const auto& list : c.atlas.one.at) {
+    const OrbitRecord& r = list.front();
+    const bool stable = r.orbit.admissible && IsStable(r.stability);
+    if (stable && !in) stretches.push_back({r.orbit.period, r.orbit.period});
+    if (stable) stretches.back().second = r.orbit.period;
+    in = stable;
+  }
+  std::vector<Zoom> zooms;
+  for (const auto& [first, last] : stretches) {
+    // Seen at the chart's scale: a stretch over 1 % of the period axis.
+    if (last - first > 0.01 * t_top) continue;
+    // The zoom: the stretch in its middle third (at least 1 % of the axis
+    // wide), the admissible branch's energies there.
+    const double mid = 0.5 * (first + last), half = std::max(1.5 * (last - first), 0.005 * t_top);
+    double e_lo = INFINITY, e_hi = 0.0;
+    for (const auto& list : c.atlas.one.at) {
+      const Orbit& o = list.front().orbit;
+      if (o.admissible && std::abs(o.period - mid) <= half) {
+        e_lo = std::min(e_lo, o.energy);
+        e_hi = std::max(e_hi, o.energy);
+      }
+    }
+    if (!(e_hi > e_lo)) continue;
+    const double pad = 0.15 * (e_hi - e_lo);
+    zooms.push_back({mid - half, mid + half, e_lo - pad, e_hi + pad, ""});
+  }
+  return ZoomInsets(c, plot, true, zooms);
 }
 
 void FepTable::Write(std::ostream& out) const {
@@ -437,6 +498,14 @@ double EnergyTop(std::vector<double> energies) {
 
 // (Not the grid's end: past the admissible orbits it holds potential ones
 // only, and the right of the chart would be empty.)
+double TwoTicksStep(double lo, double hi) {
+  for (int ticks = 3; ticks < 12; ++ticks) {
+    const double step = NiceStep(lo, hi, ticks);
+    if (std::floor(hi / step) - std::ceil(lo / step) >= 1) return step;
+  }
+  return NiceStep(lo, hi, 12);
+}
+
 double PeriodTop(const Context& c, bool one_only) {
   double top = 0.0;
   for (const Sweep* sweep : {&c.atlas.one, &c.atlas.two}) {

@@ -203,6 +203,8 @@ std::string FamilyBarTics(double lo, double hi);
 // A tick step of 1, 2 or 5 times a power of 10 giving about `ticks` ticks on
 // [lo, hi] (small panels, 3-D axes and column PDFs need few).
 double NiceStep(double lo, double hi, int ticks);
+// About three ticks on [lo, hi], at least two of them labelled inside it.
+double TwoTicksStep(double lo, double hi);
 // The period axis's end: the admissible orbits' longest period plus 5 %, on
 // a multiple of 2 s, within the atlas's period grid; of the 1-ipp orbits
 // alone when `one_only`.
@@ -348,10 +350,22 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
 // panels leave free.
 std::string LegendPanel(double height);
 
-// The plot of a frequency-energy chart, with an inset zooming on each bridge
-// too short to see at the chart's scale, in the frame's freest place near it
-// (the zoomed window boxed on the chart).
+// A window of a frequency-energy chart to zoom on: T and E (linear in the
+// inset), its label in the inset's corner.
+struct Zoom {
+  double t_lo, t_hi, e_lo, e_hi;
+  std::string label;
+};
+// The plot of a frequency-energy chart (EnergyAxes(c, one_only)) with an
+// inset on each window, in the frame's freest place near it (the window
+// boxed on the chart); a window with no free place is not zoomed.
+std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const std::vector<Zoom>& zooms);
+// The zooms on each bridge too short to see at the chart's scale (under 4 %
+// of the energy axis's height).
 std::string BridgeInsets(const Context& c, const Plot& plot);
+// The zooms on each stable stretch of the 1-ipp branch too short to see (under
+// 1 % of the period axis), on the 1-ipp chart (EnergyAxes(c, true)).
+std::string StableStretchInsets(const Context& c, const Plot& plot);
 
 void TransitionLines(Context& c, const std::string& name, bool all, std::ostream& body, Plot& plot);
 void TransitionMarks(const Context& c, const std::string& name, bool all, Plot& plot);

@@ -146,7 +146,7 @@ void Figure3(Context& c) {
       .Add("'' using 1:($4 == 1 && $5 == 0 ? $2 : 1/0)", With("one_unstable"), "admissible, unstable", unstable);
   TransitionMarks(c, "fig03_transitions.csv", true, plot);
   out.Commit();
-  Draw(c, "fig03_one_impact_energy", body.str() + plot.str());
+  Draw(c, "fig03_one_impact_energy", body.str() + StableStretchInsets(c, plot));
 }
 
 // Fig. 4: the linear modal transition: admissible on one side, not on the
@@ -771,19 +771,6 @@ void Figures13To15(Context& c) {
     Draw(c, "fig15_bridge_fep", body.str(), note.str());
   }
 }
-
-namespace {
-
-// About three ticks on [lo, hi], at least two of them labelled inside it.
-double TwoTicksStep(double lo, double hi) {
-  for (int ticks = 3; ticks < 12; ++ticks) {
-    const double step = NiceStep(lo, hi, ticks);
-    if (std::floor(hi / step) - std::ceil(lo / step) >= 1) return step;
-  }
-  return NiceStep(lo, hi, 12);
-}
-
-}  // namespace
 
 // Fig. 17 (beyond the paper): every bridge of the atlas, one zoomed panel
 // each, labelled B1, B2, ... as in Fig. 8 with its kind: the branches within
