@@ -116,7 +116,7 @@ def split_top(text):
 
 def series(script):
     """Each plot command's layers: (title or None, kind, dash, colour or None,
-    palette?, legend only?) in order (a gnuplot plot's curves, as `set table`
+    palette?, legend only?, point type or None) in order (a gnuplot plot's curves, as `set table`
     lists them). A legend-only layer plots NaN: a key entry for a multi-panel
     chart's one key, drawn by its panels."""
     text = script.replace("\\\n", " ")
@@ -136,10 +136,11 @@ def series(script):
             colour = re.search(r"\b(?:lc|fillcolor|fc)\s+rgb\s+'([^']+)'", part)
             kind = re.search(r"\bwith\s+(\w+)", part)
             dash = re.search(r"\bdt\s+(\d+)", part)
+            point = re.search(r"\bpt\s+(\d+)", part)
             keyed = title is not None and title.group(1) and not re.search(r"\bnotitle\b", part)
             items.append((title.group(1) if keyed else None, kind.group(1) if kind else "lines",
                           dash.group(1) if dash else "1", colour.group(1) if colour else None, "palette" in part,
-                          part.strip().startswith("NaN ")))
+                          part.strip().startswith("NaN "), point.group(1) if point else None))
         plots.append(items)
     return plots
 
@@ -235,6 +236,9 @@ def check(directory, keys=True, allowed="style"):
                 # The styles (kind, dash, colour) that draw a point somewhere.
                 drawn = {item[1:4] for items, table in zip(plots, tables)
                          for item, (inside, _) in zip(items, table) if inside > 0}
+                # Layers coloured by a map, by kind and marker: keyed in black.
+                mapped = {(item[1], item[6]) for items, table in zip(plots, tables)
+                          for item, (inside, _) in zip(items, table) if inside > 0 and item[4]}
                 for items, table in zip(plots, tables):
                     for item, (inside, _) in zip(items, table):
                         if item[0] is None or item[1] == "pm3d":
@@ -242,7 +246,10 @@ def check(directory, keys=True, allowed="style"):
                         # A line with markers keyed once, drawn as its line and its markers apart.
                         apart = item[1] == "linespoints" and ("lines",) + item[2:4] in drawn and any(
                             d[0] == "points" and d[2] == item[3] for d in drawn)
-                        if item[5] and item[1:4] not in drawn and not apart:
+                        # A layer coloured by a map keyed in black, its marker's shape.
+                        black = item[3] is not None and item[3].upper()[-6:] == "000000"
+                        by_map = black and (item[1], item[6]) in mapped
+                        if item[5] and item[1:4] not in drawn and not apart and not by_map:
                             failures.append(f"{name}: the key names '{item[0]}', whose style no panel draws")
                         elif not item[5] and inside == 0:
                             failures.append(f"{name}: the key names '{item[0]}', which draws no point inside the axes")

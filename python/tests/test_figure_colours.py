@@ -75,6 +75,18 @@ def test_a_shared_key_names_only_what_a_panel_draws(tmp_path):
     assert run(tmp_path, panel + absent + "\nunset multiplot", keys=True) == 1
 
 
+@pytest.mark.skipif(shutil.which("gnuplot") is None, reason="the key check runs gnuplot")
+def test_a_black_key_stands_for_a_layer_coloured_by_a_map_with_its_marker(tmp_path):
+    # A layer coloured by a map (lc palette) is keyed by a legend-only entry
+    # in black: it passes when a mapped layer of that kind and marker is
+    # drawn, fails for another marker (the key would show a shape nothing has).
+    (tmp_path / "a.csv").write_text("1,2,0.5\n2,3,0.5\n3,4,0.5\n")
+    mapped = "set datafile separator ','\nplot 'a.csv' using 1:2:3 with points pt 7 lc palette notitle"
+    key = ", NaN with points pt 7 ps 1 lw 1 lc rgb '#000000' title 'orbits'"
+    assert run(tmp_path, mapped + key, keys=True) == 0
+    assert run(tmp_path, mapped + key.replace("pt 7", "pt 6"), keys=True) == 1
+
+
 def test_the_style_pairs_that_only_colour_tells_apart():
     # The style's stability pairs (report/style.toml), stable dark, unstable
     # light: 1-ipp blue and sky blue, 2-ipp vermillion (darkened) and orange,

@@ -406,6 +406,53 @@ struct SectionCurve {
 // flights is 4,800 facets, a light SVG and PDF, smooth at the charts' size.
 constexpr int kSurfaceSamples = 60;
 
+// A family drawn as curves (SectionFamily::surface false) in two
+// projections: (x_other, x_c) with the obstacle x_c = d a line, and (x_c,
+// v_c), where the jump of v_c at x_c = d is a gap between each orbit's
+// ends; each orbit shaded by its position along the family (the colour bar
+// on the right), the curves (a family's limit) over them, one key below.
+// (In 3-D, a few space curves and no surface gave no depth cue: a tangle.)
+// NAME.csv as DrawSection's.
+void DrawProjections(Context& c, const std::string& name, const std::string& parameter, const std::string& bar,
+                     const std::vector<SectionCurve>& curves, const double lo[3], const double hi[3],
+                     const std::string& note) {
+  const int cols[3] = {c.b.n > 1 ? 1 + c.other : 0, 1 + c.contact, 1 + c.b.n + c.contact};
+  const std::string u = std::to_string(TCol() + cols[0]), w = std::to_string(TCol() + cols[1]),
+                    v = std::to_string(TCol() + cols[2]);
+  auto range = [](double a, double b, double beyond) {
+    std::ostringstream os;
+    os << "[" << a - 0.05 * (b - a) << ":" << std::max(b + 0.05 * (b - a), beyond) << "]";
+    return os.str();
+  };
+  const double past = c.b.gap + 0.08 * (hi[1] - lo[1]);  // the obstacle clear of the frame
+  std::ostringstream body;
+  body << "set multiplot\n" << style::Palette("family", parameter) << bar << "set cbrange [0:1]\n"
+       << "set bmargin at screen 0.24\nset tmargin at screen 0.97\n"
+       << "set lmargin at screen 0.1\nset rmargin at screen 0.44\nunset colorbox\n"
+       << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 2\n"
+       << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
+       << DofLabel("x", c.contact, "m") << "'\nset xtics " << NiceStep(lo[0], hi[0], 4) << "\nset ytics "
+       << NiceStep(lo[1], hi[1], 4) << "\nset xrange " << range(lo[0], hi[0], -INFINITY) << "\nset yrange "
+       << range(lo[1], hi[1], past) << "\n";
+  Plot left, right;
+  left.Unkeyed("'" + name + ".csv' index 0 using " + u + ":" + w + ":2", "with lines lw 1.5 lc palette");
+  right.Unkeyed("'" + name + ".csv' index 0 using " + w + ":" + v + ":2", "with lines lw 1.5 lc palette");
+  for (std::size_t k = 0; k < curves.size(); ++k) {
+    const std::string index = "'" + name + ".csv' index " + std::to_string(k + 1) + " using ";
+    left.Add(index + u + ":" + w, With(curves[k].role), curves[k].title, static_cast<long>(curves[k].trajectories.size()));
+    right.Unkeyed(index + w + ":" + v, With(curves[k].role));
+  }
+  left.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle " + Xc(c) + " = d");
+  body << left.str() << "unset key\nset lmargin at screen 0.58\nset rmargin at screen 0.84\n"
+       << "set colorbox user origin screen 0.87, screen 0.3 size screen 0.025, screen 0.6\n"
+       << "set xlabel '" << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s")
+       << "'\nset xtics " << NiceStep(lo[1], hi[1], 3) << "\nset ytics " << NiceStep(lo[2], hi[2], 5)
+       << "\nset xrange " << range(lo[1], hi[1], past) << "\nset yrange " << range(lo[2], hi[2], -INFINITY) << "\n"
+       << "set arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead " << style::Look("obstacle")
+       << "\n" << right.str() << "unset multiplot";
+  Draw(c, name, body.str(), note);
+}
+
 // Draws NAME: left, the family as a shaded surface (viridis by shade,
 // depth-sorted, with a colour bar), the curves, the obstacle plane x_c = d
 // (translucent) and the floor on the data, seen so that the surface's two
@@ -453,6 +500,10 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   bar << FamilyBarTics(s_lo, s_hi);
   const std::string u = std::to_string(TCol() + cols[0]), w = std::to_string(TCol() + cols[1]),
                     v = std::to_string(TCol() + cols[2]);
+  if (!family.surface) {
+    DrawProjections(c, name, family.parameter, bar.str(), curves, lo, hi, note);
+    return;
+  }
   std::ostringstream body;
   // (No bar label: it would run into the projection's; the map's one
   // meaning, the position along the family, is said above the bar.)
@@ -467,8 +518,6 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        << "set view 62, 35\nset xyplane relative 0\nset key at screen 0.02, screen 0.99 left top\n"
        // (A light from the viewer: the shading tells the surface's folds apart.)
        << "set pm3d depthorder noborder lighting primary 0.4 specular 0.0\n"
-       // (Curves: each orbit a line, not the grid's cross-lines between them.)
-       << (family.surface ? "" : "set surface explicit\n")
        << "$plane << EOD\n"
        << lo[0] << "," << c.b.gap << "," << lo[2] << "\n" << lo[0] << "," << c.b.gap << "," << hi[2] << "\n\n"
        << hi[0] << "," << c.b.gap << "," << lo[2] << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\nEOD\n"
@@ -477,8 +526,7 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\n" << hi[0] << "," << c.b.gap << "," << lo[2] << "\n"
        << lo[0] << "," << c.b.gap << "," << lo[2] << "\nEOD\n";
   Plot surface("splot");
-  surface.Unkeyed("'" + name + ".csv' index 0 using " + u + ":" + w + ":" + v + ":2",
-                  family.surface ? "with pm3d" : "with lines lw 1 lc palette")
+  surface.Unkeyed("'" + name + ".csv' index 0 using " + u + ":" + w + ":" + v + ":2", "with pm3d")
       .Unkeyed("$plane using 1:2:3", "with pm3d fillcolor rgb '" + style::Colour("plane") + "'")
       .Add("$edge using 1:2:3", With("obstacle"), "obstacle " + Xc(c) + " = d (the plane)");
   // The projection: every other orbit of a dense family (the curves overlap).
@@ -494,7 +542,9 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   body << surface.str() << "unset label 1\nset size 0.32, 1\nset origin 0.68, 0\nunset pm3d\nunset colorbox\nunset key\nset xlabel '"
        << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s") << "'\n"
        << "set xtics " << NiceStep(lo[1], hi[1], 3) << "\nset ytics " << NiceStep(lo[2], hi[2], 5) << "\n"
-       << "set xrange [" << lo[1] - 0.05 * (hi[1] - lo[1]) << ":" << hi[1] + 0.05 * (hi[1] - lo[1]) << "]\n"
+       // (Past the obstacle by 8 % of the range: its line clear of the frame.)
+       << "set xrange [" << lo[1] - 0.05 * (hi[1] - lo[1]) << ":"
+       << std::max(hi[1] + 0.05 * (hi[1] - lo[1]), c.b.gap + 0.08 * (hi[1] - lo[1])) << "]\n"
        // (The data's range: autoscaling would extend it to the next ticks.)
        << "set yrange [" << lo[2] - 0.05 * (hi[2] - lo[2]) << ":" << hi[2] + 0.05 * (hi[2] - lo[2]) << "]\n"
        << "set arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead " << style::Look("obstacle") << "\n"
@@ -599,9 +649,11 @@ void Figures11And12(Context& c) {
   Plot plot;
   plot.Unkeyed("'fig11_two_impact_mode.csv' using ($3 / $2):" + xc + ":" + arc, "with lines lw 1.5 lc palette")
       .Add("'' using ($3 / $2):(strcol(1) eq '0' ? $" + xc + " : 1/0)", With("limit"), "grazing linear mode")
-      .Add("'' every ::0::0 using ($1 > 0 ? $" + std::to_string(4 + 2 * c.b.n) + " / $2 : 1/0):(" +
-               std::to_string(c.b.gap) + "):" + arc,
-           style::WithPalette("impact_map"), "second impact t_2", curves)
+      // (Keyed in black: the circle's colour is its orbit's.)
+      .KeyOnly(With("impact_map", "points", style::Colour("black")), "second impact t_2")
+      .Unkeyed("'fig11_two_impact_mode.csv' every ::0::0 using ($1 > 0 ? $" + std::to_string(4 + 2 * c.b.n) +
+                   " / $2 : 1/0):(" + std::to_string(c.b.gap) + "):" + arc,
+               style::WithPalette("impact_map"))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
   body << plot.str();
   out.Commit();
@@ -610,17 +662,18 @@ void Figures11And12(Context& c) {
        << ", the shortest linear period) to " << summary.str()
        << "; T spans [" << tmin << ", " << tmax << "]";
   Draw(c, "fig11_two_impact_orbits", body.str(), note.str());
-  // Fig. 12: the branch's orbits in the section, 6 of them (41 made a
-  // tangle in the projection where no orbit could be followed; 11 too).
+  // Fig. 12: the branch's orbits in the section: every other orbit of Fig.
+  // 11, in its colours (41 made a tangle where no orbit could be followed;
+  // 11 too).
   SectionFamily family{"arclength s", {}};
-  const int scans = 5;
-  for (int j = 0; j <= scans; ++j) {
-    const BranchPoint& p = AtArclength(m, static_cast<double>(j) / scans);
-    family.orbits.emplace_back(std::abs(p.arclength - branch[run.front()].arclength),
+  for (int j = 0; j <= curves; j += 2) {
+    const BranchPoint& p = AtArclength(m, static_cast<double>(j) / curves);
+    family.orbits.emplace_back(std::abs(p.arclength - s0),
                                OrbitTrajectory(c.b, TwoImpactOrbitAt(c.b, p.t2, p.period), kSurfaceSamples));
   }
-  // As curves: the family winds inwards from the grazing mode, and a
-  // surface showed its outer orbits alone (the inner ones behind them).
+  // As curves in two projections: the family winds inwards from the
+  // grazing mode, and a surface showed its outer orbits alone (the inner
+  // ones behind them).
   family.surface = false;
   DrawSection(c, "fig12_two_impact_mode", family,
               {{"grazing linear mode", "limit", {OrbitTrajectory(c.b, linear, kSamples)}}}, "");
