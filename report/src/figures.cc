@@ -275,27 +275,55 @@ void Figure6(Context& c) {
   // the trivial line t2 = T/2 (eq. 26, a root at every T) and the others,
   // admissible or not; the same roots as Fig. 7's map, uncoloured.
   report::ResultFile curves(c.dir, "fig06_root_curves.csv");
-  curves << "T,t2,admissible,drawn\n";
+  curves << "T,t2,admissible,branch\n";
   const int every = DrawEvery(c.atlas.two);
-  long other = 0, admissible = 0;
+  // The roots joined into branches along T (TwoImpactBranches, as the
+  // frequency-energy plots join them: on steep stretches the roots of
+  // consecutive periods lie far apart, a string of dots read as isolated
+  // roots), each drawn as a line through every `every`-th root and its ends
+  // (the CSV holds those; Fig. 7's holds every root).
+  std::vector<FepTable::Root> found_roots;
   for (std::size_t k = 0; k < c.atlas.two.at.size(); ++k) {
     for (const OrbitRecord& r : c.atlas.two.at[k]) {
       if (!r.orbit.potential || IsHalfPeriodRoot(r.orbit)) continue;
-      const bool drawn = k % every == 0;
-      curves << r.orbit.period << "," << r.orbit.times[0] << "," << r.orbit.admissible << "," << drawn << "\n";
-      (r.orbit.admissible ? admissible : other) += drawn;
+      // (`stable` carries admissibility here: the branches do not use it.)
+      found_roots.push_back({static_cast<int>(k), r.orbit.period, r.orbit.times[0], r.orbit.energy, r.orbit.admissible});
     }
+  }
+  long other = 0, admissible = 0;
+  const std::vector<std::vector<FepTable::Root>> branches = TwoImpactBranches(std::move(found_roots));
+  for (std::size_t b = 0; b < branches.size(); ++b) {
+    for (std::size_t i = 0; i < branches[b].size(); ++i) {
+      const FepTable::Root& r = branches[b][i];
+      const bool drawn = r.step % every == 0 || i == 0 || i + 1 == branches[b].size() ||
+                         branches[b][i + 1].stable != r.stable || (i > 0 && branches[b][i - 1].stable != r.stable);
+      if (!drawn) continue;
+      curves << r.period << "," << r.t2 << "," << r.stable << "," << b + 1 << "\n";
+      (r.stable ? admissible : other) += 1;
+    }
+    curves << "\n";
   }
   curves.Commit();
   std::ostringstream plane;
   // t2 / T in [0, 1]: the roots fill the frame (t2 < T leaves half of a
-  // (T, t2) frame empty), the trivial line is t2 / T = 1/2, drawn over them.
+  // (T, t2) frame empty), the trivial line is t2 / T = 1/2, drawn over
+  // them; the linear modal transitions, where branches end, as short
+  // vertical lines.
   plane << "set xlabel 'period T (s)'\nset ylabel 'second impact time t_2 / T'\nset key below\n"
         << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:1]\n";
+  std::vector<double> modal;
+  for (const Transition& t : c.transitions) {
+    if (t.kind == TransitionKind::kModal) modal.push_back(t.period);
+  }
+  plane << VerticalLines("modal", modal, 0.0, 1.0);
   Plot plot;
-  plot.Add("'fig06_root_curves.csv' using 1:($4 == 1 && $3 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other"),
+  // (A line through the drawn roots; an admissible stretch of one root
+  // drawn as its point.)
+  plot.Add("$modal using 1:2", With("modal"), "linear modal transition k T_i", static_cast<long>(modal.size()))
+      .Add("'fig06_root_curves.csv' using 1:($3 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "lines"),
            "other root, not admissible", other)
-      .Add("'' using 1:($4 == 1 && $3 == 1 ? $2 / $1 : 1/0)", With("root_cloud"), "other root, admissible", admissible)
+      .Add("'' using 1:($3 == 1 ? $2 / $1 : 1/0)", With("root_cloud", "linespoints"), "other root, admissible",
+           admissible)
       .Add("0.5", With("two_half"), "trivial root t_2 = T/2");
   Draw(c, "fig06_root_curves", plane.str() + plot.str());
 }
