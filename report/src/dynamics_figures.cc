@@ -509,9 +509,9 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
   body << "set multiplot\nset lmargin at screen 0.12\nset rmargin at screen 0.82\n"
        << "set origin 0, 0.36\nset size 1, 0.64\nset bmargin 0.5\nset format x ''\nset ylabel 'position along the bar x (m)'\n"
        // (a strip above x = L: the impacts marked there are not cut.)
-       << "set xrange [0:" << 1e3 * opt.t_end << "]\nset yrange [0:" << 1.04 * bar.length << "]\nset ytics "
+       << "set xrange [0:" << 1e3 * opt.t_end << "]\nset yrange [0:" << 1.06 * bar.length << "]\nset ytics "
        << NiceStep(0.0, bar.length, 4) << "\n"
-           << style::Palette("displacement", "u / d (contours: solid > 0, dashed < 0)") << "set cbrange [" << -m << ":" << m
+           << style::Palette("displacement", "u / d (contours every 0.5, dashed < 0)") << "set cbrange [" << -m << ":" << m
        << "]\nunset key\n";
   Plot map;
   // (The contour tables are written with spaces, read here through the
