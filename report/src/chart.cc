@@ -148,12 +148,22 @@ std::string FamilyBarTics(double lo, double hi) {
   const double step = NiceStep(lo, hi, 4);
   std::ostringstream os;
   os << "set cbtics (";
+  const double first_tick = std::ceil(lo / step - 1e-9) * step;
+  double last_tick = first_tick;
   bool first = true;
-  for (double v = std::ceil(lo / step - 1e-9) * step; v <= hi + 1e-9 * std::abs(hi); v += step) {
+  for (double v = first_tick; v <= hi + 1e-9 * std::abs(hi); v += step) {
     // (+ 0.0: a tick at zero reads 0, not -0.)
     os << (first ? "" : ", ") << "'" << v + 0.0 << "' " << (v - lo) / (hi - lo) + 0.0;
     first = false;
+    last_tick = v;
   }
+  // The family's ends named too, where a round value is not within 40 % of
+  // a step of them (the labels would meet).
+  if (first_tick - lo > 0.4 * step) {
+    os << (first ? "" : ", ") << "'" << Num(lo, 3) << "' 0";
+    first = false;
+  }
+  if (hi - last_tick > 0.4 * step) os << (first ? "" : ", ") << "'" << Num(hi, 3) << "' 1";
   os << ")\n";
   return os.str();
 }

@@ -198,7 +198,8 @@ std::string LogTics(const char* axis, double lo, double hi);
 // ends: on a 3-D chart's floor the two axes' end labels meet at a corner.
 std::string InnerTics(const char* axis, double lo, double hi, int ticks);
 // The ticks of a family's colour bar (the position along it, 0 to 1), at
-// round values of its parameter, which runs from lo (0) to hi (1).
+// round values of its parameter, which runs from lo (0) to hi (1), and at
+// its ends where no round value is near them.
 std::string FamilyBarTics(double lo, double hi);
 // A tick step of 1, 2 or 5 times a power of 10 giving about `ticks` ticks on
 // [lo, hi] (small panels, 3-D axes and column PDFs need few).
