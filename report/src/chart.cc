@@ -304,8 +304,10 @@ Occupancy FepOccupancy(const Context& c, bool one_only) {
   }
   for (const Transition& t : c.transitions) {
     if (t.kind == TransitionKind::kSingular) free.MarkBox(free.X(t.period), 0.0, free.X(t.period), 1.0);
-    // A mark with its label to its left (T_G).
-    if (t.kind != TransitionKind::kSingular && t.energy >= lo && t.energy <= hi) {
+    // A mark drawn (TransitionMarks: every kind on the 1-ipp chart, the
+    // grazing ones on the others), with its label to its left (T_G).
+    const bool drawn = one_only ? t.kind != TransitionKind::kSingular : t.kind == TransitionKind::kGrazing;
+    if (drawn && t.energy >= lo && t.energy <= hi) {
       free.MarkBox(free.X(t.period) - 0.07, free.Y(t.energy) - 0.03, free.X(t.period) + 0.02, free.Y(t.energy) + 0.03);
     }
   }
@@ -347,13 +349,22 @@ std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const 
     free.MarkBox(free.X(z.t_lo), free.Y(z.e_lo), free.X(z.t_hi), free.Y(z.e_hi));
     ++shown;
     boxes << "set object " << 10 + shown << " rect from " << z.t_lo << ", " << z.e_lo << " to " << z.t_hi << ", " << z.e_hi
-          << " front fillstyle empty border lc rgb '" << style::Colour("black") << "' lw 0.6\n";
+          << " front fillstyle empty border lc rgb '" << style::Colour("grey") << "' lw 0.6\n";
+    // A leader from the box's side facing the inset to the inset's nearest
+    // point (graph coordinates are the frame's fractions).
+    {
+      const double box_x = free.X(0.5 * (z.t_lo + z.t_hi)), box_top = free.Y(z.e_hi), box_bottom = free.Y(z.e_lo);
+      const bool above = by >= box_top;
+      const double to_x = std::clamp(box_x, bx, bx + kW), to_y = above ? by : by + kH;
+      boxes << "set arrow from graph " << box_x << ", graph " << (above ? box_top : box_bottom) << " to graph " << to_x
+            << ", graph " << to_y << " nohead lw 0.6 lc rgb '" << style::Colour("grey") << "' front\n";
+    }
     // In the inset: the frame placed on the main frame (gnuplot's terminal
     // coordinates of the plot before, GPVAL_TERM_*, as fractions of the
     // canvas), a white ground under it and its tick labels; E linear.
     auto sx = [](double f) { return "(ns_x0 + " + std::to_string(f) + " * (ns_x1 - ns_x0))"; };
     auto sy = [](double f) { return "(ns_y0 + " + std::to_string(f) + " * (ns_y1 - ns_y0))"; };
-    insets << "unset object\nunset label\nunset key\nunset x2tics\nunset logscale y\nunset xlabel\nunset ylabel\n"
+    insets << "unset object\nunset label\nunset arrow\nunset key\nunset logscale y\nunset xlabel\nunset ylabel\n"
            << "set object 1 rect from screen " << sx(bx) << ", screen " << sy(by) << " to screen " << sx(bx + kW)
            << ", screen " << sy(by + kH) << " behind fillcolor rgb '" << style::Colour("white")
            << "' fillstyle solid 1.0 noborder\n"
@@ -470,8 +481,8 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
   for (const auto& branch : branches) {
     marks.emplace_back(branch.size(), false);
     // Each stretch of one stability (drawn as a series of its own) marked
-    // from its first point, and at its last when that is a third of a step
-    // on: a short stretch carries two marks, a one-point one its one.
+    // from its first point; the branch's last point too when a third of a
+    // step on.
     double since = kMarkStep;
     for (std::size_t k = 0; k < branch.size(); ++k) {
       if (k > 0) {
@@ -480,7 +491,10 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
         since += std::hypot((r.period - p.period) / t_span, dy);
         if (r.stable != p.stable) since = kMarkStep;
       }
-      const bool last = k + 1 == branch.size() || branch[k + 1].stable != branch[k].stable;
+      // (Its last point only at the branch's end: at a change of stability
+      // the next stretch's first mark is beside it, a filled and an open
+      // marker on each other.)
+      const bool last = k + 1 == branch.size();
       if (since >= kMarkStep || (last && since >= kMarkStep / 3)) {
         marks.back()[k] = true;
         since = 0.0;
@@ -582,29 +596,20 @@ void TransitionLines(Context& c, const std::string& name, bool all, std::ostream
   const auto [lo, hi] = EnergyRange(c);
   const std::string block = name.substr(0, name.find('.'));
   body << VerticalLines(block + "_singular", at[TransitionKind::kSingular], lo, hi);
-  // T_S above the singular transitions' lines, outside the frame (the
-  // families crowd the top of the frame, where the energy diverges), all on
-  // one row: tick labels of the upper axis, which follows the lower one.
-  // Transitions nearer each other than a label's width (6 % of the axis in
-  // the column PDF, where the text is largest against the axis) share one
-  // label, at their middle.
-  std::vector<std::pair<double, double>> groups;  // first and last T of each
+  // T_S above each singular transition's line, outside the frame (the
+  // families crowd the top of the frame, where the energy diverges); a
+  // label nearer the previous one than its width (4.5 % of the axis in the
+  // column PDF, where the text is largest against the axis) a row higher.
+  const double axis = PeriodTop(c, all);
+  double last_label = -INFINITY;
+  int row = 0, rows = 0;
   for (double t : at[TransitionKind::kSingular]) {
-    if (!groups.empty() && t - groups.back().second < 0.06 * c.periods.back()) {
-      groups.back().second = t;
-    } else {
-      groups.push_back({t, t});
-    }
+    row = t - last_label < 0.045 * axis && row == 0 ? 1 : 0;
+    rows = std::max(rows, row + 1);
+    body << "set label 'T_S' at " << t << ", graph 1 center offset 0, " << 0.8 + 1.1 * row << "\n";
+    last_label = t;
   }
-  if (!groups.empty()) {
-    body << "set link x2\nset x2tics scale 0 offset 0, -0.3 (";
-    const char* sep = "";
-    for (const auto& [first, last] : groups) {
-      body << sep << "'T_S' " << 0.5 * (first + last);
-      sep = ", ";
-    }
-    body << ")\n";
-  }
+  if (rows > 0) body << "set tmargin " << 1.5 + 1.1 * rows << "\n";
   // T_G beside each grazing circle, to its left (the stability changes that
   // follow a graze are marked to its right); where the bridges are labelled
   // (B1, ...), the key's circle says it.

@@ -287,14 +287,14 @@ class FepTable {
     if (two_unstable_ > 0) MarkedLine(plot, source, "2", "strcol(1) eq '2-ipp' && $5 == 0", "$4", 7, "two_unstable");
     // (A dot on every stable 3-ipp orbit: the stretch may be a few orbits,
     // too short a line to see.)
-    // The 3-ipp family and the bridges, which run along 2-ipp branches,
-    // over a white halo that cuts the branches under them.
+    // The bridges, among the 2-ipp markers, over a white halo that cuts the
+    // branches under them (the 3-ipp family runs on a 2-ipp branch: a halo
+    // there erased it).
     const std::string bridge = "'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)";
     const std::tuple<std::string, std::string, long> layers[] = {
         {select("1-ipp", " && $5 == 1"), With("one_stable"), one_.stable},
         {select("1-ipp", " && $5 == 0"), With("one_unstable"), one_.unstable},
         {select("2-ipp-half", ""), With("two_half"), half_.stable + half_.unstable},
-        {select("3-ipp", ""), With("halo"), three_.stable + three_.unstable},
         {select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints"), three_.stable},
         {select("3-ipp", " && $5 == 0"), With("three_unstable"), three_.unstable},
         {bridge, With("halo", "vectors"), bridge_count},

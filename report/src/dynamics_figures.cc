@@ -304,7 +304,7 @@ void FigureTimeHistory(Context& c) {
     }
   }
   top.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d")
-      .Add("'time_history_impacts.csv' using 1:2", With("mark"), "impacts", s.impacts);
+      .Add("'time_history_impacts.csv' using 1:2", With("orbit_impact"), "impacts", s.impacts);
   Plot bottom;
   bottom.Add("'time_history.csv' using 1:" + vc, With("dof_contact"), "v_{" + std::to_string(c.contact + 1) + "}")
       .Add("'time_history_impacts.csv' using 1:3:(0):($4 - $3)", With("velocity_jump"), "velocity jump at an impact",
@@ -396,8 +396,10 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
          << (k == 0 ? XcLabel(c) : std::string()) << "'\nset xrange [0:1]\nset xtics 0.5\nset ytics "
          << NiceStep(x_lo, std::max(x_hi, c.b.gap), 4) << "\n";
     Plot p("plot", Plot::Keys::kCollected);
+    // Each orbit in its family's colour (Fig. 8's); the key's sample the first's.
+    const char* family = orbits[k].first == "1-ipp" ? "one_stable" : orbits[k].first == "2-ipp" ? "two_stable" : "three_stable";
     p.Add("'validation_orbits.csv' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'analytic' ? $3 : 1/0):4",
-          With("analytic"), "analytic")
+          With("analytic", "lines", style::RoleColour(family)), "analytic")
         .Add("'' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'simulated' ? $3 : 1/0):4", With("simulated"),
              "simulated, " + std::to_string(shown) + "th period")
         .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
@@ -502,7 +504,9 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
   body << "set datafile separator ','\nset contour base\nunset surface\nset view map\n";
   for (const auto& [block, levels] : {std::pair<const char*, std::string>{"$positive", positive.str()},
                                       {"$negative", negative.str()}}) {
-    body << "set cntrparam levels discrete " << levels << "\nset table " << block
+    // (B-splines through the grid's contour points: the grid's cells made
+    // the lines jagged.)
+    body << "set cntrparam bspline\nset cntrparam levels discrete " << levels << "\nset table " << block
          << "\nsplot 'bar_spacetime.csv' using 1:2:3 with lines notitle\nunset table\n";
   }
   body << "unset contour\nset surface\n";

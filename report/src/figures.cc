@@ -293,11 +293,17 @@ void Figure6(Context& c) {
   long other = 0, admissible = 0;
   const std::vector<std::vector<FepTable::Root>> branches = TwoImpactBranches(std::move(found_roots));
   for (std::size_t b = 0; b < branches.size(); ++b) {
+    double last_u = NAN;
     for (std::size_t i = 0; i < branches[b].size(); ++i) {
       const FepTable::Root& r = branches[b][i];
       const bool drawn = r.step % every == 0 || i == 0 || i + 1 == branches[b].size() ||
                          branches[b][i + 1].stable != r.stable || (i > 0 && branches[b][i - 1].stable != r.stable);
       if (!drawn) continue;
+      // A jump of t2 / T over 0.08 between drawn roots is not followed (a
+      // ruler-straight segment across it): the line is broken there.
+      const double u = r.t2 / r.period;
+      if (std::abs(u - last_u) > 0.08) curves << "\n";
+      last_u = u;
       curves << r.period << "," << r.t2 << "," << r.stable << "," << b + 1 << "\n";
       (r.stable ? admissible : other) += 1;
     }
@@ -311,15 +317,17 @@ void Figure6(Context& c) {
   // vertical lines.
   plane << "set xlabel 'period T (s)'\nset ylabel 'second impact time t_2 / T'\nset key below\n"
         << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:1]\n";
+  // Every multiple k T_i of a linear period in the frame (where the 1-ipp
+  // orbits meet the linear modes, the 2-ipp root curves end or are cut).
   std::vector<double> modal;
-  for (const Transition& t : c.transitions) {
-    if (t.kind == TransitionKind::kModal) modal.push_back(t.period);
+  for (const double period : c.b.Periods()) {
+    for (int k = 1; period > 0.0 && k * period <= c.periods.back(); ++k) modal.push_back(k * period);
   }
   plane << VerticalLines("modal", modal, 0.0, 1.0);
   Plot plot;
   // (A line through the drawn roots; an admissible stretch of one root
   // drawn as its point.)
-  plot.Add("$modal using 1:2", With("modal"), "linear modal transition k T_i", static_cast<long>(modal.size()))
+  plot.Add("$modal using 1:2", With("modal"), "k T_i, multiples of the linear periods", static_cast<long>(modal.size()))
       .Add("'fig06_root_curves.csv' using 1:($3 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "lines"),
            "other root, not admissible", other)
       .Add("'' using 1:($3 == 1 ? $2 / $1 : 1/0)", With("root_cloud", "linespoints"), "other root, admissible",
@@ -366,17 +374,18 @@ void Figure7(Context& c) {
   std::ostringstream body;
   // t2 / T in [0, 1], as Fig. 6's root curves; one mark per admissible root
   // coloured by its energy (their stability is Fig. 8's: filled and open
-  // marks this dense could not be told apart), the line t2 = T/2 under them
-  // (over them, it hid the colour of the dilated branch's marks).
+  // marks this dense could not be told apart), the line t2 = T/2 over the
+  // grey marks and under the coloured ones (over them, it hid the colour of
+  // the dilated branch's marks).
   body << "set xlabel 'period T (s)'\nset ylabel 'second impact time t_2 / T'\nset key below\n"
        << "set xrange [0:" << PeriodTop(c) << "]\nset yrange [0:1]\n"
        << style::Palette("energy", "energy E (J)") << "set logscale cb\n" << LogTics("cb", e_lo, e_hi)
        << "set cbrange [" << e_lo << ":" << e_hi << "]\n";
   Plot plot;
-  plot.Add("0.5", With("two_half"), "t_2 = T/2")
-      .Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "points", style::Colour("grey_faint")),
+  plot.Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "points", style::Colour("grey_faint")),
            "potential, not admissible", grey)
-      .Add("'' using 1:($9 == 1 && $5 == 1 ? $2 / $1 : 1/0):3", style::WithPalette("map_stable"),
+      .Add("0.5", With("two_half"), "t_2 = T/2")
+      .Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 1 ? $2 / $1 : 1/0):3", style::WithPalette("map_stable"),
            "admissible (colour: its energy)", stable + unstable);
   Draw(c, "fig07_two_impact_energy", body.str() + plot.str(),
        "the energy's colours from " + Num(e_lo, 3) + " to " + Num(e_hi, 3) + " J");
@@ -418,21 +427,26 @@ void Figure9(Context& c) {
 // arclength); it is drawn as the position along the family, from 0 at its
 // start to 1 at its end (the one meaning of the family colour map), the
 // colour bar naming the parameter's values at both ends.
+//
+// (Samples per flight of a surface's scans: a surface of 40 scans of 2
+// flights is 4,800 facets, a light SVG and PDF, smooth at the charts' size.)
+constexpr int kSurfaceSamples = 60;
 struct SectionFamily {
   std::string parameter;  // what the shade is, e.g. "period T (s)"
   std::vector<std::pair<double, Eigen::MatrixXd>> orbits;  // (shade, OrbitTrajectory)
   // false: the orbits drawn as curves, not as a surface (a family whose
   // outer orbits would hide the inner ones behind a surface).
   bool surface = true;
+  // OrbitTrajectory's samples per flight of each orbit.
+  int samples = kSurfaceSamples;
+  // The shades' range mapped to the colour bar (default: the orbits').
+  std::optional<std::pair<double, double>> range = std::nullopt;
 };
 struct SectionCurve {
   std::string title;
   const char* role;  // style.toml series
   std::vector<Eigen::MatrixXd> trajectories;  // OrbitTrajectory of each orbit
 };
-// Samples per flight of a surface's scans: a surface of 40 scans of 2
-// flights is 4,800 facets, a light SVG and PDF, smooth at the charts' size.
-constexpr int kSurfaceSamples = 60;
 
 // A family drawn as curves (SectionFamily::surface false) in two
 // projections: (x_other, x_c) with the obstacle x_c = d a line, and (x_c,
@@ -500,6 +514,7 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
     s_lo = std::min(s_lo, shade);
     s_hi = std::max(s_hi, shade);
   }
+  if (family.range) std::tie(s_lo, s_hi) = *family.range;
   NSMODAL_CHECK(s_hi > s_lo);  // (the callers draw families of several orbits)
   auto extend = [&](const Eigen::MatrixXd& tr) {
     for (int k = 0; k < 3; ++k) {
@@ -510,8 +525,8 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   report::ResultFile out(c.dir, name + ".csv");
   WriteTrajectoryHeader(out.stream(), c);
   for (const auto& [shade, tr] : family.orbits) {
-    // (OrbitTrajectory's rows per flight: kSurfaceSamples + 1.)
-    WriteTrajectory(out.stream(), "family", (shade - s_lo) / (s_hi - s_lo), tr, kSurfaceSamples + 1);
+    // (OrbitTrajectory's rows per flight: samples + 1.)
+    WriteTrajectory(out.stream(), "family", (shade - s_lo) / (s_hi - s_lo), tr, family.samples + 1);
     extend(tr);
   }
   for (const SectionCurve& curve : curves) {
@@ -545,7 +560,9 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate offset 2.5, 0\n"
        << "set view 62, 35\nset xyplane relative 0\nset key at screen 0.02, screen 0.99 left top\n"
        // (A light from the viewer: the shading tells the surface's folds apart.)
-       << "set pm3d depthorder noborder lighting primary 0.4 specular 0.0\n"
+       // (Each facet's border traced in its own colour: no white seams
+       // between facets in the PDFs.)
+       << "set pm3d depthorder border retrace lighting primary 0.4 specular 0.0\n"
        << "$plane << EOD\n"
        << lo[0] << "," << c.b.gap << "," << lo[2] << "\n" << lo[0] << "," << c.b.gap << "," << hi[2] << "\n\n"
        << hi[0] << "," << c.b.gap << "," << lo[2] << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\nEOD\n"
@@ -672,7 +689,7 @@ void Figures11And12(Context& c) {
   const std::string arc = "($" + std::to_string(6 + 2 * c.b.n) + " / " + std::to_string(std::abs(s1 - s0)) + ")";
   const std::string xc = std::to_string(XCol(c, c.contact));
   body << "set xlabel 'time over the period t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
-       << style::Palette("family", "arclength s of the family") << bar.str() << "set cbrange [0:1]\n"
+       << style::Palette("family", "arclength s") << bar.str() << "set cbrange [0:1]\n"
        << "set xrange [0:1]\n";
   Plot plot;
   plot.Unkeyed("'fig11_two_impact_mode.csv' using ($3 / $2):" + xc + ":" + arc, "with lines lw 1.5 lc palette")
@@ -693,11 +710,15 @@ void Figures11And12(Context& c) {
   // Fig. 12: the branch's orbits in the section: every other orbit of Fig.
   // 11, in its colours (41 made a tangle where no orbit could be followed;
   // 11 too).
+  // (The grazing mode, s = 0, is the black curve; the colour bar over the
+  // whole arclength, as Fig. 11's. Curves sampled finely: 2 x 400 points.)
   SectionFamily family{"arclength s", {}};
-  for (int j = 0; j <= curves; j += 2) {
+  family.samples = 2 * kSamples;
+  family.range = std::pair<double, double>{0.0, std::abs(s1 - s0)};
+  for (int j = 2; j <= curves; j += 2) {
     const BranchPoint& p = AtArclength(m, static_cast<double>(j) / curves);
     family.orbits.emplace_back(std::abs(p.arclength - s0),
-                               OrbitTrajectory(c.b, TwoImpactOrbitAt(c.b, p.t2, p.period), kSurfaceSamples));
+                               OrbitTrajectory(c.b, TwoImpactOrbitAt(c.b, p.t2, p.period), family.samples));
   }
   // As curves in two projections: the family winds inwards from the
   // grazing mode, and a surface showed its outer orbits alone (the inner
@@ -799,7 +820,8 @@ void Figures13To15(Context& c) {
     SectionCurve one{"1-ipp orbits, T near T_G", "orbit_thin", {}};
     const double eps = 1e-4 * t;
     const int side = OneImpactOrbit(c.b, t - eps).admissible ? -1 : 1;
-    for (int k = 1; k <= 8; ++k) {
+    // (Three of them, thin and dashed: eight read as grey scribble.)
+    for (int k : {2, 5, 8}) {
       const Orbit o = OneImpactOrbit(c.b, t + side * 0.004 * t * k);
       if (!o.admissible) break;
       one.trajectories.push_back(OrbitTrajectory(c.b, o, kSamples));
@@ -993,24 +1015,27 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
     if (o.admissible && o.period >= t_lo && o.period <= t_hi) e_lo = std::min(e_lo, o.energy);
   }
   if (!std::isfinite(e_lo) || !(e_lo < e_hi)) e_lo = 1e-3 * e_hi;
-  const double bottom = 0.8 * e_lo, top = std::min(1.5 * e_hi, 20.0 * e_lo);
+  const double bottom = 0.7 * e_lo, top = std::min(1.5 * e_hi, 20.0 * e_lo);
   std::ostringstream body;
   // Two panels above one key for both (a key under each ran into the other
-  // panel at the column's width); the energy axis from 0.8 of the lowest
-  // orbit drawn, so that the lowest stretch clears the frame.
-  body << "set multiplot\nset tmargin at screen 0.97\nset bmargin at screen 0.3\n"
+  // panel at the column's width); the energy axis from 0.7 of the lowest
+  // orbit drawn, so that the lowest stretch and its label clear the frame.
+  body << "set multiplot\nset tmargin at screen 0.97\nset bmargin at screen 0.27\n"
        << "set lmargin at screen 0.13\nset rmargin at screen 0.47\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset logscale y\n" << LogTics("y", bottom, top)
        << "set xtics " << NiceStep(t_lo, t_hi, 5) << "\n"
        << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << bottom << ":" << top << "]\n"
        << VerticalLines("ends", {pick.admissible_from, pick.admissible_to}, bottom, top);
   if (three[2] > 0) {
-    // Below and left of the stretch (above it are the grazing circle and
-    // the 1-ipp branch, below the frame's foot).
-    body << "set label 'stable' at " << s_t / three[2] << ", " << s_e / three[2] << " right offset -0.6, -0.9 front\n";
+    // Under the stretch, at the family's lowest (above it are the grazing
+    // circle and the 1-ipp branch).
+    body << "set label 'stable' at " << s_t / three[2] << ", " << s_e / three[2] << " center offset 0, -1.1 front\n";
   }
   Plot energies("plot", Plot::Keys::kCollected);
-  energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)", With("not_admissible"), "3-ipp, not admissible", three[0])
+  // (The continuation that is not admissible light: it runs along the 1-ipp
+  // branch past T_G, under it.)
+  energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)",
+               With("not_admissible", "lines", style::Colour("grey_light")), "3-ipp, not admissible", three[0])
       .Add("'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0)", With("three_unstable"), "3-ipp, unstable", three[1])
       // (A dot on every stable orbit: the stretch may be two orbits long.)
       .Add("'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0)", With("three_stable", "linespoints"), "3-ipp, stable", three[2])
@@ -1030,17 +1055,18 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   for (const double t : pick.start.times) impacts << t << "," << c.b.gap << "\n";
   impacts << pick.start.period << "," << c.b.gap << "\nEOD\n";
   Plot orbit_plot("plot", Plot::Keys::kCollected);
-  // (The orbit unkeyed: the panel's axis names it, the left panel's circle
-  // and its branch's line say where it is and its stability.)
+  // (The orbit unkeyed and solid: the panel's axis names it, the left
+  // panel's diamond and its key say where it is and its stability; dashed,
+  // its details were lost.)
   orbit_plot.Unkeyed("'fig16_orbit.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)),
-                     With(start_stable ? "three_stable" : "three_unstable", "lines"))
+                     With("orbit_three"))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d")
       .Add("$impacts using 1:2", With("orbit_impact"), "impacts (t = 0 again at T)");
   std::vector<Plot::Entry> entries = energies.Collected();
   entries.insert(entries.end(), orbit_plot.Collected().begin(), orbit_plot.Collected().end());
   body << energies.str() << impacts.str() << "set lmargin at screen 0.64\nset rmargin at screen 0.98\n"
        << "unset logscale y\nunset label\nset xtics autofreq\nset ytics autofreq\nset mytics default\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
-       << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << LegendPanel(0.2)
+       << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << LegendPanel(0.15)
        << Plot::Legend(entries) << "unset multiplot";
   out.Commit();
   one.Commit();

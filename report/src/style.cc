@@ -166,6 +166,8 @@ std::string Colour(std::string_view name) {
   return it->second;
 }
 
+std::string RoleColour(std::string_view role) { return Role(role).colour; }
+
 std::string Look(std::string_view role, std::string_view kind, std::string_view colour) {
   Series s = Role(role);
   if (!colour.empty()) s.colour = std::string(colour);

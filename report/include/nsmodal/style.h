@@ -40,6 +40,8 @@ std::string With(std::string_view role, std::string_view kind = "", std::string_
 // The same without "with KIND": for an arrow, or a kind's own options first
 // ("with filledcurves above y=1 " + Look("excess")).
 std::string Look(std::string_view role, std::string_view kind = "", std::string_view colour = "");
+// "#RRGGBB" of a role's colour (a series drawn in another role's colour).
+std::string RoleColour(std::string_view role);
 // Points of the role's marker and size coloured by the palette (the third
 // column of `using`): a family whose colour is a map's one meaning.
 std::string WithPalette(std::string_view role);
