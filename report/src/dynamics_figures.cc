@@ -150,7 +150,7 @@ void FigureModel(Context& c) {
 // shaded by the orbit's position along the branch.
 void FigureMultipliers(Context& c) {
   report::ResultFile out(c.dir, "multipliers_one_impact.csv");
-  out << "T,stable,max_modulus,k,re,im\n";
+  out << "T,stable,max_modulus,k,re,im,orbit\n";
   long stable = 0, unstable = 0, points = 0;
   double t_lo = INFINITY, t_hi = -INFINITY, m_hi = 1.0;
   int last = -2;
@@ -174,7 +174,7 @@ void FigureMultipliers(Context& c) {
     m_hi = std::max(m_hi, s.max_modulus);
     for (long j = 0; j < s.multipliers.size(); ++j) {
       out << r.orbit.period << "," << s.stable << "," << s.max_modulus << "," << j << "," << s.multipliers[j].real() << ","
-          << s.multipliers[j].imag() << "\n";
+          << s.multipliers[j].imag() << "," << stable + unstable - 1 << "\n";
       ++points;
     }
   }
@@ -200,40 +200,43 @@ void FigureMultipliers(Context& c) {
   std::ostringstream body;
   // Two panels stacked (height 1.15 width): the branch across the whole
   // width, where the stability changes 1.1 apart in T stand apart even in a
-  // journal's column; below, the complex plane's square panel on the right,
-  // one key for both panels on its left.
-  body << marks.str() << "set multiplot\nset size 1, 0.5\nset origin 0, 0.5\n"
-       << "set key at screen 0.02, screen 0.47 left top Left reverse samplen 2 maxrows 8\nset xlabel 'period T (s)'\n"
+  // journal's column, one key for both inside it, over T 10-19 where the
+  // branch is not admissible; below, the complex plane's square panel as
+  // wide as the lower part lets it be.
+  body << marks.str() << "set multiplot\nset size 1, 0.45\nset origin 0, 0.55\n"
+       << "set key at graph 0.5, graph 0.97 center top Left reverse samplen 1.5 maxrows 7\n"
+       << "set xlabel 'period T (s)'\n"
        // (From 0.7 and 2 % beyond the branch's ends: the stable orbits, at
        // |mu| = 1, and the ends' points clear of the frame.)
-       << "set ylabel 'largest modulus max |{/Symbol m}|'\nset logscale y\nset yrange [0.7:" << m_top << "]\n"
+       << "set ylabel 'max |{/Symbol m}|'\nset logscale y\nset yrange [0.7:" << m_top << "]\n"
        << "set xrange [" << t_lo - 0.02 * (t_hi - t_lo) << ":" << t_hi + 0.02 * (t_hi - t_lo) << "]\n";
   // |mu| = 1 first: the stable stretches lie on it, a thick solid line over
-  // its thin dashes; the unstable ones dashed, as on Fig. 3.
+  // its thin dashes; the unstable ones dashed, as on Fig. 3. The lower
+  // panel's keys here too (legend-only, in black: their colour is T's).
   Plot left;
   left.Add("1", With("unit_circle"), "|{/Symbol m}| = 1")
       .Add("$branch using 1:($2 == 1 ? $3 : 1/0)", With("one_stable"), "stable", stable)
       .Add("$branch using 1:($2 == 0 ? $3 : 1/0)", With("one_unstable"), "unstable", unstable)
       .Add("$plus using 1:2", With("multiplier_plus_one"), "{/Symbol m} through +1", static_cast<long>(plus.size()))
       .Add("$minus using 1:2", With("multiplier_minus_one"), "{/Symbol m} through -1", static_cast<long>(minus.size()));
+  if (stable > 0) left.KeyOnly(With("map_stable", "points", style::Colour("black")), "{/Symbol m}, stable orbit");
+  if (unstable > 0) left.KeyOnly(With("map_unstable", "points", style::Colour("black")), "{/Symbol m}, unstable orbit");
   // The complex plane: the multipliers within 2.5 of 0 (the larger real ones
-  // of the unstable orbits are on the upper panel).
-  body << left.str() << "unset logscale y\nset size 0.68, 0.5\nset origin 0.32, 0\nset size ratio -1\n"
+  // of the unstable orbits are on the upper panel), of every third orbit
+  // (all of them lay hundreds deep: filled and open could not be told).
+  body << left.str() << "unset logscale y\nunset key\nset size 0.72, 0.55\nset origin 0.08, 0\nset size ratio -1\n"
        << "set xrange [-2.5:2.5]\nset yrange [-2.5:2.5]\nset xtics 1\nset ytics 1\n"
        << "set xlabel 'Re {/Symbol m}'\nset ylabel 'Im {/Symbol m}'\n"
-       << style::Palette("family", "T (s) along the 1-ipp branch") << FamilyBarTics(t_lo, t_hi)
-       << "set cbrange [0:1]\nset key at screen 0.02, screen 0.3 left top Left reverse samplen 2\n";
+       << style::Palette("family", "T (s) along the 1-ipp branch") << FamilyBarTics(t_lo, t_hi) << "set cbrange [0:1]\n";
   // The multipliers of the unstable orbits open, of the stable ones filled
   // over them; the unit circle over the points (the line |mu| = 1 of the
   // upper panel).
   const std::string shade = ":(($1 - " + std::to_string(t_lo) + ") / " + std::to_string(std::max(t_hi - t_lo, 1e-300)) + ")";
-  // (Keyed in black: their colour is T's, the colour bar's.)
+  const std::string third = "(floor($7 / 3) * 3 == $7 && ";
   Plot right;
-  if (unstable > 0) right.KeyOnly(With("map_unstable", "points", style::Colour("black")), "unstable orbits");
-  if (stable > 0) right.KeyOnly(With("map_stable", "points", style::Colour("black")), "stable orbits");
-  right.Add("'multipliers_one_impact.csv' using ($2 == 0 ? $5 : 1/0):6" + shade, style::WithPalette("map_unstable"), "",
-            unstable)
-      .Add("'' using ($2 == 1 ? $5 : 1/0):6" + shade, style::WithPalette("map_stable"), "", stable)
+  right.Add("'multipliers_one_impact.csv' using (" + third + "$2 == 0) ? $5 : 1/0):6" + shade,
+            style::WithPalette("map_unstable"), "", unstable)
+      .Add("'' using (" + third + "$2 == 1) ? $5 : 1/0):6" + shade, style::WithPalette("map_stable"), "", stable)
       .Add("$circle using 1:2", With("unit_circle"), "", 1);  // keyed with |mu| = 1
   body << right.str() << "unset multiplot";
   Draw(c, "multipliers_one_impact", body.str(),
