@@ -469,7 +469,7 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
   const double past = c.b.gap + 0.08 * (hi[1] - lo[1]);  // the obstacle clear of the frame
   std::ostringstream body;
   body << "set multiplot\n" << style::Palette("family", parameter) << bar << "set cbrange [0:1]\n"
-       << "set bmargin at screen 0.24\nset tmargin at screen 0.97\n"
+       << "set bmargin at screen 0.19\nset tmargin at screen 0.97\n"
        << "set lmargin at screen 0.1\nset rmargin at screen 0.44\nunset colorbox\n"
        << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 2\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
@@ -574,8 +574,9 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   surface.Unkeyed("'" + name + ".csv' index 0 using " + u + ":" + w + ":" + v + ":2", "with pm3d")
       .Unkeyed("$plane using 1:2:3", "with pm3d fillcolor rgb '" + style::Colour("plane") + "'")
       .Add("$edge using 1:2:3", With("obstacle"), "obstacle " + Xc(c) + " = d (the plane)");
-  // The projection: every other orbit of a dense family (the curves overlap).
-  const std::string every = family.orbits.size() > 25 ? " every :2" : "";
+  // The projection: every other orbit of a family of more than 8 (the
+  // curves overlap: 11 orbits of two loops were 22 curves in a band).
+  const std::string every = family.orbits.size() > 8 ? " every :2" : "";
   Plot projection;
   projection.Unkeyed("'" + name + ".csv' index 0" + every + " using " + w + ":" + v + ":2", "with lines lw 1 lc palette");
   for (std::size_t k = 0; k < curves.size(); ++k) {
@@ -584,7 +585,7 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
                 static_cast<long>(curves[k].trajectories.size()));
     projection.Unkeyed(index + w + ":" + v, With(curves[k].role));
   }
-  body << surface.str() << "unset label 1\nset size 0.32, 1\nset origin 0.68, 0\nunset pm3d\nunset colorbox\nunset key\nset xlabel '"
+  body << surface.str() << "unset label 1\nset size 0.36, 1\nset origin 0.64, 0\nunset pm3d\nunset colorbox\nunset key\nset xlabel '"
        << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s") << "'\n"
        << "set xtics " << NiceStep(lo[1], hi[1], 3) << "\nset ytics " << NiceStep(lo[2], hi[2], 5) << "\n"
        // (Past the obstacle by 8 % of the range: its line clear of the frame.)
