@@ -110,7 +110,9 @@ std::string LogTics(const char* axis, double lo, double hi) {
   std::ostringstream os;
   os << "set " << axis << "tics (";
   const double decades = std::log10(hi / lo);
-  const std::vector<double> mantissas = decades <= 1.5 ? std::vector<double>{1, 2, 5} :
+  // (Up to 1.5 decades 1, 2, 3, 5: with 1, 2, 5, a range from 0.25 had no
+  // label in its lowest third.)
+  const std::vector<double> mantissas = decades <= 1.5 ? std::vector<double>{1, 2, 3, 5} :
                                         decades <= 3.5 ? std::vector<double>{1, 3} : std::vector<double>{1};
   bool first = true;
   for (double p = std::floor(std::log10(lo)); p <= std::ceil(std::log10(hi)); ++p) {
@@ -255,18 +257,23 @@ namespace {
 // crosses (T linear, E logarithmic, as EnergyAxes).
 class Occupancy {
  public:
+  // What a cell holds: the chart's subject (an inset there hides it) or its
+  // context (the potential orbits of Fig. 3: an inset avoids them if it can).
+  static constexpr long kSubject = 1000, kContext = 1;
   Occupancy(double t_top, double e_lo, double e_hi) : t_top_(t_top), e_lo_(e_lo), e_hi_(e_hi) {}
   double X(double t) const { return t / t_top_; }
   double Y(double e) const { return std::log(e / e_lo_) / std::log(e_hi_ / e_lo_); }
-  void Mark(double fx, double fy) {
+  void Mark(double fx, double fy, long weight = kSubject) {
     if (fx < 0.0 || fx >= 1.0 || fy < 0.0 || fy >= 1.0 || !std::isfinite(fx) || !std::isfinite(fy)) return;
-    cells_[static_cast<int>(fx * kCells) * kCells + static_cast<int>(fy * kCells)] = true;
+    long& cell = cells_[static_cast<int>(fx * kCells) * kCells + static_cast<int>(fy * kCells)];
+    cell = std::max(cell, weight);
   }
   void MarkBox(double x0, double y0, double x1, double y1) {
     for (double x = x0; x <= x1; x += 0.5 / kCells) {
       for (double y = y0; y <= y1; y += 0.5 / kCells) Mark(x, y);
     }
   }
+  // The cells' weights summed over a box.
   long Count(double x0, double y0, double x1, double y1) const {
     long n = 0;
     for (int i = std::max(0, static_cast<int>(x0 * kCells)); i < std::min(kCells, static_cast<int>(x1 * kCells) + 1); ++i) {
@@ -281,9 +288,8 @@ class Occupancy {
  private:
   static constexpr int kCells = 100;
   double t_top_, e_lo_, e_hi_;
-  std::array<bool, kCells * kCells> cells_{};
+  std::array<long, kCells * kCells> cells_{};
 };
-
 }  // namespace
 
 namespace {
@@ -298,7 +304,11 @@ Occupancy FepOccupancy(const Context& c, bool one_only) {
     if (one_only && sweep != &c.atlas.one) continue;
     for (const auto& list : sweep->at) {
       for (const OrbitRecord& r : list) {
-        if (r.orbit.admissible) free.Mark(free.X(r.orbit.period), free.Y(r.orbit.energy));
+        if (r.orbit.admissible) {
+          free.Mark(free.X(r.orbit.period), free.Y(r.orbit.energy));
+        } else if (one_only && r.orbit.potential) {  // (Fig. 3 draws them)
+          free.Mark(free.X(r.orbit.period), free.Y(r.orbit.energy), Occupancy::kContext);
+        }
       }
     }
   }
@@ -335,7 +345,7 @@ std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const 
     double best = INFINITY, bx = 0.0, by = 0.0;
     for (double y = 1.0 - kH - 0.01; y >= 0.0; y -= 0.02) {
       for (double x = 0.0; x <= 1.0 - kW + 1e-9; x += 0.01) {
-        const double cost = 1e3 * static_cast<double>(free.Count(x, y, x + kW, y + kH)) + std::abs(x + 0.5 * kW - at) +
+        const double cost = static_cast<double>(free.Count(x, y, x + kW, y + kH)) + std::abs(x + 0.5 * kW - at) +
                             0.5 * (1.0 - kH - y);
         if (cost < best) {
           best = cost;
@@ -344,21 +354,13 @@ std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const 
         }
       }
     }
-    if (best >= 1e3) continue;  // (no free place: not zoomed)
-    free.MarkBox(bx, by, bx + kW, by + kH);
+    if (best >= Occupancy::kSubject) continue;  // (no place that hides nothing of the subject: not zoomed)
+    // (With a margin: the next inset's ground would cut this one's labels.)
+    free.MarkBox(bx - 0.03, by - 0.03, bx + kW + 0.03, by + kH + 0.03);
     free.MarkBox(free.X(z.t_lo), free.Y(z.e_lo), free.X(z.t_hi), free.Y(z.e_hi));
     ++shown;
     boxes << "set object " << 10 + shown << " rect from " << z.t_lo << ", " << z.e_lo << " to " << z.t_hi << ", " << z.e_hi
           << " front fillstyle empty border lc rgb '" << style::Colour("grey") << "' lw 0.6\n";
-    // A leader from the box's side facing the inset to the inset's nearest
-    // point (graph coordinates are the frame's fractions).
-    {
-      const double box_x = free.X(0.5 * (z.t_lo + z.t_hi)), box_top = free.Y(z.e_hi), box_bottom = free.Y(z.e_lo);
-      const bool above = by >= box_top;
-      const double to_x = std::clamp(box_x, bx, bx + kW), to_y = above ? by : by + kH;
-      boxes << "set arrow from graph " << box_x << ", graph " << (above ? box_top : box_bottom) << " to graph " << to_x
-            << ", graph " << to_y << " nohead lw 0.6 lc rgb '" << style::Colour("grey") << "' front\n";
-    }
     // In the inset: the frame placed on the main frame (gnuplot's terminal
     // coordinates of the plot before, GPVAL_TERM_*, as fractions of the
     // canvas), a white ground under it and its tick labels; E linear.
@@ -367,8 +369,19 @@ std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const 
     insets << "unset object\nunset label\nunset arrow\nunset key\nunset logscale y\nunset xlabel\nunset ylabel\n"
            << "set object 1 rect from screen " << sx(bx) << ", screen " << sy(by) << " to screen " << sx(bx + kW)
            << ", screen " << sy(by + kH) << " behind fillcolor rgb '" << style::Colour("white")
-           << "' fillstyle solid 1.0 noborder\n"
-           << "set lmargin at screen " << sx(bx + kLeft) << "\nset rmargin at screen " << sx(bx + kW - kEdge)
+           << "' fillstyle solid 1.0 noborder\n";
+    // A leader from the box's side facing the inset to the inset's frame,
+    // drawn with the inset (over its ground, which covered a leader drawn
+    // with the chart).
+    {
+      const double box_x = free.X(0.5 * (z.t_lo + z.t_hi)), box_top = free.Y(z.e_hi), box_bottom = free.Y(z.e_lo);
+      const double x0 = bx + kLeft, x1 = bx + kW - kEdge, y0 = by + kBelow, y1 = by + kH - kEdge;
+      const bool above = y0 >= box_top;
+      insets << "set arrow from screen " << sx(box_x) << ", screen " << sy(above ? box_top : box_bottom) << " to screen "
+             << sx(std::clamp(box_x, x0, x1)) << ", screen " << sy(above ? y0 : y1) << " nohead lw 0.6 dt 3 lc rgb '"
+             << style::Colour("grey") << "' front\n";
+    }
+    insets << "set lmargin at screen " << sx(bx + kLeft) << "\nset rmargin at screen " << sx(bx + kW - kEdge)
            << "\nset bmargin at screen " << sy(by + kBelow) << "\nset tmargin at screen " << sy(by + kH - kEdge) << "\n"
            << "set xrange [" << z.t_lo << ":" << z.t_hi << "]\nset yrange [" << z.e_lo << ":" << z.e_hi << "]\n"
            << "set xtics " << TwoTicksStep(z.t_lo, z.t_hi) << "\nset ytics " << TwoTicksStep(z.e_lo, z.e_hi)

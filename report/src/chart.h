@@ -276,7 +276,7 @@ class FepTable {
                            three_.stable, three_.unstable, bridge_count};
     const char* roles[] = {"one_stable", "one_unstable", "two_stable", "two_unstable",
                            "two_half",   "three_stable", "three_unstable", "bridge"};
-    const char* kinds[] = {"", "", "linespoints", "linespoints", "", "linespoints", "", ""};  // as keyed
+    const char* kinds[] = {"", "", "linespoints", "linespoints", "", "linespoints", "linespoints", ""};  // as keyed
     for (std::size_t k = 0; k < kKeyTitles.size(); ++k) {
       if (counts[k] > 0) plot.KeyOnly(With(roles[k], kinds[k]), kKeyTitles[k]);
     }
@@ -296,7 +296,9 @@ class FepTable {
         {select("1-ipp", " && $5 == 0"), With("one_unstable"), one_.unstable},
         {select("2-ipp-half", ""), With("two_half"), half_.stable + half_.unstable},
         {select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints"), three_.stable},
-        {select("3-ipp", " && $5 == 0"), With("three_unstable"), three_.unstable},
+        // (Open circles every 15th orbit: in greyscale its dash-dot-dot was
+        // the dilated branch's dash-dot.)
+        {select("3-ipp", " && $5 == 0"), With("three_unstable", "linespoints") + " pi 15", three_.unstable},
         {bridge, With("halo", "vectors"), bridge_count},
         {bridge, With("bridge"), bridge_count}};
     for (const auto& [spec, look, count] : layers) {

@@ -476,17 +476,19 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
        << DofLabel("x", c.contact, "m") << "'\nset xtics " << NiceStep(lo[0], hi[0], 4) << "\nset ytics "
        << NiceStep(lo[1], hi[1], 4) << "\nset xrange " << range(lo[0], hi[0], -INFINITY) << "\nset yrange "
        << range(lo[1], hi[1], past) << "\n";
+  // The curves (a family's limit) under the family: at x_c = d, where the
+  // orbits' v_c jumps, the limit covered the jumps.
   Plot left, right;
-  left.Unkeyed("'" + name + ".csv' index 0 using " + u + ":" + w + ":2", "with lines lw 1.5 lc palette");
-  right.Unkeyed("'" + name + ".csv' index 0 using " + w + ":" + v + ":2", "with lines lw 1.5 lc palette");
   for (std::size_t k = 0; k < curves.size(); ++k) {
     const std::string index = "'" + name + ".csv' index " + std::to_string(k + 1) + " using ";
     left.Add(index + u + ":" + w, With(curves[k].role), curves[k].title, static_cast<long>(curves[k].trajectories.size()));
     right.Unkeyed(index + w + ":" + v, With(curves[k].role));
   }
+  left.Unkeyed("'" + name + ".csv' index 0 using " + u + ":" + w + ":2", "with lines lw 1.5 lc palette");
+  right.Unkeyed("'" + name + ".csv' index 0 using " + w + ":" + v + ":2", "with lines lw 1.5 lc palette");
   left.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle " + Xc(c) + " = d");
-  body << left.str() << "unset key\nset lmargin at screen 0.58\nset rmargin at screen 0.84\n"
-       << "set colorbox user origin screen 0.87, screen 0.3 size screen 0.025, screen 0.6\n"
+  body << left.str() << "unset key\nset lmargin at screen 0.58\nset rmargin at screen 0.82\n"
+       << "set colorbox user origin screen 0.845, screen 0.3 size screen 0.025, screen 0.6\n"
        << "set xlabel '" << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s")
        << "'\nset xtics " << NiceStep(lo[1], hi[1], 3) << "\nset ytics " << NiceStep(lo[2], hi[2], 5)
        << "\nset xrange " << range(lo[1], hi[1], past) << "\nset yrange " << range(lo[2], hi[2], -INFINITY) << "\n"
@@ -558,6 +560,10 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        << "\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
        << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate offset 2.5, 0\n"
+       // (The data's ranges, set: the overlay of the limit curve below maps
+       // onto the same frame.)
+       << "set xrange [" << lo[0] << ":" << hi[0] << "]\nset yrange [" << lo[1] << ":" << hi[1] << "]\nset zrange ["
+       << lo[2] << ":" << hi[2] << "]\n"
        << "set view 62, 35\nset xyplane relative 0\nset key at screen 0.02, screen 0.99 left top\n"
        // (A light from the viewer: the shading tells the surface's folds apart.)
        // (Each facet's border traced in its own colour: no white seams
@@ -579,13 +585,23 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   const std::string every = family.orbits.size() > 8 ? " every :2" : "";
   Plot projection;
   projection.Unkeyed("'" + name + ".csv' index 0" + every + " using " + w + ":" + v + ":2", "with lines lw 1 lc palette");
+  // A family's limit (the grazing orbit or mode, on the surface's edge,
+  // which the depth-sorted surface hid) drawn again over the 3-D panel: the
+  // same frame, ranges and view, nothing but the curve.
+  Plot over("splot");
   for (std::size_t k = 0; k < curves.size(); ++k) {
     const std::string index = "'" + name + ".csv' index " + std::to_string(k + 1) + " using ";
     surface.Add(index + u + ":" + w + ":" + v, With(curves[k].role), curves[k].title,
                 static_cast<long>(curves[k].trajectories.size()));
+    if (std::string(curves[k].role) == "limit") over.Unkeyed(index + u + ":" + w + ":" + v, With(curves[k].role));
     projection.Unkeyed(index + w + ":" + v, With(curves[k].role));
   }
-  body << surface.str() << "unset label 1\nset size 0.36, 1\nset origin 0.64, 0\nunset pm3d\nunset colorbox\nunset key\nset xlabel '"
+  body << surface.str();
+  if (!over.empty()) {
+    body << "unset border\nunset tics\nunset xlabel\nunset ylabel\nunset zlabel\nunset colorbox\nunset key\nunset grid\n"
+         << "unset label 1\n" << over.str() << "set border\nset tics\nset grid\n";
+  }
+  body << "unset label 1\nset size 0.36, 1\nset origin 0.64, 0\nunset pm3d\nunset colorbox\nunset key\nset xlabel '"
        << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s") << "'\n"
        << "set xtics " << NiceStep(lo[1], hi[1], 3) << "\nset ytics " << NiceStep(lo[2], hi[2], 5) << "\n"
        // (Past the obstacle by 8 % of the range: its line clear of the frame.)
@@ -690,7 +706,7 @@ void Figures11And12(Context& c) {
   const std::string arc = "($" + std::to_string(6 + 2 * c.b.n) + " / " + std::to_string(std::abs(s1 - s0)) + ")";
   const std::string xc = std::to_string(XCol(c, c.contact));
   body << "set xlabel 'time over the period t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
-       << style::Palette("family", "arclength s") << bar.str() << "set cbrange [0:1]\n"
+       << style::Palette("family", "arclength {/Symbol s}") << bar.str() << "set cbrange [0:1]\n"
        << "set xrange [0:1]\n";
   Plot plot;
   plot.Unkeyed("'fig11_two_impact_mode.csv' using ($3 / $2):" + xc + ":" + arc, "with lines lw 1.5 lc palette")
@@ -713,7 +729,7 @@ void Figures11And12(Context& c) {
   // 11 too).
   // (The grazing mode, s = 0, is the black curve; the colour bar over the
   // whole arclength, as Fig. 11's. Curves sampled finely: 2 x 400 points.)
-  SectionFamily family{"arclength s", {}};
+  SectionFamily family{"arclength {/Symbol s}", {}};
   family.samples = 2 * kSamples;
   family.range = std::pair<double, double>{0.0, std::abs(s1 - s0)};
   for (int j = 2; j <= curves; j += 2) {
@@ -1033,10 +1049,10 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
     body << "set label 'stable' at " << s_t / three[2] << ", " << s_e / three[2] << " center offset 0, -1.1 front\n";
   }
   Plot energies("plot", Plot::Keys::kCollected);
-  // (The continuation that is not admissible light: it runs along the 1-ipp
-  // branch past T_G, under it.)
-  energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)",
-               With("not_admissible", "lines", style::Colour("grey_light")), "3-ipp, not admissible", three[0])
+  // (The continuation that is not admissible under the 1-ipp branch it
+  // runs along past T_G.)
+  energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)", With("not_admissible"),
+               "3-ipp, not admissible", three[0])
       .Add("'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0)", With("three_unstable"), "3-ipp, unstable", three[1])
       // (A dot on every stable orbit: the stretch may be two orbits long.)
       .Add("'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0)", With("three_stable", "linespoints"), "3-ipp, stable", three[2])
