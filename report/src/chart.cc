@@ -489,7 +489,7 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
   }
   const double decades = e_hi > e_lo ? std::max(std::log10(e_hi / e_lo), 0.1) : 1.0;
   const double t_span = t_hi > t_lo ? t_hi - t_lo : 1.0;
-  constexpr double kMarkStep = 0.06;  // of the frame
+  constexpr double kMarkStep = 0.09;  // of the frame (0.06 made chains of markers on steep branches)
   std::vector<std::vector<bool>> marks;
   for (const auto& branch : branches) {
     marks.emplace_back(branch.size(), false);

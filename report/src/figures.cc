@@ -315,7 +315,9 @@ void Figure6(Context& c) {
   // (T, t2) frame empty), the trivial line is t2 / T = 1/2, drawn over
   // them; the linear modal transitions, where branches end, as short
   // vertical lines.
+  // (No vertical grid: it looked like the k T_i lines.)
   plane << "set xlabel 'period T (s)'\nset ylabel 'second impact time t_2 / T'\nset key below\n"
+        << "unset grid\nset grid ytics lt 1 lw 0.5 lc rgb '" << style::Colour("grid") << "'\n"
         << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:1]\n";
   // Every multiple k T_i of a linear period in the frame (where the 1-ipp
   // orbits meet the linear modes, the 2-ipp root curves end or are cut).
@@ -668,14 +670,17 @@ void Figures11And12(Context& c) {
   out << "index,T,t";
   for (int i = 1; i <= c.b.n; ++i) out << ",x" << i;
   for (int i = 1; i <= c.b.n; ++i) out << ",v" << i;
-  out << ",t2,energy,arclength\n";
+  out << ",t2,energy,arclength,stable\n";
   const Orbit linear = GrazingMode(c.b, mode, period);
+  long stable_orbits = 0;
   auto write = [&](int index, const Orbit& o, double arclength) {
     const Eigen::MatrixXd tr = OrbitTrajectory(c.b, o, kSamples);
+    const bool stable = index > 0 && OrbitStability(c.b, o).stable;
+    stable_orbits += stable;
     for (long r = 0; r < tr.rows(); ++r) {
       out << index << "," << o.period;
       for (long k = 0; k < tr.cols(); ++k) out << "," << tr(r, k);
-      out << "," << (o.times.empty() ? 0.0 : o.times[0]) << "," << o.energy << "," << arclength << "\n";
+      out << "," << (o.times.empty() ? 0.0 : o.times[0]) << "," << o.energy << "," << arclength << "," << stable << "\n";
     }
     out << "\n";
   };
@@ -708,15 +713,26 @@ void Figures11And12(Context& c) {
   body << "set xlabel 'time over the period t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
        << style::Palette("family", "arclength {/Symbol s}") << bar.str() << "set cbrange [0:1]\n"
        << "set xrange [0:1]\n";
+  // Each orbit solid where stable, dashed where not (keyed in black: their
+  // colour is their place along the family); the impacts at 0 and T filled.
+  const std::string stable_col = "$" + std::to_string(7 + 2 * c.b.n);
   Plot plot;
-  plot.Unkeyed("'fig11_two_impact_mode.csv' using ($3 / $2):" + xc + ":" + arc, "with lines lw 1.5 lc palette")
-      .Add("'' using ($3 / $2):(strcol(1) eq '0' ? $" + xc + " : 1/0)", With("limit"), "grazing linear mode")
+  if (stable_orbits > 0) plot.KeyOnly(With("orbit", "lines", style::Colour("black")), "stable orbit");
+  if (stable_orbits < curves) plot.KeyOnly("with lines lw 1.5 dt 2 lc rgb '" + style::Colour("black") + "'", "unstable orbit");
+  plot.Unkeyed("'fig11_two_impact_mode.csv' using ($1 > 0 && " + stable_col + " == 1 ? $3 / $2 : 1/0):" + xc + ":" + arc,
+               "with lines lw 1.5 lc palette")
+      .Unkeyed("'fig11_two_impact_mode.csv' using ($1 > 0 && " + stable_col + " == 0 ? $3 / $2 : 1/0):" + xc + ":" + arc,
+               "with lines lw 1.5 dt 2 lc palette")
+      .Add("'fig11_two_impact_mode.csv' using ($3 / $2):(strcol(1) eq '0' ? $" + xc + " : 1/0)", With("limit"),
+           "grazing linear mode")
       // (Keyed in black: the circle's colour is its orbit's.)
       .KeyOnly(With("impact_map", "points", style::Colour("black")), "second impact t_2")
       .Unkeyed("'fig11_two_impact_mode.csv' every ::0::0 using ($1 > 0 ? $" + std::to_string(4 + 2 * c.b.n) +
                    " / $2 : 1/0):(" + std::to_string(c.b.gap) + "):" + arc,
                style::WithPalette("impact_map"))
-      .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+      .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d")
+      .Add("'+' using (column(0) == 0 ? 0 : 1):(" + std::to_string(c.b.gap) + ") every ::0::1", With("orbit_impact"),
+           "first impact, at 0 and T");
   body << plot.str();
   out.Commit();
   std::ostringstream note;
@@ -1143,6 +1159,8 @@ void Figure18(Context& c) {
       title << (i ? ", " : "") << seq[i] + 1;
     }
     title << ")";
+    // A one-impact sequence names its wall (the model's contact as written).
+    if (seq.size() == 1 && c.model) title << " " << c.model->contacts[static_cast<std::size_t>(seq[0])].Describe();
     labels.push_back(label.str());
     titles.push_back(title.str());
     opt.sequence = seq;
