@@ -494,8 +494,7 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
   for (const auto& branch : branches) {
     marks.emplace_back(branch.size(), false);
     // Each stretch of one stability (drawn as a series of its own) marked
-    // from its first point; the branch's last point too when a third of a
-    // step on.
+    // from its first point, then at equal steps.
     double since = kMarkStep;
     for (std::size_t k = 0; k < branch.size(); ++k) {
       if (k > 0) {
@@ -504,11 +503,10 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
         since += std::hypot((r.period - p.period) / t_span, dy);
         if (r.stable != p.stable) since = kMarkStep;
       }
-      // (Its last point only at the branch's end: at a change of stability
-      // the next stretch's first mark is beside it, a filled and an open
-      // marker on each other.)
-      const bool last = k + 1 == branch.size();
-      if (since >= kMarkStep || (last && since >= kMarkStep / 3)) {
+      // (Not at a stretch's last point: at a change of stability the next
+      // stretch's first mark was beside it, and at a branch's end an open
+      // circle read as a grazing one.)
+      if (since >= kMarkStep) {
         marks.back()[k] = true;
         since = 0.0;
       }

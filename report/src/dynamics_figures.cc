@@ -399,10 +399,11 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
          << (k == 0 ? XcLabel(c) : std::string()) << "'\nset xrange [0:1]\nset xtics 0.5\nset ytics "
          << NiceStep(x_lo, std::max(x_hi, c.b.gap), 4) << "\n";
     Plot p("plot", Plot::Keys::kCollected);
-    // Each orbit in its family's colour (Fig. 8's); the key's sample the first's.
+    // Each orbit in its family's colour (Fig. 8's), keyed once in black.
     const char* family = orbits[k].first == "1-ipp" ? "one_stable" : orbits[k].first == "2-ipp" ? "two_stable" : "three_stable";
-    p.Add("'validation_orbits.csv' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'analytic' ? $3 : 1/0):4",
-          With("analytic", "lines", style::RoleColour(family)), "analytic")
+    if (k == 0) p.KeyOnly(With("analytic", "lines", style::Colour("black")), "analytic, coloured by family");
+    p.Unkeyed("'validation_orbits.csv' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'analytic' ? $3 : 1/0):4",
+              With("analytic", "lines", style::RoleColour(family)))
         .Add("'' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'simulated' ? $3 : 1/0):4", With("simulated"),
              "simulated, " + std::to_string(shown) + "th period")
         .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");

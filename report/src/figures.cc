@@ -673,10 +673,14 @@ void Figures11And12(Context& c) {
   out << ",t2,energy,arclength,stable\n";
   const Orbit linear = GrazingMode(c.b, mode, period);
   long stable_orbits = 0;
+  std::vector<double> orbit_shades;  // each orbit's arclength (index 0: the mode), then its fraction
+  std::vector<bool> orbit_stable;
   auto write = [&](int index, const Orbit& o, double arclength) {
     const Eigen::MatrixXd tr = OrbitTrajectory(c.b, o, kSamples);
     const bool stable = index > 0 && OrbitStability(c.b, o).stable;
     stable_orbits += stable;
+    orbit_shades.push_back(arclength);
+    orbit_stable.push_back(stable);
     for (long r = 0; r < tr.rows(); ++r) {
       out << index << "," << o.period;
       for (long k = 0; k < tr.cols(); ++k) out << "," << tr(r, k);
@@ -695,6 +699,7 @@ void Figures11And12(Context& c) {
     write(j, o, std::abs(p.arclength - s0));
     if (j == curves) summary << "last: T = " << o.period << ", t_2 = " << o.times[0];
   }
+  for (double& shade : orbit_shades) shade /= std::max(std::abs(s1 - s0), 1e-300);
   double tmin = INFINITY, tmax = -INFINITY;
   for (std::size_t k : run) {
     tmin = std::min(tmin, branch[k].period);
@@ -719,11 +724,16 @@ void Figures11And12(Context& c) {
   Plot plot;
   if (stable_orbits > 0) plot.KeyOnly(With("orbit", "lines", style::Colour("black")), "stable orbit");
   if (stable_orbits < curves) plot.KeyOnly("with lines lw 1.5 dt 2 lc rgb '" + style::Colour("black") + "'", "unstable orbit");
-  plot.Unkeyed("'fig11_two_impact_mode.csv' using ($1 > 0 && " + stable_col + " == 1 ? $3 / $2 : 1/0):" + xc + ":" + arc,
-               "with lines lw 1.5 lc palette")
-      .Unkeyed("'fig11_two_impact_mode.csv' using ($1 > 0 && " + stable_col + " == 0 ? $3 / $2 : 1/0):" + xc + ":" + arc,
-               "with lines lw 1.5 dt 2 lc palette")
-      .Add("'fig11_two_impact_mode.csv' using ($3 / $2):(strcol(1) eq '0' ? $" + xc + " : 1/0)", With("limit"),
+  // (Each orbit a layer in its colour, not `lc palette`: gnuplot draws a
+  // palette line segment by segment, each restarting the dash pattern, and
+  // a dashed orbit looked solid.)
+  for (std::size_t j = 1; j < orbit_shades.size(); ++j) {
+    const std::string colour = style::MapColour("family", orbit_shades[j]);
+    plot.Unkeyed("'fig11_two_impact_mode.csv' using ($1 == " + std::to_string(j) + " ? $3 / $2 : 1/0):" + xc,
+                 orbit_stable[j] ? "with lines lw 1.5 lc rgb '" + colour + "'"
+                                 : "with lines lw 1.5 dt 2 lc rgb '" + colour + "'");
+  }
+  plot.Add("'fig11_two_impact_mode.csv' using ($3 / $2):(strcol(1) eq '0' ? $" + xc + " : 1/0)", With("limit"),
            "grazing linear mode")
       // (Keyed in black: the circle's colour is its orbit's.)
       .KeyOnly(With("impact_map", "points", style::Colour("black")), "second impact t_2")
@@ -850,15 +860,6 @@ void Figures13To15(Context& c) {
   }
   // Fig. 14: the same in the phase section, with neighbouring 1-ipp orbits.
   {
-    SectionCurve one{"1-ipp orbits, T near T_G", "orbit_thin", {}};
-    const double eps = 1e-4 * t;
-    const int side = OneImpactOrbit(c.b, t - eps).admissible ? -1 : 1;
-    // (Three of them, thin and dashed: eight read as grey scribble.)
-    for (int k : {2, 5, 8}) {
-      const Orbit o = OneImpactOrbit(c.b, t + side * 0.004 * t * k);
-      if (!o.admissible) break;
-      one.trajectories.push_back(OrbitTrajectory(c.b, o, kSamples));
-    }
     // A bridge at grazing is symmetric about s_end / 2 (its orbit there the
     // dilated one, t2 = T/2): orbit s_end - s is orbit s shifted in time
     // (t2 -> T - t2), the same curve in the phase space. Both halves drawn
@@ -877,7 +878,7 @@ void Figures13To15(Context& c) {
       family.orbits.emplace_back(k / 20.0, OrbitTrajectory(c.b, orbits[k], kSurfaceSamples));
     }
     DrawSection(c, "fig14_bridge_section", family,
-                {one, {"grazing 1-ipp orbit (s = 0)", "limit", {OrbitTrajectory(c.b, OneImpactOrbit(c.b, t), kSamples)}}},
+                {{"grazing 1-ipp orbit (s = 0)", "limit", {OrbitTrajectory(c.b, OneImpactOrbit(c.b, t), kSamples)}}},
                 symmetric ? "the bridge's half s <= s_end / 2 (symmetric about it)" : "");
   }
   // Fig. 15: zoom of the frequency-energy plot on the bridge.
@@ -1110,6 +1111,30 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   Draw(c, "fig16_three_impact_family", body.str(), note.str());
 }
 
+namespace {
+
+// A contact as written (Contact::Describe: "x2 <= 1") as gnuplot's enhanced
+// text: subscripted dofs, the relations as symbols.
+std::string GnuplotText(const std::string& text) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text.compare(i, 2, "<=") == 0) {
+      out += "{/Symbol \\243}";
+      ++i;
+    } else if (text.compare(i, 2, ">=") == 0) {
+      out += "{/Symbol \\263}";
+      ++i;
+    } else if (text[i] == 'x' && i + 1 < text.size() && std::isdigit(static_cast<unsigned char>(text[i + 1]))) {
+      out += "x_";
+    } else {
+      out += text[i];
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 // Fig. 18 (several contacts, issue 24): the frequency-energy plot of every
 // family of one and two impacts per period, one colour per impact sequence:
 // (j) for each contact, (j, j) and (j, k), j < k ((k, j) is (j, k) shifted
@@ -1160,7 +1185,7 @@ void Figure18(Context& c) {
     }
     title << ")";
     // A one-impact sequence names its wall (the model's contact as written).
-    if (seq.size() == 1 && c.model) title << " " << c.model->contacts[static_cast<std::size_t>(seq[0])].Describe();
+    if (seq.size() == 1 && c.model) title << " " << GnuplotText(c.model->contacts[static_cast<std::size_t>(seq[0])].Describe());
     labels.push_back(label.str());
     titles.push_back(title.str());
     opt.sequence = seq;
@@ -1215,8 +1240,9 @@ void Figure18(Context& c) {
        << "set key below\n";
   // The 1-impact sequences as Fig. 8's 1-ipp family (solid and dashed lines,
   // no markers: the first in its blue and sky, the others in the sequences'
-  // colours), over the 2-impact ones on a white halo (where a 1-impact
-  // family runs along a 2-impact branch, it showed under its markers); each
+  // colours), over the 2-impact ones (where a 1-impact family runs along a
+  // 2-impact branch, it showed under its markers; a white halo left crumbs
+  // of the branches beside it); each
   // 2-impact sequence a line with markers at equal steps, in a role of its
   // own (Fig. 8's 2-ipp vermillion dots and orange circles first, then
   // purple squares, grey triangles): filled stable, open unstable, told
@@ -1259,9 +1285,7 @@ void Figure18(Context& c) {
     if (!l.one) MarkedLine(plot, "'fig18_sequences_fep.csv'", "3", l.rows, "$5", 8, l.role, l.look);
   }
   for (const Layer& l : layers) {
-    if (!l.one) continue;
-    const std::string spec = "'fig18_sequences_fep.csv' using 3:(" + l.rows + " ? $5 : 1/0)";
-    plot.Unkeyed(spec, With("halo")).Unkeyed(spec, l.look);
+    if (l.one) plot.Unkeyed("'fig18_sequences_fep.csv' using 3:(" + l.rows + " ? $5 : 1/0)", l.look);
   }
   body << plot.str();
   Draw(c, "fig18_sequences_fep", body.str(), std::to_string(sequences.size()) + " impact sequences");
