@@ -276,12 +276,11 @@ void Figure6(Context& c) {
   // admissible or not; the same roots as Fig. 7's map, uncoloured.
   report::ResultFile curves(c.dir, "fig06_root_curves.csv");
   curves << "T,t2,admissible,branch\n";
-  const int every = DrawEvery(c.atlas.two);
   // The roots joined into branches along T (TwoImpactBranches, as the
   // frequency-energy plots join them: on steep stretches the roots of
   // consecutive periods lie far apart, a string of dots read as isolated
-  // roots), each drawn as a line through every `every`-th root and its ends
-  // (the CSV holds those; Fig. 7's holds every root).
+  // roots), each a line through all its roots (34,000 for paper.toml: a
+  // line through every 5th broke into dashes on steep stretches).
   std::vector<FepTable::Root> found_roots;
   for (std::size_t k = 0; k < c.atlas.two.at.size(); ++k) {
     for (const OrbitRecord& r : c.atlas.two.at[k]) {
@@ -296,10 +295,7 @@ void Figure6(Context& c) {
     double last_u = NAN;
     for (std::size_t i = 0; i < branches[b].size(); ++i) {
       const FepTable::Root& r = branches[b][i];
-      const bool drawn = r.step % every == 0 || i == 0 || i + 1 == branches[b].size() ||
-                         branches[b][i + 1].stable != r.stable || (i > 0 && branches[b][i - 1].stable != r.stable);
-      if (!drawn) continue;
-      // A jump of t2 / T over 0.08 between drawn roots is not followed (a
+      // A jump of t2 / T over 0.08 between roots is not followed (a
       // ruler-straight segment across it): the line is broken there.
       const double u = r.t2 / r.period;
       if (std::abs(u - last_u) > 0.08) curves << "\n";
@@ -327,13 +323,10 @@ void Figure6(Context& c) {
   }
   plane << VerticalLines("modal", modal, 0.0, 1.0);
   Plot plot;
-  // (A line through the drawn roots; an admissible stretch of one root
-  // drawn as its point.)
   plot.Add("$modal using 1:2", With("modal"), "k T_i, multiples of the linear periods", static_cast<long>(modal.size()))
       .Add("'fig06_root_curves.csv' using 1:($3 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "lines"),
            "other root, not admissible", other)
-      .Add("'' using 1:($3 == 1 ? $2 / $1 : 1/0)", With("root_cloud", "linespoints"), "other root, admissible",
-           admissible)
+      .Add("'' using 1:($3 == 1 ? $2 / $1 : 1/0)", With("root_curve"), "other root, admissible", admissible)
       .Add("0.5", With("two_half"), "trivial root t_2 = T/2");
   Draw(c, "fig06_root_curves", plane.str() + plot.str());
 }
@@ -1070,7 +1063,11 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   // runs along past T_G.)
   energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)", With("not_admissible"),
                "3-ipp, not admissible", three[0])
-      .Add("'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0)", With("three_unstable"), "3-ipp, unstable", three[1])
+      // (With about 12 open circles along it: a short unstable stretch's
+      // dashes read as a solid line.)
+      .Add("'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0)",
+           With("three_unstable", "linespoints") + " pi " + std::to_string(std::max(1L, three[1] / 12)), "3-ipp, unstable",
+           three[1])
       // (A dot on every stable orbit: the stretch may be two orbits long.)
       .Add("'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0)", With("three_stable", "linespoints"), "3-ipp, stable", three[2])
       .Add("'fig16_one_impact.csv' using 1:($3 == 1 && $4 == 1 ? $2 : 1/0)", With("one_stable"), "1-ipp, stable", one_stable)
