@@ -382,7 +382,7 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
   // PDF's tick labels) over one key for all, at the foot of the canvas as
   // wide as the canvas: the panels draw the same series.
   auto panel = [&](int row, int col) {
-    constexpr double kLeft = 0.14, kRight = 0.96, kBottom = 0.18, kTop = 0.9, kGapX = 0.09, kGapY = 0.14;
+    constexpr double kLeft = 0.14, kRight = 0.96, kBottom = 0.25, kTop = 0.9, kGapX = 0.09, kGapY = 0.14;
     const double w = (kRight - kLeft - (cols - 1) * kGapX) / cols, h = (kTop - kBottom - kGapY) / 2;
     const double x0 = kLeft + col * (w + kGapX), y0 = kTop - (row + 1) * h - row * kGapY;
     std::ostringstream os;
@@ -401,7 +401,7 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
     Plot p("plot", Plot::Keys::kCollected);
     // Each orbit in its family's colour (Fig. 8's), keyed once in black.
     const char* family = orbits[k].first == "1-ipp" ? "one_stable" : orbits[k].first == "2-ipp" ? "two_stable" : "three_stable";
-    if (k == 0) p.KeyOnly(With("analytic", "lines", style::Colour("black")), "analytic, coloured by family");
+    if (k == 0) p.KeyOnly(With("analytic", "lines", style::Colour("black")), "analytic");
     p.Unkeyed("'validation_orbits.csv' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'analytic' ? $3 : 1/0):4",
               With("analytic", "lines", style::RoleColour(family)))
         .Add("'' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'simulated' ? $3 : 1/0):4", With("simulated"),
@@ -432,7 +432,8 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
     p.Unkeyed("'validation_deviation.csv' index " + std::to_string(k) + " using 2:($3 > 0 ? $3 : 1/0)", With("function"));
     body << p.str();
   }
-  body << LegendPanel(0.07) << Plot::Legend(entries) << "unset multiplot";
+  // (The key's band below the x labels: 0.07 ran into them in the column.)
+  body << LegendPanel(0.11) << Plot::Legend(entries) << "unset multiplot";
   Draw(c, "validation_orbits", body.str(), note.str());
 }
 

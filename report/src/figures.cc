@@ -436,6 +436,9 @@ struct SectionFamily {
   int samples = kSurfaceSamples;
   // The shades' range mapped to the colour bar (default: the orbits').
   std::optional<std::pair<double, double>> range = std::nullopt;
+  // Each orbit's stability, in order (curves only: dashed where unstable);
+  // empty: not drawn.
+  std::vector<bool> stable = {};
 };
 struct SectionCurve {
   std::string title;
@@ -452,7 +455,7 @@ struct SectionCurve {
 // NAME.csv as DrawSection's.
 void DrawProjections(Context& c, const std::string& name, const std::string& parameter, const std::string& bar,
                      const std::vector<SectionCurve>& curves, const double lo[3], const double hi[3],
-                     const std::string& note) {
+                     const std::vector<std::pair<double, bool>>& orbits, const std::string& note) {
   const int cols[3] = {c.b.n > 1 ? 1 + c.other : 0, 1 + c.contact, 1 + c.b.n + c.contact};
   const std::string u = std::to_string(TCol() + cols[0]), w = std::to_string(TCol() + cols[1]),
                     v = std::to_string(TCol() + cols[2]);
@@ -464,7 +467,7 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
   const double past = c.b.gap + 0.08 * (hi[1] - lo[1]);  // the obstacle clear of the frame
   std::ostringstream body;
   body << "set multiplot\n" << style::Palette("family", parameter) << bar << "set cbrange [0:1]\n"
-       << "set bmargin at screen 0.19\nset tmargin at screen 0.97\n"
+       << "set bmargin at screen 0.24\nset tmargin at screen 0.97\n"
        << "set lmargin at screen 0.1\nset rmargin at screen 0.44\nunset colorbox\n"
        << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 2\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
@@ -479,8 +482,21 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
     left.Add(index + u + ":" + w, With(curves[k].role), curves[k].title, static_cast<long>(curves[k].trajectories.size()));
     right.Unkeyed(index + w + ":" + v, With(curves[k].role));
   }
-  left.Unkeyed("'" + name + ".csv' index 0 using " + u + ":" + w + ":2", "with lines lw 1.5 lc palette");
-  right.Unkeyed("'" + name + ".csv' index 0 using " + w + ":" + v + ":2", "with lines lw 1.5 lc palette");
+  // Each orbit a layer in its colour, dashed where unstable (not `lc
+  // palette`, whose segments each restart the dash).
+  bool dashed = false;
+  for (const auto& [shade, stable] : orbits) {
+    std::ostringstream pick;
+    pick << "(abs($2 - " << shade << ") < 1e-5 ? $";
+    const std::string look = std::string("with lines lw 1.5") + (stable ? "" : " dt 2") + " lc rgb '" +
+                             style::MapColour("family", shade) + "'";
+    left.Unkeyed("'" + name + ".csv' index 0 using " + pick.str() + u + " : 1/0):" + w, look);
+    right.Unkeyed("'" + name + ".csv' index 0 using " + pick.str() + w + " : 1/0):" + v, look);
+    dashed = dashed || !stable;
+  }
+  if (dashed) left.KeyOnly("with lines lw 1.5 dt 2 lc rgb '" + style::Colour("black") + "'", "unstable orbit");
+  // (A palette layer that draws nothing: the colour bar is drawn for it.)
+  right.Unkeyed("'" + name + ".csv' index 0 using (1/0):(1/0):2", "with lines lc palette");
   left.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle " + Xc(c) + " = d");
   body << left.str() << "unset key\nset lmargin at screen 0.58\nset rmargin at screen 0.82\n"
        << "set colorbox user origin screen 0.845, screen 0.3 size screen 0.025, screen 0.6\n"
@@ -541,7 +557,11 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   const std::string u = std::to_string(TCol() + cols[0]), w = std::to_string(TCol() + cols[1]),
                     v = std::to_string(TCol() + cols[2]);
   if (!family.surface) {
-    DrawProjections(c, name, family.parameter, bar.str(), curves, lo, hi, note);
+    std::vector<std::pair<double, bool>> orbits;  // each orbit's place along the family, and its stability
+    for (std::size_t k = 0; k < family.orbits.size(); ++k) {
+      orbits.push_back({(family.orbits[k].first - s_lo) / (s_hi - s_lo), family.stable.empty() || family.stable[k]});
+    }
+    DrawProjections(c, name, family.parameter, bar.str(), curves, lo, hi, orbits, note);
     return;
   }
   std::ostringstream body;
@@ -755,6 +775,7 @@ void Figures11And12(Context& c) {
     const BranchPoint& p = AtArclength(m, static_cast<double>(j) / curves);
     family.orbits.emplace_back(std::abs(p.arclength - s0),
                                OrbitTrajectory(c.b, TwoImpactOrbitAt(c.b, p.t2, p.period), family.samples));
+    family.stable.push_back(orbit_stable[static_cast<std::size_t>(j)]);
   }
   // As curves in two projections: the family winds inwards from the
   // grazing mode, and a surface showed its outer orbits alone (the inner
