@@ -118,7 +118,8 @@ def series(script):
     """Each plot command's layers: (title or None, kind, dash, colour or None,
     palette?, legend only?, point type or None) in order (a gnuplot plot's curves, as `set table`
     lists them). A legend-only layer plots NaN: a key entry for a multi-panel
-    chart's one key, drawn by its panels."""
+    chart's one key, drawn by its panels; in black, it may stand for layers
+    coloured by a map (lc palette) of its kind, dash and marker."""
     text = script.replace("\\\n", " ")
     plots = []
     inner = False  # between a script's own set table $BLOCK and unset table: tabulated, not drawn
@@ -236,8 +237,8 @@ def check(directory, keys=True, allowed="style"):
                 # The styles (kind, dash, colour) that draw a point somewhere.
                 drawn = {item[1:4] for items, table in zip(plots, tables)
                          for item, (inside, _) in zip(items, table) if inside > 0}
-                # Layers coloured by a map, by kind and marker: keyed in black.
-                mapped = {(item[1], item[6]) for items, table in zip(plots, tables)
+                # Layers coloured by a map, by kind, dash and marker: keyed in black.
+                mapped = {(item[1], item[2], item[6]) for items, table in zip(plots, tables)
                           for item, (inside, _) in zip(items, table) if inside > 0 and item[4]}
                 for items, table in zip(plots, tables):
                     for item, (inside, _) in zip(items, table):
@@ -248,7 +249,7 @@ def check(directory, keys=True, allowed="style"):
                             d[0] == "points" and d[2] == item[3] for d in drawn)
                         # A layer coloured by a map keyed in black, its marker's shape.
                         black = item[3] is not None and item[3].upper()[-6:] == "000000"
-                        by_map = black and (item[1], item[6]) in mapped
+                        by_map = black and (item[1], item[2], item[6]) in mapped
                         if item[5] and item[1:4] not in drawn and not apart and not by_map:
                             failures.append(f"{name}: the key names '{item[0]}', whose style no panel draws")
                         elif not item[5] and inside == 0:

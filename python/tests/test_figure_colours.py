@@ -85,6 +85,10 @@ def test_a_black_key_stands_for_a_layer_coloured_by_a_map_with_its_marker(tmp_pa
     key = ", NaN with points pt 7 ps 1 lw 1 lc rgb '#000000' title 'orbits'"
     assert run(tmp_path, mapped + key, keys=True) == 0
     assert run(tmp_path, mapped + key.replace("pt 7", "pt 6"), keys=True) == 1
+    # A line's dash counts: a dashed black key for solid mapped lines fails.
+    lines = "set datafile separator ','\nplot 'a.csv' using 1:2 with lines lw 1 lc palette frac 0.3 notitle"
+    assert run(tmp_path, lines + ", NaN with lines lw 1 lc rgb '#000000' title 'orbit'", keys=True) == 0
+    assert run(tmp_path, lines + ", NaN with lines lw 1 dt 2 lc rgb '#000000' title 'orbit'", keys=True) == 1
 
 
 def test_the_style_pairs_that_only_colour_tells_apart():

@@ -147,8 +147,12 @@ void BridgeLabels(const Context& c, std::ostream& body) {
 }
 
 std::string FamilyBarTics(double lo, double hi) {
-  const double step = NiceStep(lo, hi, 4);
   std::ostringstream os;
+  if (!(hi > lo)) {  // (one value: a step of 0 would never end)
+    os << "set cbtics ('" << Num(lo, 3) << "' 0)\n";
+    return os.str();
+  }
+  const double step = NiceStep(lo, hi, 4);
   os << "set cbtics (";
   const double first_tick = std::ceil(lo / step - 1e-9) * step;
   double last_tick = first_tick;
@@ -385,7 +389,7 @@ std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const 
            << "\nset bmargin at screen " << sy(by + kBelow) << "\nset tmargin at screen " << sy(by + kH - kEdge) << "\n"
            << "set xrange [" << z.t_lo << ":" << z.t_hi << "]\nset yrange [" << z.e_lo << ":" << z.e_hi << "]\n"
            << "set xtics " << TwoTicksStep(z.t_lo, z.t_hi) << "\nset ytics " << TwoTicksStep(z.e_lo, z.e_hi)
-           << "\nset tics scale 0.5\nset format y '%g'\n"
+           << "\nset tics scale 0.5\nset mytics default\nset format y '%g'\n"
            << (z.label.empty() ? "" : "set label '" + z.label + "' at graph 0.06, graph 0.86 front\n") << plot.Untitled();
   }
   if (shown == 0) return plot.str();
@@ -444,8 +448,9 @@ std::string StableStretchInsets(const Context& c, const Plot& plot) {
       }
     }
     if (!(e_hi > e_lo)) continue;
+    // (Its foot above 0: the box is drawn on the chart's log axis.)
     const double pad = 0.15 * (e_hi - e_lo);
-    zooms.push_back({mid - half, mid + half, e_lo - pad, e_hi + pad, ""});
+    zooms.push_back({mid - half, mid + half, std::max(e_lo - pad, 0.5 * e_lo), e_hi + pad, ""});
   }
   return ZoomInsets(c, plot, true, zooms);
 }
@@ -531,8 +536,6 @@ double EnergyTop(std::vector<double> energies) {
   return 30.0 * *mid;
 }
 
-// (Not the grid's end: past the admissible orbits it holds potential ones
-// only, and the right of the chart would be empty.)
 double TwoTicksStep(double lo, double hi) {
   for (int ticks = 3; ticks < 12; ++ticks) {
     const double step = NiceStep(lo, hi, ticks);
@@ -540,6 +543,9 @@ double TwoTicksStep(double lo, double hi) {
   }
   return NiceStep(lo, hi, 12);
 }
+
+// (Not the grid's end: past the admissible orbits it holds potential ones
+// only, and the right of the chart would be empty.)
 
 double PeriodTop(const Context& c, bool one_only) {
   double top = 0.0;
@@ -608,19 +614,20 @@ void TransitionLines(Context& c, const std::string& name, bool all, std::ostream
   const std::string block = name.substr(0, name.find('.'));
   body << VerticalLines(block + "_singular", at[TransitionKind::kSingular], lo, hi);
   // T_S above each singular transition's line, outside the frame (the
-  // families crowd the top of the frame, where the energy diverges); a
-  // label nearer the previous one than its width (4.5 % of the axis in the
-  // column PDF, where the text is largest against the axis) a row higher.
+  // families crowd the top of the frame, where the energy diverges), each
+  // in the lowest row where it is a label's width (4.5 % of the axis in the
+  // column PDF, where the text is largest against the axis) from that row's
+  // last.
   const double axis = PeriodTop(c, all);
-  double last_label = -INFINITY;
-  int row = 0, rows = 0;
+  std::vector<double> last;  // each row's last label
   for (double t : at[TransitionKind::kSingular]) {
-    row = t - last_label < 0.045 * axis && row == 0 ? 1 : 0;
-    rows = std::max(rows, row + 1);
-    body << "set label 'T_S' at " << t << ", graph 1 center offset 0, " << 0.8 + 1.1 * row << "\n";
-    last_label = t;
+    std::size_t row = 0;
+    while (row < last.size() && t - last[row] < 0.045 * axis) ++row;  // the lowest row with room
+    if (row == last.size()) last.push_back(t);
+    last[row] = t;
+    body << "set label 'T_S' at " << t << ", graph 1 center offset 0, " << 0.8 + 1.1 * static_cast<double>(row) << "\n";
   }
-  if (rows > 0) body << "set tmargin " << 1.5 + 1.1 * rows << "\n";
+  if (!last.empty()) body << "set tmargin " << 1.5 + 1.1 * static_cast<double>(last.size()) << "\n";
   // T_G beside each grazing circle, to its left (the stability changes that
   // follow a graze are marked to its right); where the bridges are labelled
   // (B1, ...), the key's circle says it.

@@ -339,21 +339,9 @@ class FepTable {
 std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable::Root> roots);
 
 // Where to put a branch's markers: at equal steps of its length in the
-// frame (6 % of it), the first point marked, not every k-th point (where a
+// frame (9 % of it), the first point marked, not every k-th point (where a
 // branch is steep its points crowd, and k-th markers made a chain of beads).
 std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepTable::Root>>& branches);
-
-// The transitions of the 1-ipp family on a frequency-energy plot, written
-// to CSV `name` (T,kind,energy): singular ones (T_S) as vertical lines
-// (TransitionLines, drawn first: under the families), labelled above the
-// frame; grazing ones (T_G) and, if `all`, the modal ones and the stability
-// changes as marks at their energies (TransitionMarks, drawn last: over
-// them); T_S and T_G labelled (the paper's captions name them).
-// The set-up of a multi-panel chart's one key (Plot::Legend, the plot that
-// follows): an invisible frame, the key centred at the foot of the canvas in
-// up to three columns, in a band `height` high (screen fraction) that the
-// panels leave free.
-std::string LegendPanel(double height);
 
 // A window of a frequency-energy chart to zoom on: T and E (linear in the
 // inset), its label in the inset's corner.
@@ -372,6 +360,18 @@ std::string BridgeInsets(const Context& c, const Plot& plot);
 // 1 % of the period axis), on the 1-ipp chart (EnergyAxes(c, true)).
 std::string StableStretchInsets(const Context& c, const Plot& plot);
 
+// The set-up of a multi-panel chart's one key (Plot::Legend, the plot that
+// follows): an invisible frame, the key centred at the foot of the canvas in
+// up to three columns, in a band `height` high (screen fraction) that the
+// panels leave free.
+std::string LegendPanel(double height);
+
+// The transitions of the 1-ipp family on a frequency-energy plot, written
+// to CSV `name` (T,kind,energy): singular ones (T_S) as vertical lines
+// (TransitionLines, drawn first: under the families), labelled above the
+// frame; grazing ones (T_G) and, if `all`, the modal ones and the stability
+// changes as marks at their energies (TransitionMarks, drawn last: over
+// them); T_S and T_G labelled (the paper's captions name them).
 void TransitionLines(Context& c, const std::string& name, bool all, std::ostream& body, Plot& plot);
 void TransitionMarks(const Context& c, const std::string& name, bool all, Plot& plot);
 

@@ -120,8 +120,9 @@ void Figure2(Context& c) {
 }
 
 // Fig. 3: 1-ipp energies, admissible zones coloured by stability,
-// transitions: singular ones (T_S) and modal ones as vertical lines, grazing
-// ones (T_G) and the stability changes as marks on the branch.
+// transitions: singular ones (T_S) as vertical lines, modal and grazing ones
+// (T_G) and the stability changes as marks on the branch; an inset on each
+// stable stretch too short to see.
 void Figure3(Context& c) {
   report::ResultFile out(c.dir, "fig03_one_impact.csv");
   out << "T,energy,potential,admissible,stable,max_multiplier\n";
@@ -275,7 +276,7 @@ void Figure6(Context& c) {
   // the trivial line t2 = T/2 (eq. 26, a root at every T) and the others,
   // admissible or not; the same roots as Fig. 7's map, uncoloured.
   report::ResultFile curves(c.dir, "fig06_root_curves.csv");
-  curves << "T,t2,admissible,branch\n";
+  curves << "T,t2,admissible,branch,alone\n";
   // The roots joined into branches along T (TwoImpactBranches, as the
   // frequency-energy plots join them: on steep stretches the roots of
   // consecutive periods lie far apart, a string of dots read as isolated
@@ -289,19 +290,24 @@ void Figure6(Context& c) {
       found_roots.push_back({static_cast<int>(k), r.orbit.period, r.orbit.times[0], r.orbit.energy, r.orbit.admissible});
     }
   }
-  long other = 0, admissible = 0;
+  long other = 0, admissible = 0, alone = 0;
   const std::vector<std::vector<FepTable::Root>> branches = TwoImpactBranches(std::move(found_roots));
+  // The rows of one branch (TwoImpactBranches joins a root to a branch only
+  // within 0.05 of its extrapolation: no straight segment across a jump).
+  // Column `alone` marks the roots of a run too short to draw a line.
   for (std::size_t b = 0; b < branches.size(); ++b) {
-    double last_u = NAN;
-    for (std::size_t i = 0; i < branches[b].size(); ++i) {
-      const FepTable::Root& r = branches[b][i];
-      // A jump of t2 / T over 0.08 between roots is not followed (a
-      // ruler-straight segment across it): the line is broken there.
-      const double u = r.t2 / r.period;
-      if (std::abs(u - last_u) > 0.08) curves << "\n";
-      last_u = u;
-      curves << r.period << "," << r.t2 << "," << r.stable << "," << b + 1 << "\n";
-      (r.stable ? admissible : other) += 1;
+    const std::vector<FepTable::Root>& branch = branches[b];
+    for (std::size_t i = 0, run = 0; i < branch.size(); i += run) {
+      // A run of one admissibility shorter than 3 roots (a line through one
+      // or two roots is not seen): its roots drawn as points.
+      run = 1;
+      while (i + run < branch.size() && branch[i + run].stable == branch[i].stable) ++run;
+      for (std::size_t k = i; k < i + run; ++k) {
+        const FepTable::Root& r = branch[k];
+        curves << r.period << "," << r.t2 << "," << r.stable << "," << b + 1 << "," << (run < 3) << "\n";
+        (r.stable ? admissible : other) += 1;
+        alone += run < 3 && r.stable;
+      }
     }
     curves << "\n";
   }
@@ -326,8 +332,10 @@ void Figure6(Context& c) {
   plot.Add("$modal using 1:2", With("modal"), "k T_i, multiples of the linear periods", static_cast<long>(modal.size()))
       .Add("'fig06_root_curves.csv' using 1:($3 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "lines"),
            "other root, not admissible", other)
-      .Add("'' using 1:($3 == 1 ? $2 / $1 : 1/0)", With("root_curve"), "other root, admissible", admissible)
-      .Add("0.5", With("two_half"), "trivial root t_2 = T/2");
+      .Add("'' using 1:($3 == 1 ? $2 / $1 : 1/0)", With("root_curve"), "other root, admissible", admissible);
+  plot.Unkeyed("'fig06_root_curves.csv' using 1:($3 == 0 && $5 == 1 ? $2 / $1 : 1/0)", With("root_cloud_other"));
+  if (alone > 0) plot.Unkeyed("'fig06_root_curves.csv' using 1:($3 == 1 && $5 == 1 ? $2 / $1 : 1/0)", With("root"));
+  plot.Add("0.5", With("two_half"), "trivial root t_2 = T/2");
   Draw(c, "fig06_root_curves", plane.str() + plot.str());
 }
 
@@ -482,21 +490,21 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
     left.Add(index + u + ":" + w, With(curves[k].role), curves[k].title, static_cast<long>(curves[k].trajectories.size()));
     right.Unkeyed(index + w + ":" + v, With(curves[k].role));
   }
-  // Each orbit a layer in its colour, dashed where unstable (not `lc
-  // palette`, whose segments each restart the dash).
+  // Each orbit a layer at its place on the palette, dashed where unstable
+  // (WithMapped: a layer coloured point by point restarts the dash at every
+  // segment), the unstable ones keyed in black.
   bool dashed = false;
   for (const auto& [shade, stable] : orbits) {
     std::ostringstream pick;
     pick << "(abs($2 - " << shade << ") < 1e-5 ? $";
-    const std::string look = std::string("with lines lw 1.5") + (stable ? "" : " dt 2") + " lc rgb '" +
-                             style::MapColour("family", shade) + "'";
+    const std::string look = style::WithMapped(stable ? "family_orbit" : "family_orbit_unstable", "", shade);
     left.Unkeyed("'" + name + ".csv' index 0 using " + pick.str() + u + " : 1/0):" + w, look);
     right.Unkeyed("'" + name + ".csv' index 0 using " + pick.str() + w + " : 1/0):" + v, look);
     dashed = dashed || !stable;
   }
-  if (dashed) left.KeyOnly("with lines lw 1.5 dt 2 lc rgb '" + style::Colour("black") + "'", "unstable orbit");
-  // (A palette layer that draws nothing: the colour bar is drawn for it.)
-  right.Unkeyed("'" + name + ".csv' index 0 using (1/0):(1/0):2", "with lines lc palette");
+  if (dashed) {
+    left.KeyOnly(With("family_orbit"), "stable orbit").KeyOnly(With("family_orbit_unstable"), "unstable orbit");
+  }
   left.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle " + Xc(c) + " = d");
   body << left.str() << "unset key\nset lmargin at screen 0.58\nset rmargin at screen 0.82\n"
        << "set colorbox user origin screen 0.845, screen 0.3 size screen 0.025, screen 0.6\n"
@@ -735,16 +743,14 @@ void Figures11And12(Context& c) {
   // colour is their place along the family); the impacts at 0 and T filled.
   const std::string stable_col = "$" + std::to_string(7 + 2 * c.b.n);
   Plot plot;
-  if (stable_orbits > 0) plot.KeyOnly(With("orbit", "lines", style::Colour("black")), "stable orbit");
-  if (stable_orbits < curves) plot.KeyOnly("with lines lw 1.5 dt 2 lc rgb '" + style::Colour("black") + "'", "unstable orbit");
-  // (Each orbit a layer in its colour, not `lc palette`: gnuplot draws a
-  // palette line segment by segment, each restarting the dash pattern, and
-  // a dashed orbit looked solid.)
+  if (stable_orbits > 0) plot.KeyOnly(With("family_orbit"), "stable orbit");
+  if (stable_orbits < curves) plot.KeyOnly(With("family_orbit_unstable"), "unstable orbit");
+  // (Each orbit a layer at its place on the palette, WithMapped: a layer
+  // coloured point by point restarts the dash at every segment, and a
+  // dashed orbit looked solid.)
   for (std::size_t j = 1; j < orbit_shades.size(); ++j) {
-    const std::string colour = style::MapColour("family", orbit_shades[j]);
     plot.Unkeyed("'fig11_two_impact_mode.csv' using ($1 == " + std::to_string(j) + " ? $3 / $2 : 1/0):" + xc,
-                 orbit_stable[j] ? "with lines lw 1.5 lc rgb '" + colour + "'"
-                                 : "with lines lw 1.5 dt 2 lc rgb '" + colour + "'");
+                 style::WithMapped(orbit_stable[j] ? "family_orbit" : "family_orbit_unstable", "", orbit_shades[j]));
   }
   plot.Add("'fig11_two_impact_mode.csv' using ($3 / $2):(strcol(1) eq '0' ? $" + xc + " : 1/0)", With("limit"),
            "grazing linear mode")
@@ -835,7 +841,7 @@ void Figures13To15(Context& c) {
     // Fig. 14; the three 2-ipp orbits between in the family map's colours at
     // their positions along the half, as Fig. 14 shades them (each keyed:
     // three curves need no colour bar). Below, each orbit less the grazing
-    // one: the orbits lie within 0.1 d of each other. One key, under both.
+    // one: the orbits lie within 0.4 d of each other. One key, under both.
     const std::string xc = std::to_string(XCol(c, c.contact));
     // (Margins in characters: the panels' frames aligned in every format.)
     body << "set multiplot\nset lmargin 9\nset rmargin 2\n"
@@ -1062,8 +1068,10 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
     const Orbit& o = list.front().orbit;
     if (o.admissible && o.period >= t_lo && o.period <= t_hi) e_lo = std::min(e_lo, o.energy);
   }
-  if (!std::isfinite(e_lo) || !(e_lo < e_hi)) e_lo = 1e-3 * e_hi;
-  const double bottom = 0.7 * e_lo, top = std::min(1.5 * e_hi, 20.0 * e_lo);
+  const bool found = std::isfinite(e_lo) && e_lo < e_hi;
+  if (!found) e_lo = 1e-3 * e_hi;
+  // (Without an orbit in the window to scale by, up to the family's highest.)
+  const double bottom = 0.7 * e_lo, top = found ? std::min(1.5 * e_hi, 20.0 * e_lo) : 1.5 * e_hi;
   std::ostringstream body;
   // Two panels above one key for both (a key under each ran into the other
   // panel at the column's width); the energy axis from 0.7 of the lowest
@@ -1143,7 +1151,9 @@ std::string GnuplotText(const std::string& text) {
       out += "{/Symbol \\263}";
       ++i;
     } else if (text[i] == 'x' && i + 1 < text.size() && std::isdigit(static_cast<unsigned char>(text[i + 1]))) {
-      out += "x_";
+      out += "x_{";
+      while (i + 1 < text.size() && std::isdigit(static_cast<unsigned char>(text[i + 1]))) out += text[++i];
+      out += "}";
     } else {
       out += text[i];
     }

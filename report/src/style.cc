@@ -193,6 +193,13 @@ std::string With(std::string_view role, std::string_view kind, std::string_view 
   return "with " + (k == "fill" ? std::string("filledcurves") : k) + " " + Look(role, k, colour);
 }
 
+std::string WithMapped(std::string_view role, std::string_view kind, double f) {
+  std::string with = With(role, kind);
+  const std::size_t at = with.rfind("lc rgb '");
+  NSMODAL_CHECK(at != std::string::npos);
+  return with.substr(0, at) + "lc palette frac " + Number(std::clamp(f, 0.0, 1.0));
+}
+
 std::string WithPalette(std::string_view role) {
   const Series& s = Role(role);
   std::ostringstream os;

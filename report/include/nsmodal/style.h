@@ -45,6 +45,10 @@ std::string RoleColour(std::string_view role);
 // Points of the role's marker and size coloured by the palette (the third
 // column of `using`): a family whose colour is a map's one meaning.
 std::string WithPalette(std::string_view role);
+// The role's look at the fraction f of the chart's palette (`lc palette frac
+// f`: one colour for the whole layer, drawn as one path, so a dash runs on
+// along it; a layer coloured point by point restarts it at each segment).
+std::string WithMapped(std::string_view role, std::string_view kind, double f);
 // What the role means, for a key or a caption.
 std::string Means(std::string_view role);
 
