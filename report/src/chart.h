@@ -296,10 +296,12 @@ class FepTable {
         {select("1-ipp", " && $5 == 0"), With("one_unstable"), one_.unstable},
         {select("2-ipp-half", ""), With("two_half"), half_.stable + half_.unstable},
         {select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints"), three_.stable},
-        // (About 12 open circles along it: in greyscale its dash-dot-dot was
-        // the dilated branch's dash-dot; its orbits are denser than a sweep's.)
+        // (About 12 open squares along it, the line cut around each (pi < 0):
+        // in greyscale its dash-dot-dot was the dilated branch's dash-dot, and
+        // a circle was the 2-ipp branch's it runs along; its orbits are
+        // denser than a sweep's.)
         {select("3-ipp", " && $5 == 0"),
-         With("three_unstable", "linespoints") + " pi " + std::to_string(std::max(1L, three_.unstable / 12)),
+         With("three_unstable", "linespoints") + " pi -" + std::to_string(std::max(1L, three_.unstable / 12)),
          three_.unstable},
         {bridge, With("halo", "vectors"), bridge_count},
         {bridge, With("bridge"), bridge_count}};

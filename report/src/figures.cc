@@ -1092,10 +1092,11 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   // runs along past T_G.)
   energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)", With("not_admissible"),
                "3-ipp, not admissible", three[0])
-      // (With about 12 open circles along it: a short unstable stretch's
-      // dashes read as a solid line.)
+      // (With about 12 open markers along it, the line cut around each
+      // (pi < 0): a short unstable stretch's dashes read as a solid line, and
+      // a line through an open marker filled it.)
       .Add("'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0)",
-           With("three_unstable", "linespoints") + " pi " + std::to_string(std::max(1L, three[1] / 12)), "3-ipp, unstable",
+           With("three_unstable", "linespoints") + " pi -" + std::to_string(std::max(1L, three[1] / 12)), "3-ipp, unstable",
            three[1])
       // (A dot on every stable orbit: the stretch may be two orbits long.)
       .Add("'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0)", With("three_stable", "linespoints"), "3-ipp, stable", three[2])
