@@ -204,7 +204,7 @@ void FigureMultipliers(Context& c) {
   // branch is not admissible; below, the complex plane's square panel as
   // wide as the lower part lets it be.
   body << marks.str() << "set multiplot\nset size 1, 0.45\nset origin 0, 0.55\n"
-       << "set key at graph 0.5, graph 0.97 center top Left reverse samplen 1.5 maxrows 7\n"
+       << "set key at graph 0.46, graph 0.97 center top Left reverse samplen 1.5 maxrows 7\n"
        << "set xlabel 'period T (s)'\n"
        // (From 0.7 and 2 % beyond the branch's ends: the stable orbits, at
        // |mu| = 1, and the ends' points clear of the frame.)
