@@ -1116,11 +1116,12 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   for (const double t : pick.start.times) impacts << t << "," << c.b.gap << "\n";
   impacts << pick.start.period << "," << c.b.gap << "\nEOD\n";
   Plot orbit_plot("plot", Plot::Keys::kCollected);
-  // (The orbit unkeyed and solid: the panel's axis names it, the left
-  // panel's diamond and its key say where it is and its stability; dashed,
-  // its details were lost.)
+  // (The orbit unkeyed, solid and black, as the time history draws x_c:
+  // the panel's axis names it, the left panel's diamond and its key say
+  // where it is and its stability; dashed, its details were lost, and in
+  // the family's purple it read as the key's "3-ipp, stable".)
   orbit_plot.Unkeyed("'fig16_orbit.csv' using " + std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact)),
-                     With("orbit_three"))
+                     With("dof_contact"))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d")
       .Add("$impacts using 1:2", With("orbit_impact"), "impacts (t = 0 again at T)");
   std::vector<Plot::Entry> entries = energies.Collected();
