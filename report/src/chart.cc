@@ -54,6 +54,26 @@ std::string LegendPanel(double height) {
   return os.str();
 }
 
+// A layer circling the point (t, x) as `role` (a one-point datablock).
+void Mark(Plot& plot, double t, double x, const char* role, const std::string& title) {
+  std::ostringstream spec;
+  spec << "'+' using (" << t << "):(" << x << ") every ::0::0";
+  if (title.empty()) {
+    plot.Unkeyed(spec.str(), With(role));
+  } else {
+    plot.Add(spec.str(), With(role), title);
+  }
+}
+
+// Layers marking the points (t, d) where orbits strike the obstacle.
+std::function<void(Plot&)> ImpactMarks(const Context& c, const std::vector<double>& times) {
+  const double d = c.b.gap;
+  const std::string title = "impact: " + Xc(c) + " = d";
+  return [times, d, title](Plot& plot) {
+    for (std::size_t k = 0; k < times.size(); ++k) Mark(plot, times[k], d, "orbit_impact", k ? "" : title);
+  };
+}
+
 bool IsStable(const std::optional<Stability>& s) { return s && s->stable; }
 
 
@@ -86,9 +106,10 @@ int XCol(const Context&, int dof) { return 4 + dof; }
 
 
 // Energy range of a frequency-energy plot: from 0.8 of the lowest potential
-// energy (a margin of a tenth of a decade below the lowest family) up to 30 times the median admissible one (at most four decades):
-// the families fill the frame; towards a singular transition, where the
-// energy diverges, they leave it at the top.
+// energy (a margin of a tenth of a decade below the lowest family) up to 30
+// times the median admissible one (at most four decades): the families fill
+// the frame; towards a singular transition, where the energy diverges, they
+// leave it at the top.
 std::pair<double, double> EnergyRange(const Context& c) {
   double lo = INFINITY;
   std::vector<double> admissible;
@@ -294,9 +315,6 @@ class Occupancy {
   double t_top_, e_lo_, e_hi_;
   std::array<long, kCells * kCells> cells_{};
 };
-}  // namespace
-
-namespace {
 
 // The frame of a frequency-energy chart (EnergyAxes): what it draws, as
 // occupied cells. The admissible orbits (the 1-ipp ones alone if
@@ -344,7 +362,7 @@ std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const 
   int shown = 0;
   for (const Zoom& z : zooms) {
     // The free place nearest the zoomed window, highest first: fewest cells
-    // covered, then nearest.
+    // covered, then nearest. (`at`: the window's middle in the frame.)
     const double at = free.X(0.5 * (z.t_lo + z.t_hi));
     double best = INFINITY, bx = 0.0, by = 0.0;
     for (double y = 1.0 - kH - 0.01; y >= 0.0; y -= 0.02) {
@@ -378,11 +396,11 @@ std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const 
     // drawn with the inset (over its ground, which covered a leader drawn
     // with the chart).
     {
-      const double box_x = free.X(0.5 * (z.t_lo + z.t_hi)), box_top = free.Y(z.e_hi), box_bottom = free.Y(z.e_lo);
+      const double box_top = free.Y(z.e_hi), box_bottom = free.Y(z.e_lo);
       const double x0 = bx + kLeft, x1 = bx + kW - kEdge, y0 = by + kBelow, y1 = by + kH - kEdge;
       const bool above = y0 >= box_top;
-      insets << "set arrow from screen " << sx(box_x) << ", screen " << sy(above ? box_top : box_bottom) << " to screen "
-             << sx(std::clamp(box_x, x0, x1)) << ", screen " << sy(above ? y0 : y1) << " nohead lw 0.6 dt 3 lc rgb '"
+      insets << "set arrow from screen " << sx(at) << ", screen " << sy(above ? box_top : box_bottom) << " to screen "
+             << sx(std::clamp(at, x0, x1)) << ", screen " << sy(above ? y0 : y1) << " nohead lw 0.6 dt 3 lc rgb '"
              << style::Colour("grey") << "' front\n";
     }
     insets << "set lmargin at screen " << sx(bx + kLeft) << "\nset rmargin at screen " << sx(bx + kW - kEdge)
@@ -546,7 +564,6 @@ double TwoTicksStep(double lo, double hi) {
 
 // (Not the grid's end: past the admissible orbits it holds potential ones
 // only, and the right of the chart would be empty.)
-
 double PeriodTop(const Context& c, bool one_only) {
   double top = 0.0;
   for (const Sweep* sweep : {&c.atlas.one, &c.atlas.two}) {

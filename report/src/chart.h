@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <optional>
 #include <ostream>
 #include <sstream>
@@ -123,6 +124,14 @@ class Plot {
   std::vector<std::string> layers_;
   std::vector<Entry> collected_;
 };
+
+// A line of `role` drawn through `points` rows with about 12 of its markers
+// along it, the line cut around each (gnuplot's pointinterval < 0: a line
+// through an open marker filled it): for a family denser than a sweep,
+// which MarkedLine's equal steps are not computed for.
+inline std::string MarkersAlong(const char* role, long points) {
+  return With(role, "linespoints") + " pi -" + std::to_string(std::max(1L, points / 12));
+}
 
 // A line of `role` (colour: `colour`, or the role's) with its markers at
 // the rows whose column `mark` is 1 (EqualStepMarks), both unkeyed: the
@@ -296,13 +305,9 @@ class FepTable {
         {select("1-ipp", " && $5 == 0"), With("one_unstable"), one_.unstable},
         {select("2-ipp-half", ""), With("two_half"), half_.stable + half_.unstable},
         {select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints"), three_.stable},
-        // (About 12 open squares along it, the line cut around each (pi < 0):
-        // in greyscale its dash-dot-dot was the dilated branch's dash-dot, and
-        // a circle was the 2-ipp branch's it runs along; its orbits are
-        // denser than a sweep's.)
-        {select("3-ipp", " && $5 == 0"),
-         With("three_unstable", "linespoints") + " pi -" + std::to_string(std::max(1L, three_.unstable / 12)),
-         three_.unstable},
+        // (Markers along it: in greyscale its dash-dot-dot was the dilated
+        // branch's dash-dot.)
+        {select("3-ipp", " && $5 == 0"), MarkersAlong("three_unstable", three_.unstable), three_.unstable},
         {bridge, With("halo", "vectors"), bridge_count},
         {bridge, With("bridge"), bridge_count}};
     for (const auto& [spec, look, count] : layers) {
@@ -361,6 +366,13 @@ std::string BridgeInsets(const Context& c, const Plot& plot);
 // The zooms on each stable stretch of the 1-ipp branch too short to see (under
 // 1 % of the period axis), on the 1-ipp chart (EnergyAxes(c, true)).
 std::string StableStretchInsets(const Context& c, const Plot& plot);
+
+// A layer circling the point (t, x) as `role` (a one-point datablock),
+// keyed `title` unless it is empty.
+void Mark(Plot& plot, double t, double x, const char* role, const std::string& title);
+// Layers marking the points (t, d) where an orbit strikes the obstacle
+// (keyed once, "impact: x_c = d").
+std::function<void(Plot&)> ImpactMarks(const Context& c, const std::vector<double>& times);
 
 // The set-up of a multi-panel chart's one key (Plot::Legend, the plot that
 // follows): an invisible frame, the key centred at the foot of the canvas in

@@ -402,18 +402,17 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
          << NiceStep(x_lo, std::max(x_hi, c.b.gap), 4) << "\n";
     Plot p("plot", Plot::Keys::kCollected);
     // Each orbit in its family's colour (Fig. 8's), keyed once in black.
-    const char* family = orbits[k].first == "1-ipp" ? "one_stable" : orbits[k].first == "2-ipp" ? "two_stable" : "three_stable";
+    const char* family = o.impacts == 1 ? "one_stable" : o.impacts == 2 ? "two_stable" : "three_stable";
     if (k == 0) p.KeyOnly(With("analytic", "lines", style::Colour("black")), "analytic");
     p.Unkeyed("'validation_orbits.csv' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'analytic' ? $3 : 1/0):4",
               With("analytic", "lines", style::RoleColour(family)))
         .Add("'' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'simulated' ? $3 : 1/0):4", With("simulated"),
              "simulated, " + std::to_string(shown) + "th period")
         .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
-    // Its impacts: t = 0 (and T) and each further one.
-    body << "$impacts" << k << " << EOD\n0," << c.b.gap << "\n";
-    for (const double t : o.times) body << t / o.period << "," << c.b.gap << "\n";
-    body << "1," << c.b.gap << "\nEOD\n";
-    p.Add("$impacts" + std::to_string(k) + " using 1:2", With("orbit_impact"), "impacts");
+    // Its impacts: t = 0 (and T) and each further one, on t / T.
+    std::vector<double> impacts = {0.0, 1.0};
+    for (const double t : o.times) impacts.push_back(t / o.period);
+    ImpactMarks(c, impacts)(p);
     entries.insert(entries.end(), p.Collected().begin(), p.Collected().end());
     body << p.str();
   }

@@ -39,25 +39,6 @@
 namespace nsmodal::report {
 namespace {
 
-// A layer circling the point (t, x) as `role` (a one-point datablock).
-void Mark(Plot& plot, double t, double x, const char* role, const std::string& title) {
-  std::ostringstream spec;
-  spec << "'+' using (" << t << "):(" << x << ") every ::0::0";
-  if (title.empty()) {
-    plot.Unkeyed(spec.str(), With(role));
-  } else {
-    plot.Add(spec.str(), With(role), title);
-  }
-}
-
-// Layers marking the points (t, d) where orbits strike the obstacle.
-std::function<void(Plot&)> ImpactMarks(const Context& c, const std::vector<double>& times) {
-  const double d = c.b.gap;
-  const std::string title = "impact: " + Xc(c) + " = d";
-  return [times, d, title](Plot& plot) {
-    for (std::size_t k = 0; k < times.size(); ++k) Mark(plot, times[k], d, "orbit_impact", k ? "" : title);
-  };
-}
 
 // A chart of x_c(t) over one period of one orbit (Figs. 2, 5, 9) drawn as
 // `role`: the orbit's samples to DIR/NAME.csv, the obstacle at d, the part
@@ -454,6 +435,32 @@ struct SectionCurve {
   std::vector<Eigen::MatrixXd> trajectories;  // OrbitTrajectory of each orbit
 };
 
+// The columns of a section CSV (WriteTrajectory) that the sections draw, as
+// gnuplot's column numbers: x_other (time for one dof), x_c, v_c.
+struct SectionColumns {
+  std::string u, w, v;
+};
+
+// [a, b] padded by 5 % on each side, its top at least `beyond`.
+std::string PaddedRange(double a, double b, double beyond = -INFINITY) {
+  std::ostringstream os;
+  os << "[" << a - 0.05 * (b - a) << ":" << std::max(b + 0.05 * (b - a), beyond) << "]";
+  return os.str();
+}
+
+// The axes of a section's (x_c, v_c) projection, its obstacle line x_c = d:
+// the data's ranges (autoscaling would extend them to the next ticks), x_c
+// past the obstacle by 8 % of its range (its line clear of the frame).
+std::string ContactProjectionAxes(const Context& c, const double lo[3], const double hi[3]) {
+  std::ostringstream os;
+  os << "set xlabel '" << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s")
+     << "'\nset xtics " << NiceStep(lo[1], hi[1], 3) << "\nset ytics " << NiceStep(lo[2], hi[2], 5) << "\nset xrange "
+     << PaddedRange(lo[1], hi[1], c.b.gap + 0.08 * (hi[1] - lo[1])) << "\nset yrange " << PaddedRange(lo[2], hi[2])
+     << "\nset arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead " << style::Look("obstacle")
+     << "\n";
+  return os.str();
+}
+
 // A family drawn as curves (SectionFamily::surface false) in two
 // projections: (x_other, x_c) with the obstacle x_c = d a line, and (x_c,
 // v_c), where the jump of v_c at x_c = d is a gap between each orbit's
@@ -462,17 +469,9 @@ struct SectionCurve {
 // (In 3-D, a few space curves and no surface gave no depth cue: a tangle.)
 // NAME.csv as DrawSection's.
 void DrawProjections(Context& c, const std::string& name, const std::string& parameter, const std::string& bar,
-                     const std::vector<SectionCurve>& curves, const double lo[3], const double hi[3],
-                     const std::vector<std::pair<double, bool>>& orbits, const std::string& note) {
-  const int cols[3] = {c.b.n > 1 ? 1 + c.other : 0, 1 + c.contact, 1 + c.b.n + c.contact};
-  const std::string u = std::to_string(TCol() + cols[0]), w = std::to_string(TCol() + cols[1]),
-                    v = std::to_string(TCol() + cols[2]);
-  auto range = [](double a, double b, double beyond) {
-    std::ostringstream os;
-    os << "[" << a - 0.05 * (b - a) << ":" << std::max(b + 0.05 * (b - a), beyond) << "]";
-    return os.str();
-  };
-  const double past = c.b.gap + 0.08 * (hi[1] - lo[1]);  // the obstacle clear of the frame
+                     const SectionColumns& col, const std::vector<SectionCurve>& curves, const double lo[3],
+                     const double hi[3], const std::vector<std::pair<double, bool>>& orbits, const std::string& note) {
+  const std::string &u = col.u, &w = col.w, &v = col.v;
   std::ostringstream body;
   body << "set multiplot\n" << style::Palette("family", parameter) << bar << "set cbrange [0:1]\n"
        << "set bmargin at screen 0.24\nset tmargin at screen 0.97\n"
@@ -480,8 +479,8 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
        << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 2\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
        << DofLabel("x", c.contact, "m") << "'\nset xtics " << NiceStep(lo[0], hi[0], 4) << "\nset ytics "
-       << NiceStep(lo[1], hi[1], 4) << "\nset xrange " << range(lo[0], hi[0], -INFINITY) << "\nset yrange "
-       << range(lo[1], hi[1], past) << "\n";
+       << NiceStep(lo[1], hi[1], 4) << "\nset xrange " << PaddedRange(lo[0], hi[0]) << "\nset yrange "
+       << PaddedRange(lo[1], hi[1], c.b.gap + 0.08 * (hi[1] - lo[1])) << "\n";
   // The curves (a family's limit) under the family: at x_c = d, where the
   // orbits' v_c jumps, the limit covered the jumps.
   Plot left, right;
@@ -508,11 +507,7 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
   left.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle " + Xc(c) + " = d");
   body << left.str() << "unset key\nset lmargin at screen 0.58\nset rmargin at screen 0.82\n"
        << "set colorbox user origin screen 0.845, screen 0.3 size screen 0.025, screen 0.6\n"
-       << "set xlabel '" << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s")
-       << "'\nset xtics " << NiceStep(lo[1], hi[1], 3) << "\nset ytics " << NiceStep(lo[2], hi[2], 5)
-       << "\nset xrange " << range(lo[1], hi[1], past) << "\nset yrange " << range(lo[2], hi[2], -INFINITY) << "\n"
-       << "set arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead " << style::Look("obstacle")
-       << "\n" << right.str() << "unset multiplot";
+       << ContactProjectionAxes(c, lo, hi) << right.str() << "unset multiplot";
   Draw(c, name, body.str(), note);
 }
 
@@ -562,14 +557,15 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   // parameter's values (short: a long bar label is cut in the column PDF).
   std::ostringstream bar;
   bar << FamilyBarTics(s_lo, s_hi);
-  const std::string u = std::to_string(TCol() + cols[0]), w = std::to_string(TCol() + cols[1]),
-                    v = std::to_string(TCol() + cols[2]);
+  const SectionColumns col{std::to_string(TCol() + cols[0]), std::to_string(TCol() + cols[1]),
+                           std::to_string(TCol() + cols[2])};
+  const std::string &u = col.u, &w = col.w, &v = col.v;
   if (!family.surface) {
     std::vector<std::pair<double, bool>> orbits;  // each orbit's place along the family, and its stability
     for (std::size_t k = 0; k < family.orbits.size(); ++k) {
       orbits.push_back({(family.orbits[k].first - s_lo) / (s_hi - s_lo), family.stable.empty() || family.stable[k]});
     }
-    DrawProjections(c, name, family.parameter, bar.str(), curves, lo, hi, orbits, note);
+    DrawProjections(c, name, family.parameter, bar.str(), col, curves, lo, hi, orbits, note);
     return;
   }
   std::ostringstream body;
@@ -624,16 +620,8 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
     body << "unset border\nunset tics\nunset xlabel\nunset ylabel\nunset zlabel\nunset colorbox\nunset key\nunset grid\n"
          << "unset label 1\n" << over.str() << "set border\nset tics\nset grid\n";
   }
-  body << "unset label 1\nset size 0.36, 1\nset origin 0.64, 0\nunset pm3d\nunset colorbox\nunset key\nset xlabel '"
-       << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s") << "'\n"
-       << "set xtics " << NiceStep(lo[1], hi[1], 3) << "\nset ytics " << NiceStep(lo[2], hi[2], 5) << "\n"
-       // (Past the obstacle by 8 % of the range: its line clear of the frame.)
-       << "set xrange [" << lo[1] - 0.05 * (hi[1] - lo[1]) << ":"
-       << std::max(hi[1] + 0.05 * (hi[1] - lo[1]), c.b.gap + 0.08 * (hi[1] - lo[1])) << "]\n"
-       // (The data's range: autoscaling would extend it to the next ticks.)
-       << "set yrange [" << lo[2] - 0.05 * (hi[2] - lo[2]) << ":" << hi[2] + 0.05 * (hi[2] - lo[2]) << "]\n"
-       << "set arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead " << style::Look("obstacle") << "\n"
-       << projection.str() << "unset multiplot";
+  body << "unset label 1\nset size 0.36, 1\nset origin 0.64, 0\nunset pm3d\nunset colorbox\nunset key\n"
+       << ContactProjectionAxes(c, lo, hi) << projection.str() << "unset multiplot";
   Draw(c, name, body.str(), note);
 }
 
@@ -693,13 +681,11 @@ void Figures11And12(Context& c) {
   for (int i = 1; i <= c.b.n; ++i) out << ",v" << i;
   out << ",t2,energy,arclength,stable\n";
   const Orbit linear = GrazingMode(c.b, mode, period);
-  long stable_orbits = 0;
   std::vector<double> orbit_shades;  // each orbit's arclength (index 0: the mode), then its fraction
   std::vector<bool> orbit_stable;
   auto write = [&](int index, const Orbit& o, double arclength) {
     const Eigen::MatrixXd tr = OrbitTrajectory(c.b, o, kSamples);
     const bool stable = index > 0 && OrbitStability(c.b, o).stable;
-    stable_orbits += stable;
     orbit_shades.push_back(arclength);
     orbit_stable.push_back(stable);
     for (long r = 0; r < tr.rows(); ++r) {
@@ -743,6 +729,7 @@ void Figures11And12(Context& c) {
   // colour is their place along the family); the impacts at 0 and T filled.
   const std::string stable_col = "$" + std::to_string(7 + 2 * c.b.n);
   Plot plot;
+  const long stable_orbits = std::count(orbit_stable.begin() + 1, orbit_stable.end(), true);
   if (stable_orbits > 0) plot.KeyOnly(With("family_orbit"), "stable orbit");
   if (stable_orbits < curves) plot.KeyOnly(With("family_orbit_unstable"), "unstable orbit");
   // (Each orbit a layer at its place on the palette, WithMapped: a layer
@@ -759,9 +746,8 @@ void Figures11And12(Context& c) {
       .Unkeyed("'fig11_two_impact_mode.csv' every ::0::0 using ($1 > 0 ? $" + std::to_string(4 + 2 * c.b.n) +
                    " / $2 : 1/0):(" + std::to_string(c.b.gap) + "):" + arc,
                style::WithPalette("impact_map"))
-      .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d")
-      .Add("'+' using (column(0) == 0 ? 0 : 1):(" + std::to_string(c.b.gap) + ") every ::0::1", With("orbit_impact"),
-           "first impact, at 0 and T");
+      .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+  ImpactMarks(c, {0.0, 1.0})(plot);  // (the first impact, at 0 and T: t / T = 0 and 1)
   body << plot.str();
   out.Commit();
   std::ostringstream note;
@@ -1092,11 +1078,9 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   // runs along past T_G.)
   energies.Add("'fig16_three_impact_family.csv' using 1:($5 == 0 ? $4 : 1/0)", With("not_admissible"),
                "3-ipp, not admissible", three[0])
-      // (With about 12 open markers along it, the line cut around each
-      // (pi < 0): a short unstable stretch's dashes read as a solid line, and
-      // a line through an open marker filled it.)
-      .Add("'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0)",
-           With("three_unstable", "linespoints") + " pi -" + std::to_string(std::max(1L, three[1] / 12)), "3-ipp, unstable",
+      // (Markers along it: a short unstable stretch's dashes read as a
+      // solid line.)
+      .Add("'' using 1:($5 == 1 && $6 == 0 ? $4 : 1/0)", MarkersAlong("three_unstable", three[1]), "3-ipp, unstable",
            three[1])
       // (A dot on every stable orbit: the stretch may be two orbits long.)
       .Add("'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0)", With("three_stable", "linespoints"), "3-ipp, stable", three[2])
