@@ -198,13 +198,16 @@ void FigureMultipliers(Context& c) {
   marks << "EOD\n";
   const double m_top = std::min(m_hi, 1e3) * 1.5;
   std::ostringstream body;
-  // Two panels stacked (height 1.15 width): the branch across the whole
-  // width, where the stability changes 1.1 apart in T stand apart even in a
-  // journal's column, one key for both inside it, over T 10-19 where the
-  // branch is not admissible; below, the complex plane's square panel as
-  // wide as the lower part lets it be.
+  // Two panels stacked (height 1.15 width), their frames between the same
+  // left and right edges: above, the branch, where the stability changes
+  // 1.1 apart in T stand apart even in a journal's column, one key for both
+  // inside it, over T 10-19 where the branch is not admissible (clear of the
+  // spike at 20.4); below, the complex plane at equal scales, its colour bar
+  // beside it in the upper panel's right margin.
+  constexpr double kLeft = 0.11, kRight = 0.81, kBottom = 0.07, kTop = 0.51, kAspect = 1.15;
   body << marks.str() << "set multiplot\nset size 1, 0.45\nset origin 0, 0.55\n"
-       << "set key at graph 0.46, graph 0.97 center top Left reverse samplen 1.5 maxrows 7\n"
+       << "set lmargin at screen " << kLeft << "\nset rmargin at screen " << kRight << "\n"
+       << "set key at graph 0.29, graph 0.97 left top Left reverse samplen 1.5 maxrows 7\n"
        << "set xlabel 'period T (s)'\n"
        // (From 0.7 and 2 % beyond the branch's ends: the stable orbits, at
        // |mu| = 1, and the ends' points clear of the frame.)
@@ -221,13 +224,17 @@ void FigureMultipliers(Context& c) {
       .Add("$minus using 1:2", With("multiplier_minus_one"), "{/Symbol m} through -1", static_cast<long>(minus.size()));
   if (stable > 0) left.KeyOnly(With("map_stable", "points", style::Colour("black")), "{/Symbol m}, stable orbit");
   if (unstable > 0) left.KeyOnly(With("map_unstable", "points", style::Colour("black")), "{/Symbol m}, unstable orbit");
-  // The complex plane: the multipliers within 2.5 of 0 (the larger real ones
-  // of the unstable orbits are on the upper panel), of every third stable
-  // and every third unstable orbit (all of them lay hundreds deep: filled
-  // and open could not be told; counted apart, a short stable stretch keeps
-  // its points).
-  body << left.str() << "unset logscale y\nunset key\nset size 0.72, 0.55\nset origin 0.08, 0\nset size ratio -1\n"
-       << "set xrange [-2.5:2.5]\nset yrange [-2.5:2.5]\nset xtics 1\nset ytics 1\n"
+  // The complex plane: Im mu within 2.5 of 0 and Re mu as far as the frame's
+  // width allows at equal scales (the larger real ones of the unstable orbits
+  // are on the upper panel), of every third stable and every third unstable
+  // orbit (all of them lay hundreds deep: filled and open could not be told;
+  // counted apart, a short stable stretch keeps its points).
+  const double re_half = 2.5 * (kRight - kLeft) / ((kTop - kBottom) * kAspect);
+  body << left.str() << "unset logscale y\nunset key\nset size 1, 0.55\nset origin 0, 0\n"
+       << "set bmargin at screen " << kBottom << "\nset tmargin at screen " << kTop << "\n"
+       << "set colorbox user origin screen " << kRight + 0.02 << ", screen " << kBottom << " size screen 0.022, screen "
+       << kTop - kBottom << "\n"
+       << "set xrange [" << -re_half << ":" << re_half << "]\nset yrange [-2.5:2.5]\nset xtics 1\nset ytics 1\n"
        << "set xlabel 'Re {/Symbol m}'\nset ylabel 'Im {/Symbol m}'\n"
        << style::Palette("family", "T (s) along the 1-ipp branch") << FamilyBarTics(t_lo, t_hi) << "set cbrange [0:1]\n";
   // The multipliers of the unstable orbits open, of the stable ones filled
@@ -244,7 +251,7 @@ void FigureMultipliers(Context& c) {
   Draw(c, "multipliers_one_impact", body.str(),
        std::to_string(stable + unstable) + " admissible orbits, T from " + Num(t_lo) + " to " + Num(t_hi) +
            ", largest |mu| " + Num(m_hi),
-       1.15);
+       kAspect);
 }
 
 // time_history: x and v of the contact dof (and x of the others) over three
