@@ -160,6 +160,36 @@ TEST(Explore, TheAdmissibleThreeImpactFamilyIsFollowedToItsEnds) {
   }
 }
 
+// Past T_G the family (no longer admissible) passes an energy peak above
+// 1e5 J near T = 29.761. Written with its impact times reversed (t2, t3) ->
+// (t3 - t2, t3), the same orbits, as the figures' search finds it, Newton
+// converged there on another branch before the landing check (t2 jumping
+// from 11.98 to 14.17, 2.2 s, between T = 29.75 and 29.76) and the family
+// went on as if it were the same. Now every step stays on the branch: the
+// impact times move by at most 0.2 s between points (the largest step the
+// family makes in either writing measured 0.067 s, near its fold at
+// T = 29.943), and where it can go no further it says why: the first
+// writing stops at the fold, the reversed one just before the peak (29.7595
+// from this start: Newton does not reach 1e-13 there), both past 29.75.
+TEST(Explore, TheFamilyContinuationDoesNotJumpToAnotherBranch) {
+  const AnalysisBasis b = testing::PaperBasis();
+  const std::optional<ExploreFinding> found = AdmissibleNewThreeImpactOrbit(b, 27.5);
+  ASSERT_TRUE(found.has_value());
+  Orbit reversed = found->orbit;
+  reversed.times = {found->orbit.times[1] - found->orbit.times[0], found->orbit.times[1]};
+  for (const Orbit& start : {found->orbit, reversed}) {
+    const Family up = FollowOddImpactFamily(b, start, 30.0);
+    EXPECT_GT(up.orbits.back().period, 29.75) << up.stop;
+    EXPECT_LT(up.orbits.back().period, 29.95) << up.stop;
+    EXPECT_NE(up.stop.find("beyond T = "), std::string::npos) << up.stop;
+    for (std::size_t k = 2; k < up.orbits.size(); ++k) {
+      for (std::size_t i = 0; i < up.orbits[k].times.size(); ++i) {
+        EXPECT_LT(std::abs(up.orbits[k].times[i] - up.orbits[k - 1].times[i]), 0.2) << "T = " << up.orbits[k].period;
+      }
+    }
+  }
+}
+
 TEST(Explore, FamilyRequestsAreChecked) {
   const AnalysisBasis b = testing::PaperBasis();
   const Orbit one = OneImpactOrbit(b, 5.0);

@@ -391,6 +391,7 @@ Family FollowOddImpactFamily(const AnalysisBasis& b, const Orbit& start, double 
   const double dir = to >= start.period ? 1.0 : -1.0;
   double h = options.step;
   int halvings = 0;
+  bool after_jump = false;
   while (true) {
     ThrowIfStopRequested();
     const Orbit& cur = f.orbits.back();
@@ -410,16 +411,33 @@ Family FollowOddImpactFamily(const AnalysisBasis& b, const Orbit& start, double 
       for (double& t : guess) t *= period / cur.period;
     }
     const std::optional<Orbit> next = FamilyOrbit(b, guess, period, start.sequence);
-    if (!next) {
-      if (++halvings > 30) {
-        f.stop = "Newton does not converge beyond T = " + FormatValue(cur.period) + " (30 step halvings)";
+    // A correction ten times the step's prediction (or the step) has landed
+    // on another branch: past a fold of the family, Newton converges to
+    // another root (on paper.toml's 3-ipp family the impact times jumped by
+    // a fifteenth of the period).
+    double moved = 0.0, predicted = 0.0;
+    for (std::size_t i = 0; next && i < guess.size(); ++i) {
+      moved = std::max(moved, std::abs(next->times[i] - guess[i]));
+      predicted = std::max(predicted, std::abs(guess[i] - cur.times[i]));
+    }
+    const bool jumped = next && moved > 10.0 * std::max(predicted, h);
+    if (!next || jumped) {
+      // (Past a fold where the family turns back in T every step fails or
+      // jumps: the end is located to 1e-7 T.)
+      after_jump = jumped;
+      if (++halvings > 30 || h < 1e-7 * std::abs(cur.period)) {
+        f.stop = jumped ? "the continuation in T lands on another branch beyond T = " : "Newton does not converge beyond T = ";
+        f.stop += FormatValue(cur.period);
+        f.stop += halvings > 30 ? " (30 step halvings)" : " (the step halved below 1e-7 T)";
         break;
       }
       h *= 0.5;
       continue;
     }
     halvings = 0;
-    h = std::min(options.step, 2.0 * h);
+    // (Not after a jump: the step that landed would jump again.)
+    if (!after_jump) h = std::min(options.step, 2.0 * h);
+    after_jump = false;
     f.orbits.push_back(*next);
     const Orbit& a = f.orbits[f.orbits.size() - 2];
     const Orbit& z = f.orbits.back();

@@ -78,8 +78,11 @@ ExploreReport ExploreImpacts(const AnalysisBasis& b, const std::vector<double>& 
 // the m - 1 impact times t_2..t_m. From `start` the period steps by `step`
 // towards `to`; each point is predicted by the secant of the last two and
 // corrected by Newton (finite-difference Jacobian, at most 30 iterations,
-// converged at max |c_i / c_0 - 1| <= 1e-13); a point that does not converge
-// is retried at half the step, at most 30 times. It stops at `to`, or after
+// converged at max |c_i / c_0 - 1| <= 1e-13); a point that does not converge,
+// or whose correction is more than ten times the step's prediction (or the
+// step: it landed on another branch, as past a fold where the family turns
+// back in T), is retried at half the step, at most 30 times and while the
+// step is at least 1e-7 T. It stops at `to`, or after
 // the first point that is not potential (a flight or an impact velocity
 // changing sign: the family has left the orbits with m impacts). Where
 // admissibility changes for the first time between two points, the change
