@@ -276,52 +276,44 @@ std::string FepChart(Context& c, const FepTable& table, const std::string& fep, 
   return body.str();
 }
 
+Occupancy::Occupancy(double t_lo, double t_hi, double e_lo, double e_hi)
+    : t_lo_(t_lo), t_hi_(t_hi), e_lo_(e_lo), e_hi_(e_hi) {}
+
+double Occupancy::X(double t) const { return (t - t_lo_) / (t_hi_ - t_lo_); }
+
+double Occupancy::Y(double e) const { return std::log(e / e_lo_) / std::log(e_hi_ / e_lo_); }
+
+void Occupancy::Mark(double fx, double fy, long weight) {
+  if (fx < 0.0 || fx >= 1.0 || fy < 0.0 || fy >= 1.0 || !std::isfinite(fx) || !std::isfinite(fy)) return;
+  long& cell = cells_[static_cast<int>(fx * kCells) * kCells + static_cast<int>(fy * kCells)];
+  cell = std::max(cell, weight);
+}
+
+void Occupancy::MarkBox(double x0, double y0, double x1, double y1) {
+  for (double x = x0; x <= x1; x += 0.5 / kCells) {
+    for (double y = y0; y <= y1; y += 0.5 / kCells) Mark(x, y);
+  }
+}
+
+long Occupancy::Count(double x0, double y0, double x1, double y1) const {
+  long n = 0;
+  for (int i = std::max(0, static_cast<int>(x0 * kCells)); i < std::min(kCells, static_cast<int>(x1 * kCells) + 1); ++i) {
+    for (int j = std::max(0, static_cast<int>(y0 * kCells)); j < std::min(kCells, static_cast<int>(y1 * kCells) + 1);
+         ++j) {
+      n += cells_[i * kCells + j];
+    }
+  }
+  return n;
+}
+
 namespace {
-
-// A frame's free space: which of its 100 x 100 cells something drawn
-// crosses (T linear, E logarithmic, as EnergyAxes).
-class Occupancy {
- public:
-  // What a cell holds: the chart's subject (an inset there hides it) or its
-  // context (the potential orbits of Fig. 3: an inset avoids them if it can).
-  static constexpr long kSubject = 1000, kContext = 1;
-  Occupancy(double t_top, double e_lo, double e_hi) : t_top_(t_top), e_lo_(e_lo), e_hi_(e_hi) {}
-  double X(double t) const { return t / t_top_; }
-  double Y(double e) const { return std::log(e / e_lo_) / std::log(e_hi_ / e_lo_); }
-  void Mark(double fx, double fy, long weight = kSubject) {
-    if (fx < 0.0 || fx >= 1.0 || fy < 0.0 || fy >= 1.0 || !std::isfinite(fx) || !std::isfinite(fy)) return;
-    long& cell = cells_[static_cast<int>(fx * kCells) * kCells + static_cast<int>(fy * kCells)];
-    cell = std::max(cell, weight);
-  }
-  void MarkBox(double x0, double y0, double x1, double y1) {
-    for (double x = x0; x <= x1; x += 0.5 / kCells) {
-      for (double y = y0; y <= y1; y += 0.5 / kCells) Mark(x, y);
-    }
-  }
-  // The cells' weights summed over a box.
-  long Count(double x0, double y0, double x1, double y1) const {
-    long n = 0;
-    for (int i = std::max(0, static_cast<int>(x0 * kCells)); i < std::min(kCells, static_cast<int>(x1 * kCells) + 1); ++i) {
-      for (int j = std::max(0, static_cast<int>(y0 * kCells)); j < std::min(kCells, static_cast<int>(y1 * kCells) + 1);
-           ++j) {
-        n += cells_[i * kCells + j];
-      }
-    }
-    return n;
-  }
-
- private:
-  static constexpr int kCells = 100;
-  double t_top_, e_lo_, e_hi_;
-  std::array<long, kCells * kCells> cells_{};
-};
 
 // The frame of a frequency-energy chart (EnergyAxes): what it draws, as
 // occupied cells. The admissible orbits (the 1-ipp ones alone if
 // `one_only`), the singular transitions' lines, the bridges and their labels.
 Occupancy FepOccupancy(const Context& c, bool one_only) {
   const auto [lo, hi] = EnergyRange(c);
-  Occupancy free(PeriodTop(c, one_only), lo, hi);
+  Occupancy free(0.0, PeriodTop(c, one_only), lo, hi);
   for (const Sweep* sweep : {&c.atlas.one, &c.atlas.two}) {
     if (one_only && sweep != &c.atlas.one) continue;
     for (const auto& list : sweep->at) {
@@ -354,13 +346,20 @@ Occupancy FepOccupancy(const Context& c, bool one_only) {
 }  // namespace
 
 std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const std::vector<Zoom>& zooms) {
-  Occupancy free = FepOccupancy(c, one_only);
-  // An inset: 27 % of the frame's width, 30 % of its height, its own frame
-  // inside it clear of its tick labels (left and below).
-  constexpr double kW = 0.27, kH = 0.30, kLeft = 0.085, kBelow = 0.075, kEdge = 0.012;
+  return ZoomInsets(FepOccupancy(c, one_only), plot, zooms, false);
+}
+
+std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>& zooms, bool in_multiplot) {
+  // An inset (by default 27 % of the frame's width, 30 % of its height), its
+  // own frame inside it clear of its period labels (below), two tick labels
+  // on each axis, the energy's inside the frame (outside, they hung over the
+  // chart's data, and at a journal's column width a label of five digits is
+  // wider than any margin an inset can spare).
+  constexpr double kLeft = 0.012, kBelow = 0.075, kEdge = 0.012;
   std::ostringstream boxes, insets;
   int shown = 0;
   for (const Zoom& z : zooms) {
+    const double kW = z.width, kH = z.height;
     // The free place nearest the zoomed window, highest first: fewest cells
     // covered, then nearest. (`at`: the window's middle in the frame.)
     const double at = free.X(0.5 * (z.t_lo + z.t_hi));
@@ -406,17 +405,17 @@ std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const 
     insets << "set lmargin at screen " << sx(bx + kLeft) << "\nset rmargin at screen " << sx(bx + kW - kEdge)
            << "\nset bmargin at screen " << sy(by + kBelow) << "\nset tmargin at screen " << sy(by + kH - kEdge) << "\n"
            << "set xrange [" << z.t_lo << ":" << z.t_hi << "]\nset yrange [" << z.e_lo << ":" << z.e_hi << "]\n"
-           << "set xtics " << TwoTicksStep(z.t_lo, z.t_hi) << "\nset ytics " << TwoTicksStep(z.e_lo, z.e_hi)
-           << "\nset tics scale 0.5\nset mytics default\nset format y '%g'\n"
+           << "set xtics " << TwoTicks(z.t_lo, z.t_hi) << "\nset ytics " << TwoTicks(z.e_lo, z.e_hi)
+           << " left offset character 0.9, 0\nset tics scale 0.5\nset mytics default\nset format y '%g'\n"
            << (z.label.empty() ? "" : "set label '" + z.label + "' at graph 0.06, graph 0.86 front\n") << plot.Untitled();
   }
   if (shown == 0) return plot.str();
-  return boxes.str() + "set multiplot\n" + plot.str() +
+  return boxes.str() + (in_multiplot ? "" : "set multiplot\n") + plot.str() +
          "ns_x0 = GPVAL_TERM_XMIN * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_XSIZE\n"
          "ns_x1 = GPVAL_TERM_XMAX * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_XSIZE\n"
          "ns_y0 = GPVAL_TERM_YMIN * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_YSIZE\n"
          "ns_y1 = GPVAL_TERM_YMAX * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_YSIZE\n" +
-         insets.str() + "unset multiplot\n";
+         insets.str() + (in_multiplot ? "" : "unset multiplot\n");
 }
 
 std::string BridgeInsets(const Context& c, const Plot& plot) {
@@ -552,6 +551,44 @@ double EnergyTop(std::vector<double> energies) {
   const auto mid = energies.begin() + static_cast<long>(energies.size() / 2);
   std::nth_element(energies.begin(), mid, energies.end());
   return 30.0 * *mid;
+}
+
+namespace {
+
+std::optional<Orbit> ZoneEndBetween(const Atlas& atlas, std::size_t k, long j) {
+  const auto& at = atlas.one.at;
+  if (j < 0 || static_cast<std::size_t>(j) >= at.size()) return std::nullopt;
+  const Orbit& o = at[k].front().orbit;
+  const Orbit& next = at[static_cast<std::size_t>(j)].front().orbit;
+  if (!o.admissible || next.admissible) return std::nullopt;
+  const double lo = std::min(o.period, next.period), hi = std::max(o.period, next.period);
+  for (const Transition& t : atlas.transitions) {
+    if ((t.kind != TransitionKind::kModal && t.kind != TransitionKind::kGrazing) || t.period <= lo || t.period >= hi) {
+      continue;
+    }
+    Orbit end = o;
+    end.period = t.period;
+    end.energy = t.energy;
+    return end;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<Orbit> ZoneEndBefore(const Atlas& atlas, std::size_t k) {
+  return ZoneEndBetween(atlas, k, static_cast<long>(k) - 1);
+}
+
+std::optional<Orbit> ZoneEndAfter(const Atlas& atlas, std::size_t k) {
+  return ZoneEndBetween(atlas, k, static_cast<long>(k) + 1);
+}
+
+std::string TwoTicks(double lo, double hi) {
+  const double step = TwoTicksStep(lo, hi);
+  std::ostringstream os;
+  os << "(" << std::ceil(lo / step) * step << ", " << std::floor(hi / step) * step << ")";
+  return os.str();
 }
 
 double TwoTicksStep(double lo, double hi) {

@@ -215,6 +215,9 @@ std::string FamilyBarTics(double lo, double hi);
 double NiceStep(double lo, double hi, int ticks);
 // About three ticks on [lo, hi], at least two of them labelled inside it.
 double TwoTicksStep(double lo, double hi);
+// Two ticks on [lo, hi], the first and the last of TwoTicksStep's, as
+// gnuplot's tic list "(a, b)".
+std::string TwoTicks(double lo, double hi);
 // The period axis's end: the admissible orbits' longest period plus 5 %, on
 // a multiple of 2 s, within the atlas's period grid; of the 1-ipp orbits
 // alone when `one_only`.
@@ -235,13 +238,29 @@ void BridgeLabels(const Context& c, std::ostream& body);
 // joined into branches (TwoImpactBranches) and drawn as lines too, marked
 // every few points (filled dots stable, open circles unstable: told apart
 // from the 1-ipp lines in greyscale); `branch` numbers them (0 elsewhere).
+// Where the admissible 1-ipp stretch through step k of the atlas's sweep
+// begins (Before: between steps k - 1 and k) or ends (After: k and k + 1) on
+// a modal or grazing transition: the transition's orbit (step k's, at the
+// transition's period and energy), to draw the stretch to its end (the
+// branch rises steeply to a modal end: the last step fell short of its
+// mark). Nothing where step k is not admissible or its neighbour is.
+std::optional<Orbit> ZoneEndBefore(const Atlas& atlas, std::size_t k);
+std::optional<Orbit> ZoneEndAfter(const Atlas& atlas, std::size_t k);
+
 class FepTable {
  public:
-  // The admissible orbits of an atlas's 1- and 2-ipp sweeps.
+  // The admissible orbits of an atlas's 1- and 2-ipp sweeps; a 1-ipp
+  // stretch that ends on a modal or grazing transition between two steps
+  // drawn to it (the transition's orbit as the stretch's end, its stability
+  // the nearest step's: the branch rises steeply to a modal end, and the
+  // last step fell short of its mark).
   void AddAtlas(const Atlas& atlas) {
-    for (std::size_t k = 0; k < atlas.one.at.size(); ++k) {
-      const OrbitRecord& r = atlas.one.at[k].front();
+    const auto& at = atlas.one.at;
+    for (std::size_t k = 0; k < at.size(); ++k) {
+      const OrbitRecord& r = at[k].front();
+      if (const std::optional<Orbit> end = ZoneEndBefore(atlas, k)) Add(static_cast<int>(k), *end, r.stability);
       Add(static_cast<int>(k), r.orbit, r.stability);
+      if (const std::optional<Orbit> end = ZoneEndAfter(atlas, k)) Add(static_cast<int>(k), *end, r.stability);
     }
     for (std::size_t k = 0; k < atlas.two.at.size(); ++k) {
       for (const OrbitRecord& r : atlas.two.at[k]) Add(static_cast<int>(k), r.orbit, r.stability);
@@ -257,7 +276,7 @@ class FepTable {
       return;
     }
     Family& f = one ? one_ : half ? half_ : three_;
-    if (f.last >= 0 && step != f.last + 1) f.rows << "\n";
+    if (f.last >= 0 && step != f.last + 1 && step != f.last) f.rows << "\n";  // (the same step: a stretch's end)
     f.last = step;
     (IsStable(s) ? f.stable : f.unstable) += 1;
     f.rows << (one ? "1-ipp" : half ? "2-ipp-half" : "3-ipp") << "," << o.period << "," << (one ? 0.0 : o.times[0])
@@ -355,11 +374,38 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
 struct Zoom {
   double t_lo, t_hi, e_lo, e_hi;
   std::string label;
+  double width = 0.27, height = 0.30;  // the inset's, as fractions of the frame
 };
+// A frame's free space: which of its 100 x 100 cells something drawn
+// crosses (T linear over [t_lo, t_hi], E logarithmic over [e_lo, e_hi]).
+class Occupancy {
+ public:
+  // What a cell holds: the chart's subject (an inset there hides it) or its
+  // context (the potential orbits of Fig. 3: an inset avoids them if it can).
+  static constexpr long kSubject = 1000, kContext = 1;
+  Occupancy(double t_lo, double t_hi, double e_lo, double e_hi);
+  // A period and an energy as fractions of the frame.
+  double X(double t) const;
+  double Y(double e) const;
+  // The cell at (fx, fy) holds at least `weight` (outside the frame: nothing).
+  void Mark(double fx, double fy, long weight = kSubject);
+  void MarkBox(double x0, double y0, double x1, double y1);
+  // The cells' weights summed over a box.
+  long Count(double x0, double y0, double x1, double y1) const;
+
+ private:
+  static constexpr int kCells = 100;
+  double t_lo_, t_hi_, e_lo_, e_hi_;
+  std::array<long, kCells * kCells> cells_{};
+};
+
 // The plot of a frequency-energy chart (EnergyAxes(c, one_only)) with an
 // inset on each window, in the frame's freest place near it (the window
 // boxed on the chart); a window with no free place is not zoomed.
 std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const std::vector<Zoom>& zooms);
+// The same on any frame (T linear, E logarithmic) whose drawn things `free`
+// holds; `in_multiplot`: the chart is one panel of a multiplot already.
+std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>& zooms, bool in_multiplot);
 // The zooms on each bridge too short to see at the chart's scale (under 4 %
 // of the energy axis's height).
 std::string BridgeInsets(const Context& c, const Plot& plot);

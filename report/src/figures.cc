@@ -108,13 +108,19 @@ void Figure3(Context& c) {
   report::ResultFile out(c.dir, "fig03_one_impact.csv");
   out << "T,energy,potential,admissible,stable,max_multiplier\n";
   long potential = 0, stable = 0, unstable = 0;
-  for (const auto& list : c.atlas.one.at) {
-    const Orbit& o = list.front().orbit;
-    const std::optional<Stability>& stability = list.front().stability;
-    out << o.period << "," << o.energy << "," << o.potential << "," << o.admissible << ","
-        << IsStable(stability) << ",";
-    if (stability) out << stability->max_modulus;
+  // (Each admissible stretch drawn to the modal or grazing transition it
+  // ends on: a row at the transition, step k's stability, no multiplier.)
+  auto row = [&](const Orbit& o, const std::optional<Stability>& stability, bool end) {
+    out << o.period << "," << o.energy << "," << o.potential << "," << o.admissible << "," << IsStable(stability) << ",";
+    if (stability && !end) out << stability->max_modulus;
     out << "\n";
+  };
+  for (std::size_t k = 0; k < c.atlas.one.at.size(); ++k) {
+    const Orbit& o = c.atlas.one.at[k].front().orbit;
+    const std::optional<Stability>& stability = c.atlas.one.at[k].front().stability;
+    if (const std::optional<Orbit> end = ZoneEndBefore(c.atlas, k)) row(*end, stability, true);
+    row(o, stability, false);
+    if (const std::optional<Orbit> end = ZoneEndAfter(c.atlas, k)) row(*end, stability, true);
     potential += o.potential;
     (IsStable(stability) ? stable : unstable) += o.admissible;
   }
@@ -1002,8 +1008,9 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   report::ResultFile out(c.dir, "fig16_three_impact_family.csv");
   out << "T,t2,t3,energy,admissible,stable,max_multiplier\n";
   long three[3] = {0, 0, 0};  // not admissible, unstable, stable
-  // The stable stretch, a few orbits long, is named where it is (its mean).
-  double s_t = 0.0, s_e = 0.0;
+  // The stable stretch, a few orbits long, is named where it is (its mean)
+  // and zoomed on (its first and last period).
+  double s_t = 0.0, s_e = 0.0, s_first = INFINITY, s_last = -INFINITY;
   for (const Orbit& o : pick.family) {
     out << o.period << "," << o.times[0] << "," << o.times[1] << "," << o.energy << "," << o.admissible << ",";
     if (o.admissible) {
@@ -1013,6 +1020,8 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
       if (s.defined && s.stable) {
         s_t += o.period;
         s_e += o.energy;
+        s_first = std::min(s_first, o.period);
+        s_last = std::max(s_last, o.period);
       }
     } else {
       out << "0,";
@@ -1022,11 +1031,14 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   }
   report::ResultFile one(c.dir, "fig16_one_impact.csv");
   one << "T,energy,admissible,stable\n";
-  // The period axis over the admissible stretch, 15 % of it before and 50 %
-  // after (where the family, no longer admissible, turns back: the caption
+  // The period axis over the admissible stretch, 15 % of it before and up to
+  // 50 % after (where the family, no longer admissible, goes on: the caption
   // follows it there).
+  // (Not beyond the family's last orbit and 10 % of the stretch: past it
+  // nothing is drawn.)
   const double width = pick.admissible_to - pick.admissible_from;
-  const double t_lo = pick.admissible_from - 0.15 * width, t_hi = pick.admissible_to + 0.5 * width;
+  const double t_lo = pick.admissible_from - 0.15 * width,
+               t_hi = std::min(pick.admissible_to + 0.5 * width, pick.family.back().period + 0.1 * width);
   long one_stable = 0, one_unstable = 0;
   for (const auto& list : c.atlas.one.at) {
     const OrbitRecord& r = list.front();
@@ -1062,7 +1074,8 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   // Two panels above one key for both (a key under each ran into the other
   // panel at the column's width); the energy axis from 0.7 of the lowest
   // orbit drawn, so that the lowest stretch and its label clear the frame.
-  body << "set multiplot\nset tmargin at screen 0.97\nset bmargin at screen 0.27\n"
+  constexpr double kFoot = 0.27;  // the panels' foot, over the key's band (0.15, five rows at a column's width) and the axes' labels
+  body << "set multiplot\nset tmargin at screen 0.97\nset bmargin at screen " << kFoot << "\n"
        << "set lmargin at screen 0.13\nset rmargin at screen 0.47\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset logscale y\n" << LogTics("y", bottom, top)
        << "set xtics " << NiceStep(t_lo, t_hi, 5) << "\n"
@@ -1084,7 +1097,11 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
            three[1])
       // (A dot on every stable orbit: the stretch may be two orbits long.)
       .Add("'' using 1:($5 == 1 && $6 == 1 ? $4 : 1/0)", With("three_stable", "linespoints"), "3-ipp, stable", three[2])
-      .Add("'fig16_one_impact.csv' using 1:($3 == 1 && $4 == 1 ? $2 : 1/0)", With("one_stable"), "1-ipp, stable", one_stable)
+      // (The admissible 1-ipp branch over a white halo: past T_G the 3-ipp
+      // continuation runs along it, and its dots between the 1-ipp dashes
+      // read as the dash-dot of the dilated 2-ipp.)
+      .Unkeyed("'fig16_one_impact.csv' using 1:($3 == 1 ? $2 : 1/0)", With("halo"))
+      .Add("'' using 1:($3 == 1 && $4 == 1 ? $2 : 1/0)", With("one_stable"), "1-ipp, stable", one_stable)
       .Add("'' using 1:($3 == 1 && $4 == 0 ? $2 : 1/0)", With("one_unstable"), "1-ipp, unstable", one_unstable)
       .Add("$ends using 1:2", With("range_end"), "ends of admissibility");
   // The orbit drawn on the right is marked on its branch, and its stability named.
@@ -1110,8 +1127,40 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
       .Add("$impacts using 1:2", With("orbit_impact"), "impacts (t = 0 again at T)");
   std::vector<Plot::Entry> entries = energies.Collected();
   entries.insert(entries.end(), orbit_plot.Collected().begin(), orbit_plot.Collected().end());
-  body << energies.str() << impacts.str() << "set lmargin at screen 0.64\nset rmargin at screen 0.98\n"
-       << "unset logscale y\nunset label\nset xtics autofreq\nset ytics autofreq\nset mytics default\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
+  // The stable stretch zoomed on where it is under 1 % of the period axis
+  // (2 px: one dot beside its label), in the frame's freest place: what
+  // the left panel draws marked (its orbits, the ends' lines, its marks).
+  std::vector<Zoom> zooms;
+  Occupancy free(t_lo, t_hi, bottom, top);
+  if (three[2] > 0 && s_last - s_first < 0.01 * (t_hi - t_lo)) {
+    for (const Orbit& o : pick.family) free.Mark(free.X(o.period), free.Y(o.energy));
+    for (const auto& list : c.atlas.one.at) {
+      const Orbit& o = list.front().orbit;
+      if (o.admissible) free.Mark(free.X(o.period), free.Y(o.energy));
+    }
+    for (const double t : {pick.admissible_from, pick.admissible_to}) free.MarkBox(free.X(t), 0.0, free.X(t), 1.0);
+    for (const Orbit* o : {&pick.start, &graze}) {
+      free.MarkBox(free.X(o->period) - 0.03, free.Y(o->energy) - 0.03, free.X(o->period) + 0.03, free.Y(o->energy) + 0.03);
+    }
+    const double mid = 0.5 * (s_first + s_last), half = std::max(1.5 * (s_last - s_first), 0.005 * (t_hi - t_lo));
+    double e_lo = INFINITY, e_hi = 0.0;
+    for (const Orbit& o : pick.family) {
+      if (std::abs(o.period - mid) <= half) {
+        e_lo = std::min(e_lo, o.energy);
+        e_hi = std::max(e_hi, o.energy);
+      }
+    }
+    const double pad = 0.3 * (e_hi - e_lo);
+    free.MarkBox(free.X(mid) - 0.1, free.Y(s_e / three[2]) - 0.08, free.X(mid) + 0.1, free.Y(s_e / three[2]));  // its label
+    // (Half the narrow panel's width: its tick labels, five digits of E,
+    // would fill a smaller one.)
+    if (e_hi > e_lo) zooms.push_back({mid - half, mid + half, e_lo - pad, e_hi + pad, "", 0.55, 0.36});
+  }
+  body << ZoomInsets(free, energies, zooms, true) << impacts.str();
+  // The right panel: what the left one (and its inset) set, reset.
+  body << "set lmargin at screen 0.64\nset rmargin at screen 0.98\nset tmargin at screen 0.97\nset bmargin at screen "
+       << kFoot << "\nunset object\nunset arrow\nset tics scale default\nset format y '% h'\n"
+       << "unset logscale y\nunset label\nset xtics autofreq\nset ytics autofreq right offset 0, 0\nset mytics default\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
        << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << LegendPanel(0.15)
        << Plot::Legend(entries) << "unset multiplot";
   out.Commit();
