@@ -59,6 +59,15 @@ def style_colours(path=STYLE):
         colours |= {c.upper() for _, c in m["stops"]}
     return colours
 
+def style_grey(path=STYLE):
+    """The style's grey (its [colours] grey, six hex digits, upper case), the
+    colour of a key by line style; None without a TOML reader."""
+    if tomllib is None:
+        return None
+    with open(path, "rb") as f:
+        return tomllib.load(f)["colours"]["grey"].upper()[-6:]
+
+
 # Deuteranopia, severity 1 (Machado et al. 2009), on linear RGB.
 DEUTAN = ((0.367322, 0.860646, -0.227968), (0.280085, 0.672501, 0.047413), (-0.011820, 0.042940, 0.968881))
 
@@ -198,6 +207,7 @@ def check(directory, keys=True, allowed="style"):
         sys.exit(f"check_figure_colours: no *.png.gp in {directory}")
     if allowed == "style":
         allowed = style_colours()
+    GREY = style_grey()
     for path in scripts:
         name = os.path.basename(path)[:-len(".png.gp")]
         with open(path) as f:
@@ -250,7 +260,13 @@ def check(directory, keys=True, allowed="style"):
                         # A layer coloured by a map keyed in black, its marker's shape.
                         black = item[3] is not None and item[3].upper()[-6:] == "000000"
                         by_map = black and (item[1], item[2], item[6]) in mapped
-                        if item[5] and item[1:4] not in drawn and not apart and not by_map:
+                        # A line style keyed in grey for the layers drawn in it in
+                        # several colours (a key by colour, one by style beside it).
+                        grey = GREY is not None and item[3] is not None and item[3].upper()[-6:] == GREY
+                        by_style = grey and item[1] == "lines" and sum(
+                            1 for d in drawn if d[0] == "lines" and d[1] == item[2] and d[2] is not None
+                            and d[2].upper()[-6:] != GREY) >= 2
+                        if item[5] and item[1:4] not in drawn and not apart and not by_map and not by_style:
                             failures.append(f"{name}: the key names '{item[0]}', whose style no panel draws")
                         elif not item[5] and inside == 0:
                             failures.append(f"{name}: the key names '{item[0]}', which draws no point inside the axes")

@@ -91,6 +91,24 @@ def test_a_black_key_stands_for_a_layer_coloured_by_a_map_with_its_marker(tmp_pa
     assert run(tmp_path, lines + ", NaN with lines lw 1 dt 2 lc rgb '#000000' title 'orbit'", keys=True) == 1
 
 
+@pytest.mark.skipif(shutil.which("gnuplot") is None or colours.style_grey() is None,
+                    reason="the key check runs gnuplot and reads the style")
+def test_a_grey_key_stands_for_a_line_style_drawn_in_several_colours(tmp_path):
+    # A key by colour (the levels) beside one by line style (stable solid,
+    # unstable dashed) in the style's grey: a grey style entry passes when
+    # lines of its dash are drawn in two colours or more, fails when in one
+    # only (then it is that layer's key, in the wrong colour) or in none.
+    grey = "#" + colours.style_grey()
+    (tmp_path / "a.csv").write_text("1,2\n2,3\n3,4\n")
+    two = ("set datafile separator ','\nplot 'a.csv' using 1:2 with lines dt 2 lc rgb '#0072B2' notitle, "
+           "'' using 1:($2 + 1) with lines dt 2 lc rgb '#E69F00' notitle")
+    key = f", NaN with lines dt 2 lc rgb '{grey}' title 'unstable'"
+    assert run(tmp_path, two + key, keys=True) == 0
+    one = "set datafile separator ','\nplot 'a.csv' using 1:2 with lines dt 2 lc rgb '#0072B2' notitle"
+    assert run(tmp_path, one + key, keys=True) == 1
+    assert run(tmp_path, two + key.replace("dt 2", "dt 3"), keys=True) == 1
+
+
 def test_the_style_pairs_that_only_colour_tells_apart():
     # The style's stability pairs (report/style.toml), stable dark, unstable
     # light: 1-ipp blue and sky blue, 2-ipp vermillion (darkened) and orange,

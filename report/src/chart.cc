@@ -276,12 +276,14 @@ std::string FepChart(Context& c, const FepTable& table, const std::string& fep, 
   return body.str();
 }
 
-Occupancy::Occupancy(double t_lo, double t_hi, double e_lo, double e_hi)
-    : t_lo_(t_lo), t_hi_(t_hi), e_lo_(e_lo), e_hi_(e_hi) {}
+Occupancy::Occupancy(double t_lo, double t_hi, double e_lo, double e_hi, bool log_e)
+    : t_lo_(t_lo), t_hi_(t_hi), e_lo_(e_lo), e_hi_(e_hi), log_e_(log_e) {}
 
 double Occupancy::X(double t) const { return (t - t_lo_) / (t_hi_ - t_lo_); }
 
-double Occupancy::Y(double e) const { return std::log(e / e_lo_) / std::log(e_hi_ / e_lo_); }
+double Occupancy::Y(double e) const {
+  return log_e_ ? std::log(e / e_lo_) / std::log(e_hi_ / e_lo_) : (e - e_lo_) / (e_hi_ - e_lo_);
+}
 
 void Occupancy::Mark(double fx, double fy, long weight) {
   if (fx < 0.0 || fx >= 1.0 || fy < 0.0 || fy >= 1.0 || !std::isfinite(fx) || !std::isfinite(fy)) return;

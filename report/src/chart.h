@@ -377,13 +377,14 @@ struct Zoom {
   double width = 0.27, height = 0.30;  // the inset's, as fractions of the frame
 };
 // A frame's free space: which of its 100 x 100 cells something drawn
-// crosses (T linear over [t_lo, t_hi], E logarithmic over [e_lo, e_hi]).
+// crosses (T linear over [t_lo, t_hi], E over [e_lo, e_hi], logarithmic
+// unless `log_e` is false).
 class Occupancy {
  public:
   // What a cell holds: the chart's subject (an inset there hides it) or its
   // context (the potential orbits of Fig. 3: an inset avoids them if it can).
   static constexpr long kSubject = 1000, kContext = 1;
-  Occupancy(double t_lo, double t_hi, double e_lo, double e_hi);
+  Occupancy(double t_lo, double t_hi, double e_lo, double e_hi, bool log_e = true);
   // A period and an energy as fractions of the frame.
   double X(double t) const;
   double Y(double e) const;
@@ -396,6 +397,7 @@ class Occupancy {
  private:
   static constexpr int kCells = 100;
   double t_lo_, t_hi_, e_lo_, e_hi_;
+  bool log_e_;
   std::array<long, kCells * kCells> cells_{};
 };
 

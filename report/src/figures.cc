@@ -1462,6 +1462,100 @@ int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisio
   return failed;
 }
 
+namespace {
+
+// The response chart's plot with an inset on each group of three or more
+// special points closer than their markers (3.5 % of the frame apart on
+// both axes: a peak between two grazings and two period doublings within
+// 0.02 rad/s piled up), the two largest groups, each where the frame is
+// free of the responses, the backbone and the points. `frame`: x from, to,
+// y from, to (y logarithmic on the energy's chart, column 5).
+std::string ResponseInsets(const std::vector<ResponseRow>& rows, const std::vector<SpecialPoint>& points,
+                           const std::vector<OrbitRecord>* backbone, bool frequency, int periods, int col,
+                           const std::array<double, 4>& frame, const Plot& plot) {
+  const bool log_y = col == 5;
+  Occupancy free(frame[0], frame[1], frame[2], frame[3], log_y);
+  auto x_of = [frequency](const ForcedOrbit& o) { return frequency ? o.frequency : o.amplitude; };
+  // (What the chart draws of an orbit: its energy, or its impact velocity
+  // where it has impacts and the velocity is not below the axis.)
+  auto y_of = [col](const ForcedOrbit& o) {
+    if (col == 5) return o.energy > 0.0 ? o.energy : std::numeric_limits<double>::quiet_NaN();
+    return o.impacts > 0 && o.min_impact_velocity >= -1e-12 ? o.min_impact_velocity
+                                                            : std::numeric_limits<double>::quiet_NaN();
+  };
+  // The responses as drawn, each segment between two rows of a branch too.
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const double x = x_of(rows[k].orbit), y = y_of(rows[k].orbit);
+    free.Mark(free.X(x), free.Y(y));
+    if (k + 1 < rows.size() && rows[k + 1].branch == rows[k].branch) {
+      const double x1 = x_of(rows[k + 1].orbit), y1 = y_of(rows[k + 1].orbit);
+      for (int i = 1; i < 8; ++i) {
+        const double f = i / 8.0;
+        free.Mark(free.X(x + f * (x1 - x)), (1 - f) * free.Y(y) + f * free.Y(y1));
+      }
+    }
+  }
+  if (backbone && log_y) {
+    for (const OrbitRecord& r : *backbone) {
+      if (r.orbit.admissible) free.Mark(free.X(periods * 2.0 * std::numbers::pi / r.orbit.period), free.Y(r.orbit.energy));
+    }
+  }
+  // The special points drawn, as fractions of the frame.
+  struct Drawn {
+    double x, y, fx, fy;
+    int group;
+  };
+  std::vector<Drawn> drawn;
+  for (const SpecialPoint& p : points) {
+    const bool boundary = p.kind == SpecialKind::kGrazing || p.kind == SpecialKind::kZeroVelocity;
+    const double x = x_of(p.orbit), y = y_of(p.orbit);
+    if (!(p.orbit.admissible || boundary) || !std::isfinite(y) || x < frame[0] || x > frame[1]) continue;
+    const double fx = free.X(x), fy = free.Y(y);
+    if (fy < 0.0 || fy > 1.0) continue;
+    free.MarkBox(fx - 0.015, fy - 0.015, fx + 0.015, fy + 0.015);
+    drawn.push_back({x, y, fx, fy, static_cast<int>(drawn.size())});
+  }
+  // Groups: points joined when within 3.5 % on both axes (single linkage).
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (Drawn& a : drawn) {
+      for (Drawn& b : drawn) {
+        if (a.group != b.group && std::abs(a.fx - b.fx) < 0.035 && std::abs(a.fy - b.fy) < 0.035) {
+          const int from = std::max(a.group, b.group), to = std::min(a.group, b.group);
+          for (Drawn& d : drawn) d.group = d.group == from ? to : d.group;
+          merged = true;
+        }
+      }
+    }
+  }
+  std::map<int, std::vector<const Drawn*>> groups;
+  for (const Drawn& d : drawn) groups[d.group].push_back(&d);
+  std::vector<std::vector<const Drawn*>> piled;
+  for (auto& [g, members] : groups) {
+    if (members.size() >= 3) piled.push_back(members);
+  }
+  std::stable_sort(piled.begin(), piled.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
+  if (piled.size() > 2) piled.resize(2);
+  std::vector<Zoom> zooms;
+  for (const auto& members : piled) {
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    for (const Drawn* d : members) {
+      x0 = std::min(x0, d->x);
+      x1 = std::max(x1, d->x);
+      y0 = std::min(y0, d->y);
+      y1 = std::max(y1, d->y);
+    }
+    // The group in the inset's middle half, at least 2 % of the frame wide
+    // and 6 % high (the markers clear of each other at the inset's scale).
+    const double px = std::max(0.5 * (x1 - x0), 0.01 * (frame[1] - frame[0]));
+    const double py = log_y ? std::max(0.5 * (y1 - y0), 0.06 * y1) : std::max(0.5 * (y1 - y0), 0.03 * (frame[3] - frame[2]));
+    zooms.push_back({x0 - px, x1 + px, std::max(y0 - py, log_y ? 0.5 * y0 : frame[2]), y1 + py, "", 0.28, 0.3});
+  }
+  return ZoomInsets(free, plot, zooms, false);
+}
+
+}  // namespace
+
 int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& rows,
                        const std::vector<SpecialPoint>& points, int dofs, const std::vector<OrbitRecord>* backbone,
                        bool frequency, int periods, std::ostream& log) {
@@ -1521,13 +1615,11 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
     // (towards its singular transitions).
     // (The impact velocity's axis a little below 0: a zero-velocity impact,
     // located at -1e-16, is marked on the frame's foot, not cut.)
-    if (col == 5) {
-      body << "set logscale y\n" << LogTics("y", 0.8 * e_min, 1.5 * e_max) << "set yrange [" << 0.8 * e_min << ":"
-           << 1.5 * e_max << "]\n";
-    } else {
-      const double top = v_max > 0.0 ? 1.3 * v_max : 1.0;
-      body << "set yrange [" << -0.03 * top << ":" << top << "]\n";
-    }
+    const bool log_y = col == 5;
+    const double top = v_max > 0.0 ? 1.3 * v_max : 1.0;
+    const double y_lo = log_y ? 0.8 * e_min : -0.03 * top, y_hi = log_y ? 1.5 * e_max : top;
+    if (log_y) body << "set logscale y\n" << LogTics("y", y_lo, y_hi);
+    body << "set yrange [" << y_lo << ":" << y_hi << "]\n";
     // What each branch draws on this chart: an orbit without impact has no
     // impact velocity, one not admissible may have a negative one (below
     // the axis).
@@ -1540,31 +1632,46 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
       }
     }
     // Each level in its colour, sampled on the level map (dark: the
-    // lowest): stable solid, unstable dashed, not admissible dotted; a
-    // level's first branch keys each, its other branches are the same. The
-    // keys in that order, level by level, on both charts.
+    // lowest): stable solid, unstable dashed, not admissible dotted. Two
+    // keys side by side (a level's three entries made a key of 15 that took
+    // a third of a column's height): the levels by colour, each in the
+    // first style it draws, then the styles in grey (where two levels or
+    // more draw them; with one level, that level's own entries).
     Plot plot;
     const std::string y = std::to_string(col);
+    const char* roles[] = {"response_not_admissible", "response_unstable", "response_stable"};  // count's index
+    const char* names[] = {"not admissible", "unstable", "stable"};
+    std::array<long, 3> styled{0, 0, 0};  // levels drawing each style
+    std::array<std::pair<std::string, std::string>, 3> alone;  // a style one level draws: that level's entry (title, look)
     for (std::size_t k = 0; k < levels.size(); ++k) {
       const std::string colour = style::MapColour("level", levels.size() < 2 ? 0.0 : k / (levels.size() - 1.0));
       std::ostringstream level;
       level << (frequency ? "a = " : "{/Symbol w} = ") << levels[k] << (frequency ? " N" : " rad/s");
-      for (int what : {2, 1, 0}) {  // stable, unstable, not admissible (count's index)
-        bool keyed = false;
+      bool keyed = false;
+      for (int what : {2, 1, 0}) {  // stable, unstable, not admissible
+        bool drawn = false;
         for (const auto& [branch, n] : count) {
           if (level_of[branch] != k || n[what] == 0) continue;
           const std::string spec = "'response.csv' using ($" + branch_col + " == " + std::to_string(branch) +
                                    (what == 0 ? " && $8 == 0" : " && $8 == 1 && $9 == " + std::to_string(what - 1)) +
                                    " ? $" + x + " : 1/0):" + y;
-          const char* role = what == 2 ? "response_stable" : what == 1 ? "response_unstable" : "response_not_admissible";
-          const std::string look = With(role, "lines", colour);
-          if (keyed) {
-            plot.Unkeyed(spec, look);
+          const std::string look = With(roles[what], "lines", colour);
+          if (levels.size() < 2 && !drawn) {
+            plot.Add(spec, look, level.str() + ", " + names[what]);
           } else {
-            plot.Add(spec, look, level.str() + (what == 2 ? ", stable" : what == 1 ? ", unstable" : ", not admissible"));
-            keyed = true;
+            plot.Unkeyed(spec, look);
           }
+          if (levels.size() >= 2 && !keyed) plot.KeyOnly(look, level.str());
+          drawn = keyed = true;
         }
+        styled[what] += drawn;
+        if (drawn) alone[what] = {level.str() + ", " + names[what], With(roles[what], "lines", colour)};
+      }
+    }
+    if (levels.size() >= 2) {
+      for (int what : {2, 1, 0}) {
+        if (styled[what] >= 2) plot.KeyOnly(With(roles[what], "lines", style::Colour("grey")), names[what]);
+        if (styled[what] == 1) plot.KeyOnly(alone[what].second, alone[what].first);
       }
     }
     if (backbone) {
@@ -1573,7 +1680,7 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
       long drawn[2] = {0, 0};  // unstable, stable admissible orbits of the backbone
       for (const OrbitRecord& r : *backbone) drawn[IsStable(r.stability)] += r.orbit.admissible;
       plot.Add("'backbone.csv' using ($4 == 1 && $5 == 1 ? " + std::to_string(periods) + " * $1 : 1/0):" + by,
-               With("backbone"), "nonsmooth mode (backbone)", drawn[1])
+               With("backbone"), "nonsmooth mode, stable (backbone)", drawn[1])
           .Add("'backbone.csv' using ($4 == 1 && $5 == 0 ? " + std::to_string(periods) + " * $1 : 1/0):" + by,
                With("backbone_unstable"), "nonsmooth mode, unstable", drawn[0]);
     }
@@ -1598,7 +1705,7 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
                    " ? $" + x + " : 1/0):" + std::to_string(pcol),
                With(role), kind, n);
     }
-    body << plot.str();
+    body << ResponseInsets(rows, points, backbone, frequency, periods, col, {frame_lo, frame_hi, y_lo, y_hi}, plot);
     const ChartStatus chart = DrawChart(dir, name, body.str());
     if (!chart.drawn) {
       log << name << " not drawn: " << chart.message << "\n";
