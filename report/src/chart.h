@@ -308,13 +308,19 @@ class FepTable {
     for (std::size_t k = 0; k < kKeyTitles.size(); ++k) {
       if (counts[k] > 0) plot.KeyOnly(With(roles[k], kinds[k]), kKeyTitles[k]);
     }
+    // The 3-ipp family first, under the 2-ipp branch it runs along from
+    // T = 26.7 to 29.3 on paper.toml (over it, its squares had hidden that
+    // branch in every view; under it, they show beside it).
+    // (A dot on every stable 3-ipp orbit: the stretch may be a few orbits,
+    // too short a line to see. Markers along the unstable ones: in
+    // greyscale its dash-dot-dot was the dilated branch's dash-dot.)
+    if (three_.stable > 0) plot.Unkeyed(select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints"));
+    if (three_.unstable > 0) plot.Unkeyed(select("3-ipp", " && $5 == 0"), MarkersAlong("three_unstable", three_.unstable));
     // The 2-ipp branches: each a line with its markers at the rows the
     // table marks (equal steps along it).
     const std::string source = "'" + csv + "'" + ix;
     if (two_stable_ > 0) MarkedLine(plot, source, "2", "strcol(1) eq '2-ipp' && $5 == 1", "$4", 7, "two_stable");
     if (two_unstable_ > 0) MarkedLine(plot, source, "2", "strcol(1) eq '2-ipp' && $5 == 0", "$4", 7, "two_unstable");
-    // (A dot on every stable 3-ipp orbit: the stretch may be a few orbits,
-    // too short a line to see.)
     // The bridges, among the 2-ipp markers, over a white halo that cuts the
     // branches under them (the 3-ipp family runs on a 2-ipp branch: a halo
     // there erased it).
@@ -323,10 +329,6 @@ class FepTable {
         {select("1-ipp", " && $5 == 1"), With("one_stable"), one_.stable},
         {select("1-ipp", " && $5 == 0"), With("one_unstable"), one_.unstable},
         {select("2-ipp-half", ""), With("two_half"), half_.stable + half_.unstable},
-        {select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints"), three_.stable},
-        // (Markers along it: in greyscale its dash-dot-dot was the dilated
-        // branch's dash-dot.)
-        {select("3-ipp", " && $5 == 0"), MarkersAlong("three_unstable", three_.unstable), three_.unstable},
         {bridge, With("halo", "vectors"), bridge_count},
         {bridge, With("bridge"), bridge_count}};
     for (const auto& [spec, look, count] : layers) {
