@@ -705,7 +705,7 @@ void Figures11And12(Context& c) {
   // The arclength from the branch's start, the grazing mode.
   const double s0 = branch[run.front()].arclength, s1 = branch[run.back()].arclength;
   write(0, linear, 0.0);
-  const int curves = 8;  // (more overlap into a band)
+  const int curves = 4;  // (eight, dashed, tangled where x_c < 0: no orbit could be followed)
   std::ostringstream summary;
   for (int j = 1; j <= curves; ++j) {
     const BranchPoint& p = AtArclength(m, static_cast<double>(j) / curves);
@@ -730,7 +730,7 @@ void Figures11And12(Context& c) {
   const std::string arc = "($" + std::to_string(6 + 2 * c.b.n) + " / " + std::to_string(std::abs(s1 - s0)) + ")";
   const std::string xc = std::to_string(XCol(c, c.contact));
   body << "set xlabel 'time over the period t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
-       << style::Palette("family", "arclength {/Symbol s}") << bar.str() << "set cbrange [0:1]\n"
+       << style::Palette("family", "arclength {/Symbol s} (s)") << bar.str() << "set cbrange [0:1]\n"
        << "set xrange [0:1]\n";
   // Each orbit solid where stable, dashed where not (keyed in black: their
   // colour is their place along the family); the impacts at 0 and T filled.
@@ -762,15 +762,14 @@ void Figures11And12(Context& c) {
        << ", the shortest linear period) to " << summary.str()
        << "; T spans [" << tmin << ", " << tmax << "]";
   Draw(c, "fig11_two_impact_orbits", body.str(), note.str());
-  // Fig. 12: the branch's orbits in the section: every other orbit of Fig.
-  // 11, in its colours (41 made a tangle where no orbit could be followed;
-  // 11 too).
+  // Fig. 12: the branch's orbits in the section: Fig. 11's, in its colours
+  // (41 made a tangle where no orbit could be followed; 11 too).
   // (The grazing mode, s = 0, is the black curve; the colour bar over the
   // whole arclength, as Fig. 11's. Curves sampled finely: 2 x 400 points.)
-  SectionFamily family{"arclength {/Symbol s}", {}};
+  SectionFamily family{"arclength {/Symbol s} (s)", {}};
   family.samples = 2 * kSamples;
   family.range = std::pair<double, double>{0.0, std::abs(s1 - s0)};
-  for (int j = 2; j <= curves; j += 2) {
+  for (int j = 1; j <= curves; ++j) {
     const BranchPoint& p = AtArclength(m, static_cast<double>(j) / curves);
     family.orbits.emplace_back(std::abs(p.arclength - s0),
                                OrbitTrajectory(c.b, TwoImpactOrbitAt(c.b, p.t2, p.period), family.samples));
