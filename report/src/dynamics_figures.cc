@@ -405,12 +405,12 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
     const Orbit& o = orbits[k].second;
     const auto [x_lo, x_hi] = x_range[k];
     body << panel(0, k) << "set title '" << orbits[k].first << ", T = " << Num(o.period) << "'\nset xlabel 't / T'\nset ylabel '"
-         << (k == 0 ? XcLabel(c) : std::string()) << "'\nset xrange [0:1]\nset xtics 0.5\nset ytics "
+         << (k == 0 ? DofLabel("x", c.contact, "m") : std::string()) << "'\nset xrange [0:1]\nset xtics 0.5\nset ytics "
          << NiceStep(x_lo, std::max(x_hi, c.b.gap), 4) << "\n";
     Plot p("plot", Plot::Keys::kCollected);
     // Each orbit in its family's colour (Fig. 8's), keyed once in black.
     const char* family = o.impacts == 1 ? "one_stable" : o.impacts == 2 ? "two_stable" : "three_stable";
-    if (k == 0) p.KeyOnly(With("analytic", "lines", style::Colour("black")), "analytic");
+    if (k == 0) p.KeyOnly(With("analytic", "lines", style::Colour("black")), "analytic (in the family colour)");
     p.Unkeyed("'validation_orbits.csv' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'analytic' ? $3 : 1/0):4",
               With("analytic", "lines", style::RoleColour(family)))
         .Add("'' using ($1 == " + std::to_string(k) + " && strcol(2) eq 'simulated' ? $3 : 1/0):4", With("simulated"),
@@ -434,7 +434,9 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
        << "\nset mxtics 2\nset mytics " << per_label << "\nset xlabel 'periods k'\n";
   for (int k = 0; k < cols; ++k) {
     // One scale: its tick labels on the first panel only.
-    body << panel(1, k) << "set ylabel '" << (k == 0 ? "deviation |z(kT) - z_0| / |z_0|" : "") << "'\n"
+    // (Short labels: the long ones overhung their panels in the column PDF;
+    // the caption names them.)
+    body << panel(1, k) << "set ylabel '" << (k == 0 ? "|{/Symbol D}z| / |z_0|" : "") << "'\n"
          << (k == 1 ? "set format y ''\n" : "");
     Plot p;
     p.Unkeyed("'validation_deviation.csv' index " + std::to_string(k) + " using 2:($3 > 0 ? $3 : 1/0)", With("function"));
