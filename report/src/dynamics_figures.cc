@@ -509,8 +509,9 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
   hits.Commit();
   std::ostringstream body;
   const double m = std::max(1.0, std::ceil(u_max * 10) / 10);
-  // Contours every 0.5 d, solid above 0 and dashed below: the sign read in
-  // greyscale, where the diverging map's two ends are the same grey.
+  // Contours every 0.5 d, solid above 0 and dashed below, 0 dotted: the
+  // sign read in greyscale, where the diverging map's two ends are the same
+  // grey (and near 0, where the other contours are far apart).
   std::ostringstream positive, negative;
   for (double level = 0.5; level < m; level += 0.5) {
     positive << (level > 0.5 ? "," : "") << level;
@@ -518,7 +519,7 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
   }
   body << "set datafile separator ','\nset contour base\nunset surface\nset view map\n";
   for (const auto& [block, levels] : {std::pair<const char*, std::string>{"$positive", positive.str()},
-                                      {"$negative", negative.str()}}) {
+                                      {"$negative", negative.str()}, {"$zero", "0"}}) {
     // (B-splines through the grid's contour points: the grid's cells made
     // the lines jagged.)
     body << "set cntrparam bspline\nset cntrparam levels discrete " << levels << "\nset table " << block
@@ -530,7 +531,7 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
        // (a strip above x = L: the impacts marked there are not cut.)
        << "set xrange [0:" << 1e3 * opt.t_end << "]\nset yrange [0:" << 1.06 * bar.length << "]\nset ytics "
        << NiceStep(0.0, bar.length, 4) << "\n"
-           << style::Palette("displacement", "u / d (contours every 0.5, dashed < 0)") << "set cbrange [" << -m << ":" << m
+           << style::Palette("displacement", "u / d (contours every 0.5, dashed < 0, dotted 0)") << "set cbrange [" << -m << ":" << m
        << "]\nunset key\n";
   Plot map;
   // (The contour tables are written with spaces, read here through the
@@ -539,6 +540,7 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
   map.Unkeyed("'bar_spacetime.csv' using 1:2:3", "with image")
       .Unkeyed("$positive" + words, With("contour_positive"))
       .Unkeyed("$negative" + words, With("contour_negative"))
+      .Unkeyed("$zero" + words, With("contour_zero"))
       .Unkeyed("'bar_spacetime_impacts.csv' using 1:2", With("impact"));
   body << map.str() << "set origin 0, 0\nset size 1, 0.36\nset tmargin 0.5\nset bmargin 3.5\nunset colorbox\n"
        << "set format x '% g'\nset xlabel 'time t (ms)'\nset ylabel 'u(L) / d'\nset yrange ["
