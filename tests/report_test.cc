@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "chart.h"
 #include "fixtures.h"
 #include "nsmodal/json.h"
 #include "nsmodal/one_impact.h"
@@ -146,4 +147,49 @@ TEST(Tables, ForcedValidationRowsHaveNoInfOrNan) {
 }
 
 }  // namespace
+
+// The 2-ipp roots of a sweep joined into branches (chart.h): at a fold in T,
+// where two roots meet and vanish between two steps, the two branches are
+// one curve (left apart, a steep curve was drawn in pieces with gaps); two
+// branches leaving the trivial root t2 = T/2 at a pitchfork are not. Steps
+// 0-10 at T = 1 + 0.1 k, every root at energy 1, a straight branch at
+// t2 / T = 0.8 throughout.
+namespace {
+
+std::vector<report::FepTable::Root> Line(double u) {
+  std::vector<report::FepTable::Root> roots;
+  for (int k = 0; k <= 10; ++k) roots.push_back({k, 1.0 + 0.1 * k, u * (1.0 + 0.1 * k), 1.0, false});
+  return roots;
+}
+
+}  // namespace
+
+TEST(Charts, TwoBranchesMeetingAtAFoldAreOneCurve) {
+  std::vector<report::FepTable::Root> roots = Line(0.8);
+  // u = 0.3 +- 0.01 sqrt(10 - k), k = 0..9: they meet past step 9.
+  for (int k = 0; k <= 9; ++k) {
+    const double t = 1.0 + 0.1 * k, w = 0.01 * std::sqrt(10.0 - k);
+    roots.push_back({k, t, (0.3 - w) * t, 1.0, false});
+    roots.push_back({k, t, (0.3 + w) * t, 1.0, false});
+  }
+  const std::vector<std::vector<report::FepTable::Root>> branches = report::TwoImpactBranches(roots);
+  ASSERT_EQ(branches.size(), 2u);
+  std::size_t fold = branches[0].size() == 20 ? 0 : 1;
+  ASSERT_EQ(branches[fold].size(), 20u);
+  // Out along one branch, back along the other: the steps rise to 9, then fall.
+  for (std::size_t i = 0; i < 20; ++i) EXPECT_EQ(branches[fold][i].step, i < 10 ? static_cast<int>(i) : 19 - static_cast<int>(i));
+  EXPECT_EQ(branches[1 - fold].size(), 11u);
+}
+
+TEST(Charts, TwoBranchesLeavingTheTrivialRootAreNotJoined) {
+  std::vector<report::FepTable::Root> roots = Line(0.8);
+  // u = 0.5 +- 0.02 sqrt(k), k = 1..10: a pitchfork of t2 = T/2 before step 1.
+  for (int k = 1; k <= 10; ++k) {
+    const double t = 1.0 + 0.1 * k, w = 0.02 * std::sqrt(static_cast<double>(k));
+    roots.push_back({k, t, (0.5 - w) * t, 1.0, false});
+    roots.push_back({k, t, (0.5 + w) * t, 1.0, false});
+  }
+  EXPECT_EQ(report::TwoImpactBranches(roots).size(), 3u);
+}
+
 }  // namespace nsmodal

@@ -195,6 +195,98 @@ std::string FamilyBarTics(double lo, double hi) {
   return os.str();
 }
 
+namespace {
+
+// A fold in T, where two roots meet and vanish between two steps: the two
+// branches that end (or begin) at the same step, adjacent in t2 / T (no root
+// of that step between them, nor t2 = T/2), within 0.2 of each other and
+// clear of t2 = 0 and T (where a branch leaves through the frame's edge, not
+// a fold), are
+// one curve turning back: joined end to end (the one entered at its end
+// reversed), the nearest pairs first. `roots`: every root, by step and t2.
+std::vector<std::vector<FepTable::Root>> JoinFolds(std::vector<std::vector<FepTable::Root>> branches,
+                                                   const std::vector<FepTable::Root>& roots) {
+  using Root = FepTable::Root;
+  auto u = [](const Root& r) { return r.t2 / r.period; };
+  if (roots.empty()) return branches;
+  const int first = roots.front().step, last = roots.back().step;
+  std::map<int, std::vector<double>> at_step;  // each step's roots' t2 / T, ascending (roots are sorted so)
+  for (const Root& r : roots) at_step[r.step].push_back(u(r));
+  // The endpoints at each step: (u, branch, side) with side 0 a start, 1 an end.
+  struct End {
+    double u;
+    std::size_t branch;
+    int side;
+  };
+  std::map<std::pair<int, int>, std::vector<End>> ends;  // (step, side) -> its endpoints
+  for (std::size_t b = 0; b < branches.size(); ++b) {
+    const Root& head = branches[b].front();
+    const Root& tail = branches[b].back();
+    if (head.step > first) ends[{head.step, 0}].push_back({u(head), b, 0});
+    if (tail.step < last) ends[{tail.step, 1}].push_back({u(tail), b, 1});
+  }
+  std::map<std::pair<std::size_t, int>, std::pair<std::size_t, int>> partner;
+  for (auto& [key, list] : ends) {
+    const std::vector<double>& all = at_step[key.first];
+    struct Pair {
+      double d;
+      std::size_t a, b;
+    };
+    std::vector<Pair> pairs;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      for (std::size_t j = i + 1; j < list.size(); ++j) {
+        const double lo = std::min(list[i].u, list[j].u), hi = std::max(list[i].u, list[j].u);
+        if (list[i].branch == list[j].branch || hi - lo > 0.2 || lo < 0.01 || hi > 0.99) continue;
+        // (The trivial root t2 = T/2 lies between them too: two branches
+        // leaving it at a pitchfork are not a fold.)
+        const bool between = (lo < 0.5 && hi > 0.5) ||
+                             std::any_of(all.begin(), all.end(), [&](double x) { return x > lo && x < hi; });
+        if (!between) pairs.push_back({hi - lo, i, j});
+      }
+    }
+    std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) { return x.d < y.d; });
+    for (const Pair& p : pairs) {
+      const End &a = list[p.a], &b = list[p.b];
+      if (partner.count({a.branch, a.side}) || partner.count({b.branch, b.side})) continue;
+      partner[{a.branch, a.side}] = {b.branch, b.side};
+      partner[{b.branch, b.side}] = {a.branch, a.side};
+    }
+  }
+  if (partner.empty()) return branches;
+  // Each chain walked from an unpaired end (a loop of folds from anywhere).
+  std::vector<bool> used(branches.size(), false);
+  std::vector<std::vector<Root>> joined;
+  auto walk = [&](std::size_t b, int enter) {
+    std::vector<Root> chain;
+    while (!used[b]) {
+      used[b] = true;
+      if (enter == 0) {
+        chain.insert(chain.end(), branches[b].begin(), branches[b].end());
+      } else {
+        chain.insert(chain.end(), branches[b].rbegin(), branches[b].rend());
+      }
+      const auto it = partner.find({b, 1 - enter});
+      if (it == partner.end()) break;
+      std::tie(b, enter) = it->second;
+    }
+    joined.push_back(std::move(chain));
+  };
+  for (std::size_t b = 0; b < branches.size(); ++b) {
+    if (used[b]) continue;
+    if (!partner.count({b, 0})) {
+      walk(b, 0);
+    } else if (!partner.count({b, 1})) {
+      walk(b, 1);
+    }
+  }
+  for (std::size_t b = 0; b < branches.size(); ++b) {
+    if (!used[b]) walk(b, 0);
+  }
+  return joined;
+}
+
+}  // namespace
+
 std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable::Root> roots) {
   using Root = FepTable::Root;
   std::sort(roots.begin(), roots.end(),
@@ -253,7 +345,7 @@ std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable:
     i = j;
   }
   for (std::vector<Root>& branch : open) done.push_back(std::move(branch));
-  return done;
+  return JoinFolds(std::move(done), roots);
 }
 
 std::string FepChart(Context& c, const FepTable& table, const std::string& fep, const std::string& bridges,

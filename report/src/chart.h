@@ -362,8 +362,10 @@ class FepTable {
 // (t2 / T, log E): a root continues the branch ending at the step before
 // whose predicted next point (extrapolated from its last two) is within 0.05
 // of it (|du| + |dv|; 0.25 of the last point for a branch of one point),
-// the nearest pairs joined first; a root left over starts a branch. A fold
-// in T, where two roots meet and vanish, ends both branches.
+// the nearest pairs joined first; a root left over starts a branch. At a
+// fold in T, where two roots meet and vanish between two steps, the two
+// branches ending (or beginning) there adjacent in t2 / T are joined end to
+// end, one reversed (left apart, a steep curve was pieces with gaps).
 std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable::Root> roots);
 
 // Where to put a branch's markers: at equal steps of its length in the

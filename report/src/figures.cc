@@ -277,7 +277,7 @@ void Figure6(Context& c) {
       found_roots.push_back({static_cast<int>(k), r.orbit.period, r.orbit.times[0], r.orbit.energy, r.orbit.admissible});
     }
   }
-  long other = 0, admissible = 0, alone = 0;
+  long other = 0, admissible = 0, alone = 0, alone_other = 0;
   const std::vector<std::vector<FepTable::Root>> branches = TwoImpactBranches(std::move(found_roots));
   // The rows of one branch (TwoImpactBranches joins a root to a branch only
   // within 0.05 of its extrapolation: no straight segment across a jump).
@@ -293,7 +293,7 @@ void Figure6(Context& c) {
         const FepTable::Root& r = branch[k];
         curves << r.period << "," << r.t2 << "," << r.stable << "," << b + 1 << "," << (run < 3) << "\n";
         (r.stable ? admissible : other) += 1;
-        alone += run < 3 && r.stable;
+        (r.stable ? alone : alone_other) += run < 3;
       }
     }
     curves << "\n";
@@ -320,8 +320,11 @@ void Figure6(Context& c) {
       .Add("'fig06_root_curves.csv' using 1:($3 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "lines"),
            "other root, not admissible", other)
       .Add("'' using 1:($3 == 1 ? $2 / $1 : 1/0)", With("root_curve"), "other root, admissible", admissible);
-  plot.Unkeyed("'fig06_root_curves.csv' using 1:($3 == 0 && $5 == 1 ? $2 / $1 : 1/0)", With("root_cloud_other"));
-  if (alone > 0) plot.Unkeyed("'fig06_root_curves.csv' using 1:($3 == 1 && $5 == 1 ? $2 / $1 : 1/0)", With("root"));
+  // (The runs of one or two roots, points: keyed, they had read as noise.)
+  plot.Add("'fig06_root_curves.csv' using 1:($3 == 0 && $5 == 1 ? $2 / $1 : 1/0)", With("root_cloud_other"),
+           "not admissible, a run of 1 or 2 roots", alone_other)
+      .Add("'fig06_root_curves.csv' using 1:($3 == 1 && $5 == 1 ? $2 / $1 : 1/0)", With("root"),
+           "admissible, a run of 1 or 2 roots", alone);
   plot.Add("0.5", With("two_half"), "trivial root t_2 = T/2");
   Draw(c, "fig06_root_curves", plane.str() + plot.str());
 }
