@@ -543,10 +543,30 @@ std::string StableStretchInsets(const Context& c, const Plot& plot) {
     if (stable) stretches.back().second = r.orbit.period;
     in = stable;
   }
+  // (Seen at the chart's scale: a stretch over 1 % of the period axis.)
+  std::erase_if(stretches, [&](const auto& s) { return s.second - s.first > 0.01 * t_top; });
+  // Two marks of the chart (TransitionMarks) on each other, under 1 % of the
+  // period axis and 4 % of the energy axis apart (on paper.toml the +1
+  // triangle at 20.18 sat on the modal pentagon at 20.37, the unstable
+  // stretch between them hidden): zoomed on too, unless a stretch's zoom
+  // holds them.
+  const auto [lo, hi] = EnergyRange(c);
+  std::vector<const Transition*> marks;
+  for (const Transition& t : c.transitions) {
+    if (t.kind != TransitionKind::kSingular && t.energy >= lo && t.energy <= hi) marks.push_back(&t);
+  }
+  std::sort(marks.begin(), marks.end(), [](const Transition* a, const Transition* b) { return a->period < b->period; });
+  for (std::size_t k = 0; k + 1 < marks.size(); ++k) {
+    const Transition &a = *marks[k], &b = *marks[k + 1];
+    if (b.period - a.period > 0.01 * t_top || std::abs(std::log(b.energy / a.energy)) > 0.04 * std::log(hi / lo)) continue;
+    const bool held = std::any_of(stretches.begin(), stretches.end(), [&](const auto& s) {
+      const double mid = 0.5 * (s.first + s.second), half = std::max(1.5 * (s.second - s.first), 0.005 * t_top);
+      return a.period >= mid - half && b.period <= mid + half;
+    });
+    if (!held) stretches.push_back({a.period, b.period});
+  }
   std::vector<Zoom> zooms;
   for (const auto& [first, last] : stretches) {
-    // Seen at the chart's scale: a stretch over 1 % of the period axis.
-    if (last - first > 0.01 * t_top) continue;
     // The zoom: the stretch in its middle third (at least 1 % of the axis
     // wide), the admissible branch's energies there.
     const double mid = 0.5 * (first + last), half = std::max(1.5 * (last - first), 0.005 * t_top);
@@ -556,6 +576,12 @@ std::string StableStretchInsets(const Context& c, const Plot& plot) {
       if (o.admissible && std::abs(o.period - mid) <= half) {
         e_lo = std::min(e_lo, o.energy);
         e_hi = std::max(e_hi, o.energy);
+      }
+    }
+    for (const Transition* t : marks) {  // (a modal end lies above the sweep's last orbit)
+      if (std::abs(t->period - mid) <= half) {
+        e_lo = std::min(e_lo, t->energy);
+        e_hi = std::max(e_hi, t->energy);
       }
     }
     if (!(e_hi > e_lo)) continue;
@@ -763,14 +789,14 @@ void TransitionLines(Context& c, const std::string& name, bool all, std::ostream
   body << VerticalLines(block + "_singular", at[TransitionKind::kSingular], lo, hi);
   // T_S above each singular transition's line, outside the frame (the
   // families crowd the top of the frame, where the energy diverges), each
-  // in the lowest row where it is a label's width (4.5 % of the axis in the
+  // in the lowest row where it is a label's width and a gap (5.5 % of the axis in the
   // column PDF, where the text is largest against the axis) from that row's
   // last.
   const double axis = PeriodTop(c, all);
   std::vector<double> last;  // each row's last label
   for (double t : at[TransitionKind::kSingular]) {
     std::size_t row = 0;
-    while (row < last.size() && t - last[row] < 0.045 * axis) ++row;  // the lowest row with room
+    while (row < last.size() && t - last[row] < 0.055 * axis) ++row;  // the lowest row with room
     if (row == last.size()) last.push_back(t);
     last[row] = t;
     body << "set label 'T_S' at " << t << ", graph 1 center offset 0, " << 0.8 + 1.1 * static_cast<double>(row) << "\n";

@@ -416,7 +416,9 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
 // of the energy axis's height).
 std::string BridgeInsets(const Context& c, const Plot& plot);
 // The zooms on each stable stretch of the 1-ipp branch too short to see (under
-// 1 % of the period axis), on the 1-ipp chart (EnergyAxes(c, true)).
+// 1 % of the period axis), and on two marks of the chart on each other (under
+// 1 % of the period axis and 4 % of the energy axis apart), on the 1-ipp
+// chart (EnergyAxes(c, true)).
 std::string StableStretchInsets(const Context& c, const Plot& plot);
 
 // A layer circling the point (t, x) as `role` (a one-point datablock),
