@@ -305,7 +305,9 @@ void FigureTimeHistory(Context& c) {
   body << "set multiplot layout 2,1\nset key below\nset xrange [0:" << opt.t_end << "]\nset format x ''\n"
        << "set ylabel 'displacement (m)'\nset lmargin 10\n";
   Plot top;
-  top.Add("'time_history.csv' using " + t + ":" + xc, With("dof_contact"), "x_{" + std::to_string(c.contact + 1) + "} (contact)");
+  // (The orbit's period in its key, as Figs. 2, 5 and 9 give it.)
+  top.Add("'time_history.csv' using " + t + ":" + xc, With("dof_contact"),
+          "x_{" + std::to_string(c.contact + 1) + "} (contact), T = " + Num(o->period) + " s");
   for (int i = 0; i < n; ++i) {
     if (i == c.contact) continue;
     if (i == (c.contact == 0 ? 1 : 0)) {
