@@ -1303,7 +1303,17 @@ void Figure18(Context& c) {
   const double top = std::min(2.0 * hi, EnergyTop(energies));
   body << "set logscale y\n" << LogTics("y", 0.8 * lo, top) << "set yrange [" << 0.8 * lo << ":" << top << "]\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << PeriodTop(c) << "]\n"
-       << "set key below\n";
+       << "set key below";
+  // The key's title names the walls the sequences number (a (1, 2) did not
+  // say which wall was 2).
+  if (c.model) {
+    body << " title 'impacts per period, in order, on walls";
+    for (std::size_t k = 0; k < c.model->contacts.size(); ++k) {
+      body << (k ? ", " : " ") << k + 1 << ": " << GnuplotText(c.model->contacts[k].Describe());
+    }
+    body << "'";
+  }
+  body << "\n";
   // The 1-impact sequences as Fig. 8's 1-ipp family (solid and dashed lines,
   // no markers: the first in its blue and sky, the others in the sequences'
   // colours), over the 2-impact ones (where a 1-impact family runs along a
