@@ -514,6 +514,14 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
     left.KeyOnly(With("family_orbit"), "stable orbit").KeyOnly(With("family_orbit_unstable"), "unstable orbit");
   }
   left.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle " + Xc(c) + " = d");
+  // The impact states on the right, just before and just after each impact
+  // (the samples at x_c = d, to 1e-9 of it), filled in their orbit's colour:
+  // where each orbit's loop breaks (keyed in black).
+  std::ostringstream at_d;
+  at_d << "(abs($" << w << " - " << c.b.gap << ") <= " << 1e-9 * std::max(1.0, std::abs(c.b.gap)) << " ? $" << w
+       << " : 1/0):" << v << ":2";
+  right.Unkeyed("'" + name + ".csv' index 0 using " + at_d.str(), style::WithPalette("impact_state"));
+  left.KeyOnly(With("impact_state", "points", style::Colour("black")), "impact state (right)");
   body << left.str() << "unset key\nset lmargin at screen 0.58\nset rmargin at screen 0.82\n"
        << "set colorbox user origin screen 0.845, screen 0.3 size screen 0.025, screen 0.6\n"
        << ContactProjectionAxes(c, lo, hi) << right.str() << "unset multiplot";
