@@ -854,7 +854,7 @@ void Figures13To15(Context& c) {
     upper.Add("'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" + xc, With("limit"),
               "grazing, s = 0")
         .Add("'' using (strcol(1) eq 'one_shifted' ? $3 : 1/0):" + xc, With("limit_shifted"),
-             "shifted by T/2");
+             "grazing shifted by T/2, s = s_{end}");
     std::vector<std::string> roles;
     for (int pct : {10, 30, 50}) {
       roles.push_back(With("orbit", "lines", style::MapColour("family", pct / 50.0)));
