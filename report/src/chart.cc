@@ -500,8 +500,15 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
            << "\nset bmargin at screen " << sy(by + kBelow) << "\nset tmargin at screen " << sy(by + kH - kEdge) << "\n"
            << "set xrange [" << z.t_lo << ":" << z.t_hi << "]\nset yrange [" << z.e_lo << ":" << z.e_hi << "]\n"
            << "set xtics " << TwoTicks(z.t_lo, z.t_hi) << "\nset ytics " << TwoTicks(z.e_lo, z.e_hi)
-           << " left offset character 0.9, 0\nset tics scale 0.5\nset mytics default\nset format y '%g'\n"
-           << (z.label.empty() ? "" : "set label '" + z.label + "' at graph 0.06, graph 0.86 front\n") << plot.Untitled();
+           << "\nset tics scale 0.5\nset mytics default\nset format y ''\n";
+    // The energy's two labels inside the frame on a white ground (as tick
+    // labels they were drawn under the inset's curves and markers).
+    const auto [e_first, e_last] = TwoTickValues(z.e_lo, z.e_hi);
+    insets << "set style textbox opaque noborder margins 0.3, 0.1\n";
+    for (const double e : {e_first, e_last}) {
+      insets << "set label '" << e << "' at graph 0, first " << e << " left offset character 0.6, 0 front boxed\n";
+    }
+    insets << (z.label.empty() ? "" : "set label '" + z.label + "' at graph 0.06, graph 0.86 front\n") << plot.Untitled();
   }
   if (shown == 0) return plot.str();
   return boxes.str() + (in_multiplot ? "" : "set multiplot\n") + plot.str() +
@@ -704,10 +711,15 @@ std::optional<Orbit> ZoneEndAfter(const Atlas& atlas, std::size_t k) {
   return ZoneEndBetween(atlas, k, static_cast<long>(k) + 1);
 }
 
-std::string TwoTicks(double lo, double hi) {
+std::pair<double, double> TwoTickValues(double lo, double hi) {
   const double step = TwoTicksStep(lo, hi);
+  return {std::ceil(lo / step) * step, std::floor(hi / step) * step};
+}
+
+std::string TwoTicks(double lo, double hi) {
+  const auto [first, last] = TwoTickValues(lo, hi);
   std::ostringstream os;
-  os << "(" << std::ceil(lo / step) * step << ", " << std::floor(hi / step) * step << ")";
+  os << "(" << first << ", " << last << ")";
   return os.str();
 }
 

@@ -215,8 +215,9 @@ std::string FamilyBarTics(double lo, double hi);
 double NiceStep(double lo, double hi, int ticks);
 // About three ticks on [lo, hi], at least two of them labelled inside it.
 double TwoTicksStep(double lo, double hi);
-// Two ticks on [lo, hi], the first and the last of TwoTicksStep's, as
+// Two ticks on [lo, hi], the first and the last of TwoTicksStep's, and as
 // gnuplot's tic list "(a, b)".
+std::pair<double, double> TwoTickValues(double lo, double hi);
 std::string TwoTicks(double lo, double hi);
 // The period axis's end: the admissible orbits' longest period plus 5 %, on
 // a multiple of 2 s, within the atlas's period grid; of the 1-ipp orbits
