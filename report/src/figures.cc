@@ -638,7 +638,9 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
     body << "unset border\nunset tics\nunset xlabel\nunset ylabel\nunset zlabel\nunset colorbox\nunset key\nunset grid\n"
          << "unset label 1\n" << over.str() << "set border\nset tics\nset grid\n";
   }
-  body << "unset label 1\nset size 0.36, 1\nset origin 0.64, 0\nunset pm3d\nunset colorbox\nunset key\n"
+  // (Margins above and right: the d label and the last tick label had
+  // met the canvas edge in the column PDF.)
+  body << "unset label 1\nset size 0.38, 1\nset origin 0.62, 0\nset tmargin 2\nset rmargin 2.5\nunset pm3d\nunset colorbox\nunset key\n"
        << ContactProjectionAxes(c, lo, hi) << projection.str() << "unset multiplot";
   Draw(c, name, body.str(), note);
 }
