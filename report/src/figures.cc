@@ -470,6 +470,15 @@ std::string ContactProjectionAxes(const Context& c, const double lo[3], const do
   return os.str();
 }
 
+// The `using` of a section's (x_c, v_c) samples at x_c = d (to 1e-9 of it):
+// the states just before and just after each impact, shaded by column 2.
+std::string ImpactStates(const Context& c, const std::string& w, const std::string& v) {
+  std::ostringstream os;
+  os << "(abs($" << w << " - " << c.b.gap << ") <= " << 1e-9 * std::max(1.0, std::abs(c.b.gap)) << " ? $" << w
+     << " : 1/0):" << v << ":2";
+  return os.str();
+}
+
 // A family drawn as curves (SectionFamily::surface false) in two
 // projections: (x_other, x_c) with the obstacle x_c = d a line, and (x_c,
 // v_c), where the jump of v_c at x_c = d is a gap between each orbit's
@@ -517,10 +526,7 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
   // The impact states on the right, just before and just after each impact
   // (the samples at x_c = d, to 1e-9 of it), filled in their orbit's colour:
   // where each orbit's loop breaks (keyed in black).
-  std::ostringstream at_d;
-  at_d << "(abs($" << w << " - " << c.b.gap << ") <= " << 1e-9 * std::max(1.0, std::abs(c.b.gap)) << " ? $" << w
-       << " : 1/0):" << v << ":2";
-  right.Unkeyed("'" + name + ".csv' index 0 using " + at_d.str(), style::WithPalette("impact_state"));
+  right.Unkeyed("'" + name + ".csv' index 0 using " + ImpactStates(c, w, v), style::WithPalette("impact_state"));
   left.KeyOnly(With("impact_state", "points", style::Colour("black")), "impact state (right)");
   body << left.str() << "unset key\nset lmargin at screen 0.58\nset rmargin at screen 0.82\n"
        << "set colorbox user origin screen 0.845, screen 0.3 size screen 0.025, screen 0.6\n"
@@ -622,6 +628,10 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   const std::string every = family.orbits.size() > 8 ? " every :2" : "";
   Plot projection;
   projection.Unkeyed("'" + name + ".csv' index 0" + every + " using " + w + ":" + v + ":2", "with lines lw 1 lc palette");
+  // Its impact states, filled in their orbit's colour (as Fig. 12's).
+  projection.Unkeyed("'" + name + ".csv' index 0" + every + " using " + ImpactStates(c, w, v),
+                     style::WithPalette("impact_state"));
+  surface.KeyOnly(With("impact_state", "points", style::Colour("black")), "impact state (right)");
   // A family's limit (the grazing orbit or mode, on the surface's edge,
   // which the depth-sorted surface hid) drawn again over the 3-D panel: the
   // same frame, ranges and view, nothing but the curve.
