@@ -168,6 +168,9 @@ void Figure4(Context& c, const ModalPick& m) {
       .Add("'' using (strcol(1) eq 'modal' ? $3/$2 : 1/0):" + xc, With("limit"), mode_title.str())
       .Add("'' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" + xc, With("not_admissible"), beyond_title.str())
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+  // The impact at t = 0, again at T (t / T = 0 and 1), filled as Figs. 2, 5
+  // and 9 fill theirs.
+  ImpactMarks(c, {0.0, 1.0})(plot);
   body << plot.str();
   out.Commit();
   std::ostringstream note;
