@@ -455,13 +455,28 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
   for (const Zoom& z : zooms) {
     const double kW = z.width, kH = z.height;
     // The free place nearest the zoomed window, highest first: fewest cells
-    // covered, then nearest. (`at`: the window's middle in the frame.)
+    // covered, then nearest, then with a leader crossing the least of the
+    // subject; clear of the frame's edges (the inset's ground cut them).
+    // (`at`: the window's middle in the frame.)
     const double at = free.X(0.5 * (z.t_lo + z.t_hi));
+    const double box_top = free.Y(z.e_hi), box_bottom = free.Y(z.e_lo);
+    // The leader from the window's box to the inset's frame placed at (x, y).
+    auto leader = [&](double x, double y) {
+      const double x0 = x + kLeft, x1 = x + kW - kEdge, y0 = y + kBelow, y1 = y + kH - kEdge;
+      const bool above = y0 >= box_top;
+      return std::array<double, 4>{at, above ? box_top : box_bottom, std::clamp(at, x0, x1), above ? y0 : y1};
+    };
     double best = INFINITY, bx = 0.0, by = 0.0;
-    for (double y = 1.0 - kH - 0.01; y >= 0.0; y -= 0.02) {
-      for (double x = 0.0; x <= 1.0 - kW + 1e-9; x += 0.01) {
+    for (double y = 1.0 - kH - 0.01; y >= 0.01; y -= 0.02) {
+      for (double x = 0.01; x <= 1.0 - kW - 0.01 + 1e-9; x += 0.01) {
+        const std::array<double, 4> l = leader(x, y);
+        int crossed = 0;
+        for (int i = 1; i < 40; ++i) {
+          const double fx = l[0] + (l[2] - l[0]) * i / 40.0, fy = l[1] + (l[3] - l[1]) * i / 40.0;
+          crossed += free.Count(fx, fy, fx, fy) >= Occupancy::kSubject;
+        }
         const double cost = static_cast<double>(free.Count(x, y, x + kW, y + kH)) + std::abs(x + 0.5 * kW - at) +
-                            0.5 * (1.0 - kH - y);
+                            0.5 * (1.0 - kH - y) + crossed / 40.0;
         if (cost < best) {
           best = cost;
           bx = x;
@@ -488,13 +503,12 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     // A leader from the box's side facing the inset to the inset's frame,
     // drawn with the inset (over its ground, which covered a leader drawn
     // with the chart).
+    // (Thin, solid and light: dotted grey, it read as a non-admissible
+    // branch.)
     {
-      const double box_top = free.Y(z.e_hi), box_bottom = free.Y(z.e_lo);
-      const double x0 = bx + kLeft, x1 = bx + kW - kEdge, y0 = by + kBelow, y1 = by + kH - kEdge;
-      const bool above = y0 >= box_top;
-      insets << "set arrow from screen " << sx(at) << ", screen " << sy(above ? box_top : box_bottom) << " to screen "
-             << sx(std::clamp(at, x0, x1)) << ", screen " << sy(above ? y0 : y1) << " nohead lw 0.6 dt 3 lc rgb '"
-             << style::Colour("grey") << "' front\n";
+      const std::array<double, 4> l = leader(bx, by);
+      insets << "set arrow from screen " << sx(l[0]) << ", screen " << sy(l[1]) << " to screen " << sx(l[2])
+             << ", screen " << sy(l[3]) << " nohead lw 0.5 dt 1 lc rgb '" << style::Colour("grey_light") << "' front\n";
     }
     insets << "set lmargin at screen " << sx(bx + kLeft) << "\nset rmargin at screen " << sx(bx + kW - kEdge)
            << "\nset bmargin at screen " << sy(by + kBelow) << "\nset tmargin at screen " << sy(by + kH - kEdge) << "\n"

@@ -1646,7 +1646,9 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
        {std::tuple<std::string, int, std::string>{"response_energy", 5, "mean energy (J)"},
         {"response_amplitude", 7, "velocity before impact v_c (m/s)"}}) {
     std::ostringstream body;
-    body << std::setprecision(17) << "set datafile separator ','\nset key below\n"
+    // (Five rows a column at most: at a journal's column width gnuplot set
+    // the 13 entries in one column, 45 % of the height.)
+    body << std::setprecision(17) << "set datafile separator ','\nset key below maxrows 5\n"
          << "set xlabel '" << (frequency ? "forcing frequency {/Symbol w} (rad/s)" : "forcing amplitude a (N)") << "'\n"
          << "set ylabel '" << label << "'\n"
          << "set xrange [" << frame_lo << ":" << frame_hi << "]\n";
@@ -1719,9 +1721,9 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
       long drawn[2] = {0, 0};  // unstable, stable admissible orbits of the backbone
       for (const OrbitRecord& r : *backbone) drawn[IsStable(r.stability)] += r.orbit.admissible;
       plot.Add("'backbone.csv' using ($4 == 1 && $5 == 1 ? " + std::to_string(periods) + " * $1 : 1/0):" + by,
-               With("backbone"), "nonsmooth mode, stable (backbone)", drawn[1])
+               With("backbone"), "backbone, stable", drawn[1])
           .Add("'backbone.csv' using ($4 == 1 && $5 == 0 ? " + std::to_string(periods) + " * $1 : 1/0):" + by,
-               With("backbone_unstable"), "nonsmooth mode, unstable", drawn[0]);
+               With("backbone_unstable"), "backbone, unstable", drawn[0]);
     }
     // The special points of the admissible parts (response_points.csv: w 1,
     // amplitude 2, kind 3, energy 4, impact_velocity 7, admissible 8).
