@@ -725,6 +725,8 @@ std::optional<Orbit> ZoneEndAfter(const Atlas& atlas, std::size_t k) {
   return ZoneEndBetween(atlas, k, static_cast<long>(k) + 1);
 }
 
+std::string BridgeLook() { return "with vectors arrowstyle 1"; }  // (style::ChartSetup's)
+
 std::pair<double, double> TwoTickValues(double lo, double hi) {
   const double step = TwoTicksStep(lo, hi);
   return {std::ceil(lo / step) * step, std::floor(hi / step) * step};

@@ -248,6 +248,10 @@ void BridgeLabels(const Context& c, std::ostream& body);
 std::optional<Orbit> ZoneEndBefore(const Atlas& atlas, std::size_t k);
 std::optional<Orbit> ZoneEndAfter(const Atlas& atlas, std::size_t k);
 
+// A bridge's look: its role's, with a flat cap at each end (a bridge that
+// ends short of a branch, as B4 does, read as reaching it).
+std::string BridgeLook();
+
 class FepTable {
  public:
   // The admissible orbits of an atlas's 1- and 2-ipp sweeps; a 1-ipp
@@ -307,7 +311,7 @@ class FepTable {
                            "two_half",   "three_stable", "three_unstable", "bridge"};
     const char* kinds[] = {"", "", "linespoints", "linespoints", "", "linespoints", "linespoints", ""};  // as keyed
     for (std::size_t k = 0; k < kKeyTitles.size(); ++k) {
-      if (counts[k] > 0) plot.KeyOnly(With(roles[k], kinds[k]), kKeyTitles[k]);
+      if (counts[k] > 0) plot.KeyOnly(k + 1 == kKeyTitles.size() ? BridgeLook() : With(roles[k], kinds[k]), kKeyTitles[k]);
     }
     // The 3-ipp family first, under the 2-ipp branch it runs along from
     // T = 26.7 to 29.3 on paper.toml (over it, its squares had hidden that
@@ -331,7 +335,7 @@ class FepTable {
         {select("1-ipp", " && $5 == 0"), With("one_unstable"), one_.unstable},
         {select("2-ipp-half", ""), With("two_half"), half_.stable + half_.unstable},
         {bridge, With("halo", "vectors"), bridge_count},
-        {bridge, With("bridge"), bridge_count}};
+        {bridge, BridgeLook(), bridge_count}};
     for (const auto& [spec, look, count] : layers) {
       if (count > 0) plot.Unkeyed(spec, look);
     }

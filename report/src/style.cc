@@ -253,8 +253,10 @@ std::string CycleColour(std::string_view cycle, std::size_t k) {
 }
 
 std::string ChartSetup(const Format& format) {
+  // (Arrow style 1: the bridge's line with a flat cap at each end, for
+  // `with vectors arrowstyle 1`; a plot command's own `size` took a comma.)
   return The().dash_patterns + "set grid lt 1 lw 0.5 lc rgb '" + Colour("grid") + "'\nset key " + format.key +
-         " noautotitle\n";
+         " noautotitle\nset style arrow 1 heads size screen 0.007,90 " + Look("bridge", "lines") + "\n";
 }
 
 std::string Json() {
