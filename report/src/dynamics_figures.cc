@@ -204,8 +204,10 @@ void FigureMultipliers(Context& c) {
   // inside it, over T 10-19 where the branch is not admissible (clear of the
   // spike at 20.4); below, the complex plane at equal scales, its colour bar
   // beside it in the upper panel's right margin.
-  constexpr double kLeft = 0.11, kRight = 0.81, kBottom = 0.07, kTop = 0.51, kAspect = 1.15;
-  body << marks.str() << "set multiplot\nset size 1, 0.45\nset origin 0, 0.55\n"
+  // (The complex plane's Im within 1.4 of 0: beyond it, nothing; the rest
+  // of the height to the branch.)
+  constexpr double kLeft = 0.11, kRight = 0.81, kBottom = 0.07, kTop = 0.42, kAspect = 1.15, kIm = 1.4;
+  body << marks.str() << "set multiplot\nset size 1, 0.53\nset origin 0, 0.47\n"
        << "set lmargin at screen " << kLeft << "\nset rmargin at screen " << kRight << "\n"
        << "set key at graph 0.29, graph 0.97 left top Left reverse samplen 1.5 maxrows 7\n"
        << "set xlabel 'period T (s)'\n"
@@ -224,17 +226,17 @@ void FigureMultipliers(Context& c) {
       .Add("$minus using 1:2", With("multiplier_minus_one"), "{/Symbol m} through -1", static_cast<long>(minus.size()));
   if (stable > 0) left.KeyOnly(With("map_stable", "points", style::Colour("black")), "{/Symbol m}, stable orbit");
   if (unstable > 0) left.KeyOnly(With("map_unstable", "points", style::Colour("black")), "{/Symbol m}, unstable orbit");
-  // The complex plane: Im mu within 2.5 of 0 and Re mu as far as the frame's
+  // The complex plane: Im mu within 1.4 of 0 and Re mu as far as the frame's
   // width allows at equal scales (the larger real ones of the unstable orbits
   // are on the upper panel), of every third stable and every third unstable
   // orbit (all of them lay hundreds deep: filled and open could not be told;
   // counted apart, a short stable stretch keeps its points).
-  const double re_half = 2.5 * (kRight - kLeft) / ((kTop - kBottom) * kAspect);
-  body << left.str() << "unset logscale y\nunset key\nset size 1, 0.55\nset origin 0, 0\n"
+  const double re_half = kIm * (kRight - kLeft) / ((kTop - kBottom) * kAspect);
+  body << left.str() << "unset logscale y\nunset key\nset size 1, 0.47\nset origin 0, 0\n"
        << "set bmargin at screen " << kBottom << "\nset tmargin at screen " << kTop << "\n"
        << "set colorbox user origin screen " << kRight + 0.02 << ", screen " << kBottom << " size screen 0.022, screen "
        << kTop - kBottom << "\n"
-       << "set xrange [" << -re_half << ":" << re_half << "]\nset yrange [-2.5:2.5]\nset xtics 1\nset ytics 1\n"
+       << "set xrange [" << -re_half << ":" << re_half << "]\nset yrange [" << -kIm << ":" << kIm << "]\nset xtics 1\nset ytics 1\n"
        << "set xlabel 'Re {/Symbol m}'\nset ylabel 'Im {/Symbol m}'\n"
        << style::Palette("family", "T (s) along the 1-ipp branch") << FamilyBarTics(t_lo, t_hi) << "set cbrange [0:1]\n";
   // The multipliers of the unstable orbits open, of the stable ones filled
