@@ -891,8 +891,10 @@ void Figures13To15(Context& c) {
     for (int pct : {10, 30, 50}) lower.Unkeyed(d + "s" + std::to_string(pct) + "' ? $2 : 1/0):3", roles[(pct - 10) / 20]);
     const std::string x = Xc(c);
     body << "unset key\n" << upper.str() << "set key below maxcols 2 maxrows 4\nset origin 0, 0\nset size 1, 0.5\nset tmargin 0.5\n"
-         << "unset bmargin\nset format x '% g'\nset xlabel 'time t (s)'\nset ylabel '" << x << " - " << x
-         << "(s = 0) (m)'\nset ytics " << NiceStep(-c.b.gap, c.b.gap, 4) << "\n"
+         // (Short: "x - x(s = 0)" ran into the upper panel's label in the
+         // column PDF; the caption says what it is.)
+         << "unset bmargin\nset format x '% g'\nset xlabel 'time t (s)'\nset ylabel '{/Symbol D}" << x
+         << " (m)'\nset ytics " << NiceStep(-c.b.gap, c.b.gap, 4) << "\n"
          << lower.str() << "unset multiplot\n";
     out.Commit();
     std::ostringstream note;
