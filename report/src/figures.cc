@@ -498,9 +498,13 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
   const std::string &u = col.u, &w = col.w, &v = col.v;
   std::ostringstream body;
   body << "set multiplot\n" << style::Palette("family", parameter) << bar << "set cbrange [0:1]\n"
-       << "set bmargin at screen 0.24\nset tmargin at screen 0.97\n"
+       // (The key below both panels in up to three rows of two, 0.3 high:
+       // at 0.24 its one column ran into the x labels in the column PDF;
+       // the top at 0.95, the d label above the right panel clear of the
+       // canvas's edge.)
+       << "set bmargin at screen 0.3\nset tmargin at screen 0.95\n"
        << "set lmargin at screen 0.1\nset rmargin at screen 0.44\nunset colorbox\n"
-       << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 2\n"
+       << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 2 maxrows 3\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
        << DofLabel("x", c.contact, "m") << "'\nset xtics " << NiceStep(lo[0], hi[0], 4) << "\nset ytics "
        << NiceStep(lo[1], hi[1], 4) << "\nset xrange " << PaddedRange(lo[0], hi[0]) << "\nset yrange "
