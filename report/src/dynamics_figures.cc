@@ -513,9 +513,11 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
   hits.Commit();
   std::ostringstream body;
   const double m = std::max(1.0, std::ceil(u_max * 10) / 10);
-  // Contours every 0.5 d, solid above 0 and dashed below, 0 dotted: the
-  // sign read in greyscale, where the diverging map's two ends are the same
-  // grey (and near 0, where the other contours are far apart).
+  // Contours every 0.5 d, solid above 0 and dashed below, 0 solid grey:
+  // the sign read in greyscale, where the diverging map's two ends are the
+  // same grey (and near 0, where the other contours are far apart). (The
+  // bar's label short, "u / d": a long one was cut in the column PDF; the
+  // caption names the contours.)
   std::ostringstream positive, negative;
   for (double level = 0.5; level < m; level += 0.5) {
     positive << (level > 0.5 ? "," : "") << level;
@@ -535,7 +537,7 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
        // (a strip above x = L: the impacts marked there are not cut.)
        << "set xrange [0:" << 1e3 * opt.t_end << "]\nset yrange [0:" << 1.06 * bar.length << "]\nset ytics "
        << NiceStep(0.0, bar.length, 4) << "\n"
-           << style::Palette("displacement", "u / d (contours every 0.5, dashed < 0, dotted 0)") << "set cbrange [" << -m << ":" << m
+           << style::Palette("displacement", "u / d") << "set cbrange [" << -m << ":" << m
        << "]\nunset key\n";
   Plot map;
   // (The contour tables are written with spaces, read here through the
