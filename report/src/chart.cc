@@ -131,9 +131,10 @@ std::string LogTics(const char* axis, double lo, double hi) {
   std::ostringstream os;
   os << "set " << axis << "tics (";
   const double decades = std::log10(hi / lo);
-  // (Up to 1.5 decades 1, 2, 3, 5: with 1, 2, 5, a range from 0.25 had no
+  // (Up to 2 decades 1, 2, 3, 5 (with 1 and 3 alone, Fig. 7's colour bar had no
+  // label in its darkest third); with 1, 2, 5, a range from 0.25 had no
   // label in its lowest third.)
-  const std::vector<double> mantissas = decades <= 1.5 ? std::vector<double>{1, 2, 3, 5} :
+  const std::vector<double> mantissas = decades <= 2.0 ? std::vector<double>{1, 2, 3, 5} :
                                         decades <= 3.5 ? std::vector<double>{1, 3} : std::vector<double>{1};
   bool first = true;
   for (double p = std::floor(std::log10(lo)); p <= std::ceil(std::log10(hi)); ++p) {
