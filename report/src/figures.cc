@@ -1512,7 +1512,7 @@ namespace {
 // The response chart's plot with an inset on each group of three or more
 // special points closer than their markers (3.5 % of the frame apart on
 // both axes: a peak between two grazings and two period doublings within
-// 0.02 rad/s piled up), the two largest groups, each where the frame is
+// 0.02 rad/s piled up), or of two on each other, the two largest groups, each where the frame is
 // free of the responses, the backbone and the points. `frame`: x from, to,
 // y from, to (y logarithmic on the energy's chart, column 5).
 std::string ResponseInsets(const std::vector<ResponseRow>& rows, const std::vector<SpecialPoint>& points,
@@ -1576,8 +1576,12 @@ std::string ResponseInsets(const std::vector<ResponseRow>& rows, const std::vect
   std::map<int, std::vector<const Drawn*>> groups;
   for (const Drawn& d : drawn) groups[d.group].push_back(&d);
   std::vector<std::vector<const Drawn*>> piled;
+  // (Three or more; two when their markers lie on each other, within 2 %
+  // on both axes: the fold on the period doubling at w = 0.683.)
   for (auto& [g, members] : groups) {
-    if (members.size() >= 3) piled.push_back(members);
+    const bool on_each_other = members.size() == 2 && std::abs(members[0]->fx - members[1]->fx) < 0.02 &&
+                               std::abs(members[0]->fy - members[1]->fy) < 0.02;
+    if (members.size() >= 3 || on_each_other) piled.push_back(members);
   }
   std::stable_sort(piled.begin(), piled.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
   if (piled.size() > 2) piled.resize(2);
