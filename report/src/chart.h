@@ -343,7 +343,7 @@ class FepTable {
   // The key's entries, by family (Fig. 17 orders its panels' collected ones so).
   static constexpr std::array<const char*, 8> kKeyTitles = {
       "1-ipp, stable",    "1-ipp, unstable", "2-ipp, stable",   "2-ipp, unstable",
-      "2-ipp, t_2 = T/2", "3-ipp, stable",   "3-ipp, unstable", "bridge"};
+      "2-ipp, t_2 = T/2", "3-ipp, stable (Fig. 16)", "3-ipp, unstable", "bridge"};
   void Write(std::ostream& out) const;
 
   struct Root {
