@@ -477,7 +477,7 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
           crossed += free.Count(fx, fy, fx, fy) >= Occupancy::kSubject;
         }
         const double cost = static_cast<double>(free.Count(x, y, x + kW, y + kH)) + std::abs(x + 0.5 * kW - at) +
-                            0.5 * (1.0 - kH - y) + crossed / 40.0;
+                            0.5 * (1.0 - kH - y) + 4.0 * crossed / 40.0;
         if (cost < best) {
           best = cost;
           bx = x;
@@ -488,6 +488,11 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     if (best >= Occupancy::kSubject) continue;  // (no place that hides nothing of the subject: not zoomed)
     // (With a margin: the next inset's ground would cut this one's labels.)
     free.MarkBox(bx - 0.03, by - 0.03, bx + kW + 0.03, by + kH + 0.03);
+    // (And its leader: the next inset neither covers it nor crosses it.)
+    {
+      const std::array<double, 4> l = leader(bx, by);
+      for (int i = 0; i <= 40; ++i) free.Mark(l[0] + (l[2] - l[0]) * i / 40.0, l[1] + (l[3] - l[1]) * i / 40.0);
+    }
     free.MarkBox(free.X(z.t_lo), free.Y(z.e_lo), free.X(z.t_hi), free.Y(z.e_hi));
     ++shown;
     boxes << "set object " << 10 + shown << " rect from " << z.t_lo << ", " << z.e_lo << " to " << z.t_hi << ", " << z.e_hi
