@@ -445,12 +445,11 @@ std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const 
 }
 
 std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>& zooms, bool in_multiplot) {
-  // An inset (by default 27 % of the frame's width, 30 % of its height), its
-  // own frame inside it clear of its period labels (below), two tick labels
-  // on each axis, the energy's inside the frame (outside, they hung over the
-  // chart's data, and at a journal's column width a label of five digits is
-  // wider than any margin an inset can spare).
-  constexpr double kLeft = 0.012, kBelow = 0.075, kEdge = 0.012;
+  // An inset (by default 27 % of the frame's width, 30 % of its height), two
+  // tick labels on each axis, outside its own frame and on its white ground
+  // (inside the frame they lay on its curves; beyond the ground, on the
+  // chart's). kLeft, kBelow: about where its frame starts (the leader's end).
+  constexpr double kLeft = 0.06, kBelow = 0.075, kEdge = 0.012;
   std::ostringstream boxes, insets;
   int shown = 0;
   for (const Zoom& z : zooms) {
@@ -516,26 +515,31 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
       insets << "set arrow from screen " << sx(l[0]) << ", screen " << sy(l[1]) << " to screen " << sx(l[2])
              << ", screen " << sy(l[3]) << " nohead lw 0.5 dt 1 lc rgb '" << style::Colour("grey_light") << "' front\n";
     }
-    insets << "set lmargin at screen " << sx(bx + kLeft) << "\nset rmargin at screen " << sx(bx + kW - kEdge)
-           << "\nset bmargin at screen " << sy(by + kBelow) << "\nset tmargin at screen " << sy(by + kH - kEdge) << "\n"
-           << "set xrange [" << z.t_lo << ":" << z.t_hi << "]\nset yrange [" << z.e_lo << ":" << z.e_hi << "]\n"
-           << "set xtics " << TwoTicks(z.t_lo, z.t_hi) << "\nset ytics " << TwoTicks(z.e_lo, z.e_hi)
-           << "\nset tics scale 0.5\nset mytics default\nset format y ''\n";
-    // The energy's two labels inside the frame on a white ground (as tick
-    // labels they were drawn under the inset's curves and markers).
+    // Its frame inside the ground, clear of its tick labels at their width
+    // in this format's characters (ns_hc, ns_vc: a character's width and
+    // height as fractions of the canvas): the energy's widest label and a
+    // character to the left, a line and a half below.
     const auto [e_first, e_last] = TwoTickValues(z.e_lo, z.e_hi);
-    insets << "set style textbox opaque noborder margins 0.3, 0.1\n";
-    for (const double e : {e_first, e_last}) {
-      insets << "set label '" << e << "' at graph 0, first " << e << " left offset character 0.6, 0 front boxed\n";
-    }
-    insets << (z.label.empty() ? "" : "set label '" + z.label + "' at graph 0.06, graph 0.86 front\n") << plot.Untitled();
+    std::ostringstream first_label, last_label;
+    first_label << e_first;
+    last_label << e_last;
+    const std::size_t chars = std::max(first_label.str().size(), last_label.str().size());
+    insets << "set lmargin at screen (" << sx(bx + kEdge) << " + " << chars + 1 << " * ns_hc)\nset rmargin at screen "
+           << sx(bx + kW - kEdge) << "\nset bmargin at screen (" << sy(by + kEdge) << " + 1.5 * ns_vc)\nset tmargin at screen "
+           << sy(by + kH - kEdge) << "\n"
+           << "set xrange [" << z.t_lo << ":" << z.t_hi << "]\nset yrange [" << z.e_lo << ":" << z.e_hi << "]\n"
+           << "set xtics " << (z.one_period_tick ? OneTick(0.5 * (z.t_lo + z.t_hi)) : TwoTicks(z.t_lo, z.t_hi))
+           << "\nset ytics " << TwoTicks(z.e_lo, z.e_hi)
+           << "\nset tics scale 0.5\nset mytics default\nset format y '%g'\n"
+           << (z.label.empty() ? "" : "set label '" + z.label + "' at graph 0.06, graph 0.86 front\n") << plot.Untitled();
   }
   if (shown == 0) return plot.str();
   return boxes.str() + (in_multiplot ? "" : "set multiplot\n") + plot.str() +
          "ns_x0 = GPVAL_TERM_XMIN * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_XSIZE\n"
          "ns_x1 = GPVAL_TERM_XMAX * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_XSIZE\n"
          "ns_y0 = GPVAL_TERM_YMIN * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_YSIZE\n"
-         "ns_y1 = GPVAL_TERM_YMAX * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_YSIZE\n" +
+         "ns_y1 = GPVAL_TERM_YMAX * GPVAL_TERM_SCALE * 1.0 / GPVAL_TERM_YSIZE\n"
+         "ns_hc = GPVAL_TERM_HCHAR * 1.0 / GPVAL_TERM_XSIZE\nns_vc = GPVAL_TERM_VCHAR * 1.0 / GPVAL_TERM_YSIZE\n" +
          insets.str() + (in_multiplot ? "" : "unset multiplot\n");
 }
 
@@ -736,6 +740,12 @@ std::string BridgeLook() { return "with vectors arrowstyle 1"; }  // (style::Cha
 std::pair<double, double> TwoTickValues(double lo, double hi) {
   const double step = TwoTicksStep(lo, hi);
   return {std::ceil(lo / step) * step, std::floor(hi / step) * step};
+}
+
+std::string OneTick(double at) {
+  std::ostringstream os;  // (not "(" + ...: GCC 12's -Wrestrict false positive on it)
+  os << "(" << Num(at) << ")";
+  return os.str();
 }
 
 std::string TwoTicks(double lo, double hi) {

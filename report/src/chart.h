@@ -219,6 +219,8 @@ double TwoTicksStep(double lo, double hi);
 // gnuplot's tic list "(a, b)".
 std::pair<double, double> TwoTickValues(double lo, double hi);
 std::string TwoTicks(double lo, double hi);
+// One tick at `at` (four digits), as gnuplot's tic list "(a)".
+std::string OneTick(double at);
 // The period axis's end: the admissible orbits' longest period plus 5 %, on
 // a multiple of 2 s, within the atlas's period grid; of the 1-ipp orbits
 // alone when `one_only`.
@@ -343,7 +345,7 @@ class FepTable {
   // The key's entries, by family (Fig. 17 orders its panels' collected ones so).
   static constexpr std::array<const char*, 8> kKeyTitles = {
       "1-ipp, stable",    "1-ipp, unstable", "2-ipp, stable",   "2-ipp, unstable",
-      "2-ipp, t_2 = T/2", "3-ipp, stable (Fig. 16)", "3-ipp, unstable", "bridge"};
+      "2-ipp, t_2 = T/2", "3-ipp, stable",   "3-ipp, unstable", "bridge"};
   void Write(std::ostream& out) const;
 
   struct Root {
@@ -384,6 +386,7 @@ struct Zoom {
   double t_lo, t_hi, e_lo, e_hi;
   std::string label;
   double width = 0.27, height = 0.30;  // the inset's, as fractions of the frame
+  bool one_period_tick = false;        // a single tick on T, the window's middle (a narrow inset)
 };
 // A frame's free space: which of its 100 x 100 cells something drawn
 // crosses (T linear over [t_lo, t_hi], E over [e_lo, e_hi], logarithmic

@@ -1111,7 +1111,7 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   // orbit drawn, so that the lowest stretch and its label clear the frame.
   constexpr double kFoot = 0.27;  // the panels' foot, over the key's band (0.15, five rows at a column's width) and the axes' labels
   body << "set multiplot\nset tmargin at screen 0.97\nset bmargin at screen " << kFoot << "\n"
-       << "set lmargin at screen 0.13\nset rmargin at screen 0.47\n"
+       << "set lmargin at screen 0.12\nset rmargin at screen 0.53\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset logscale y\n" << LogTics("y", bottom, top)
        << "set xtics " << NiceStep(t_lo, t_hi, 5) << "\n"
        << "set xrange [" << t_lo << ":" << t_hi << "]\nset yrange [" << bottom << ":" << top << "]\n"
@@ -1187,13 +1187,13 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
     }
     const double pad = 0.3 * (e_hi - e_lo);
     free.MarkBox(free.X(mid) - 0.1, free.Y(s_e / three[2]) - 0.08, free.X(mid) + 0.1, free.Y(s_e / three[2]));  // its label
-    // (Half the narrow panel's width: its tick labels, five digits of E,
-    // would fill a smaller one.)
-    if (e_hi > e_lo) zooms.push_back({mid - half, mid + half, e_lo - pad, e_hi + pad, "", 0.55, 0.36});
+    // (Most of the width between the ends' lines: its tick labels, five digits
+    // of E, would fill a smaller one; one tick on T, two met in the column.)
+    if (e_hi > e_lo) zooms.push_back({mid - half, mid + half, e_lo - pad, e_hi + pad, "", 0.62, 0.34, true});
   }
   body << ZoomInsets(free, energies, zooms, true) << impacts.str();
   // The right panel: what the left one (and its inset) set, reset.
-  body << "set lmargin at screen 0.64\nset rmargin at screen 0.98\nset tmargin at screen 0.97\nset bmargin at screen "
+  body << "set lmargin at screen 0.68\nset rmargin at screen 0.98\nset tmargin at screen 0.97\nset bmargin at screen "
        << kFoot << "\nunset object\nunset arrow\nset tics scale default\nset format y '% h'\n"
        << "unset logscale y\nunset label\nset xtics autofreq\nset ytics autofreq right offset 0, 0\nset mytics default\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
        << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << LegendPanel(0.15)
