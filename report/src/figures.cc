@@ -605,8 +605,8 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   // (No bar label: it would run into the projection's; the map's one
   // meaning, the position along the family, is said above the bar.)
   body << "set multiplot\nset size 0.56, 1\nset origin 0, 0\n" << style::Palette("family", "")
-       << bar.str() << "set cbrange [0:1]\nset colorbox user origin screen 0.565, screen 0.25 size screen 0.02, screen 0.5\n"
-       << "set label 1 '" << family.parameter << "' at screen 0.575, screen 0.78 center\n"
+       << bar.str() << "set cbrange [0:1]\nset colorbox user origin screen 0.535, screen 0.25 size screen 0.02, screen 0.5\n"
+       << "set label 1 '" << family.parameter << "' at screen 0.545, screen 0.78 center\n"
        // About four ticks per 3-D axis: more collide at the column PDF's size.
        << InnerTics("x", lo[0], hi[0], 5) << InnerTics("y", lo[1], hi[1], 5) << "set ztics " << NiceStep(lo[2], hi[2], 4)
        << "\n"
@@ -660,7 +660,7 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   }
   // (Margins above and right: the d label and the last tick label had
   // met the canvas edge in the column PDF.)
-  body << "unset label 1\nset size 0.38, 1\nset origin 0.62, 0\nset tmargin 2\nset rmargin 2.5\nunset pm3d\nunset colorbox\nunset key\n"
+  body << "unset label 1\nset size 0.37, 1\nset origin 0.63, 0\nset tmargin 2\nset rmargin 2.5\nunset pm3d\nunset colorbox\nunset key\n"
        << ContactProjectionAxes(c, lo, hi) << projection.str() << "unset multiplot";
   Draw(c, name, body.str(), note);
 }
