@@ -508,12 +508,12 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     // A leader from the box's side facing the inset to the inset's frame,
     // drawn with the inset (over its ground, which covered a leader drawn
     // with the chart).
-    // (Thin, solid and light: dotted grey, it read as a non-admissible
-    // branch.)
+    // (Thin, solid and grey: dotted, it read as a non-admissible branch;
+    // light grey, it was not seen.)
     {
       const std::array<double, 4> l = leader(bx, by);
       insets << "set arrow from screen " << sx(l[0]) << ", screen " << sy(l[1]) << " to screen " << sx(l[2])
-             << ", screen " << sy(l[3]) << " nohead lw 0.5 dt 1 lc rgb '" << style::Colour("grey_light") << "' front\n";
+             << ", screen " << sy(l[3]) << " nohead lw 0.6 dt 1 lc rgb '" << style::Colour("grey") << "' front\n";
     }
     // Its frame inside the ground, clear of its tick labels at their width
     // in this format's characters (ns_hc, ns_vc: a character's width and

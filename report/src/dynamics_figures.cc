@@ -548,7 +548,11 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
   map.Unkeyed("'bar_spacetime.csv' using 1:2:3", "with image")
       .Unkeyed("$positive" + words, With("contour_positive"))
       .Unkeyed("$negative" + words, With("contour_negative"))
-      .Unkeyed("$zero" + words, With("contour_zero"))
+      // (Clear of x = 0, clamped, where u is 0 all along: its pieces there
+      // looked like noise.)
+      .Unkeyed("$zero using (real(word(strcol(1), 1))):(real(word(strcol(1), 2)) > " + Num(0.02 * bar.length) +
+                   " ? real(word(strcol(1), 2)) : 1/0)",
+               With("contour_zero"))
       .Unkeyed("'bar_spacetime_impacts.csv' using 1:2", With("impact"));
   body << map.str() << "set origin 0, 0\nset size 1, 0.36\nset tmargin 0.5\nset bmargin 3.5\nunset colorbox\n"
        << "set format x '% g'\nset xlabel 'time t (ms)'\nset ylabel 'u(L) / d'\nset yrange ["

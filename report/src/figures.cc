@@ -616,7 +616,9 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        // onto the same frame.)
        << "set xrange [" << lo[0] << ":" << hi[0] << "]\nset yrange [" << lo[1] << ":" << hi[1] << "]\nset zrange ["
        << lo[2] << ":" << hi[2] << "]\n"
-       << "set view 62, 35\nset xyplane relative 0\nset key at screen 0.02, screen 0.99 left top\n"
+       // (The box at 0.9 of its size: at 1 the key's last row lay on the
+       // plane's top corner.)
+       << "set view 62, 35, 0.9\nset xyplane relative 0\nset key at screen 0.02, screen 0.99 left top\n"
        // (A faint light from the viewer: the shading tells the surface's
        // folds apart, and the colours stay within 15 % of the bar's.)
        // (Each facet's border traced in its own colour: no white seams
