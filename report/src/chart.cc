@@ -202,9 +202,9 @@ namespace {
 // branches that end (or begin) at the same step, adjacent in t2 / T (no root
 // of that step between them, nor t2 = T/2), within 0.2 of each other and
 // clear of t2 = 0 and T (where a branch leaves through the frame's edge, not
-// a fold), are
-// one curve turning back: joined end to end (the one entered at its end
-// reversed), the nearest pairs first. `roots`: every root, by step and t2.
+// a fold), are one curve turning back: joined end to end (the one entered at
+// its end reversed), the nearest pairs first. `roots`: every root, by step
+// and t2.
 std::vector<std::vector<FepTable::Root>> JoinFolds(std::vector<std::vector<FepTable::Root>> branches,
                                                    const std::vector<FepTable::Root>& roots) {
   using Root = FepTable::Root;

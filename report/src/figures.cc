@@ -1511,6 +1511,13 @@ int DrawWorkPrecisionCharts(const OutputDir& dir, const std::vector<WorkPrecisio
 
 namespace {
 
+// A grazing and a zero-velocity impact bound an admissible stretch of a
+// response: the charts draw them whichever side of it they were computed on
+// (at a zero velocity, a round-off of -1e-16 makes the orbit "not
+// admissible"), the other special points where admissible.
+bool BoundsAStretch(SpecialKind kind) { return kind == SpecialKind::kGrazing || kind == SpecialKind::kZeroVelocity; }
+bool DrawnSpecialPoint(const SpecialPoint& p) { return p.orbit.admissible || BoundsAStretch(p.kind); }
+
 // The response chart's plot with an inset on each group of three or more
 // special points closer than their markers (3.5 % of the frame apart on
 // both axes: a peak between two grazings and two period doublings within
@@ -1554,9 +1561,8 @@ std::string ResponseInsets(const std::vector<ResponseRow>& rows, const std::vect
   };
   std::vector<Drawn> drawn;
   for (const SpecialPoint& p : points) {
-    const bool boundary = p.kind == SpecialKind::kGrazing || p.kind == SpecialKind::kZeroVelocity;
     const double x = x_of(p.orbit), y = y_of(p.orbit);
-    if (!(p.orbit.admissible || boundary) || !std::isfinite(y) || x < frame[0] || x > frame[1]) continue;
+    if (!DrawnSpecialPoint(p) || !std::isfinite(y) || x < frame[0] || x > frame[1]) continue;
     const double fx = free.X(x), fy = free.Y(y);
     if (fy < 0.0 || fy > 1.0) continue;
     free.MarkBox(fx - 0.015, fy - 0.015, fx + 0.015, fy + 0.015);
@@ -1740,23 +1746,19 @@ int DrawResponseCharts(const OutputDir& dir, const std::vector<ResponseRow>& row
     // The special points of the admissible parts (response_points.csv: w 1,
     // amplitude 2, kind 3, energy 4, impact_velocity 7, admissible 8).
     const int pcol = col == 5 ? 4 : 7;
-    for (const auto& [kind, role] : {std::pair<const char*, const char*>{"fold", "fold"},
-                                     {"period-doubling", "multiplier_minus_one"},
-                                     {"grazing", "grazing"},
-                                     {"zero-velocity", "zero_velocity"},
-                                     {"peak", "peak"},
-                                     {"torus", "torus"}}) {
-      // A grazing and a zero-velocity impact bound an admissible stretch:
-      // drawn whichever side of it they were computed on (at a zero
-      // velocity, a round-off of -1e-16 makes the orbit "not admissible").
-      const std::string kind_name = kind;  // (a structured binding cannot be captured before C++20's clang 16)
-      const bool boundary = kind_name == "grazing" || kind_name == "zero-velocity";
-      const long n = std::count_if(points.begin(), points.end(), [&kind_name, boundary](const SpecialPoint& p) {
-        return ToString(p.kind) == kind_name && (p.orbit.admissible || boundary);
-      });
-      plot.Add("'response_points.csv' using (strcol(3) eq '" + std::string(kind) + "'" + (boundary ? "" : " && $8 == 1") +
-                   " ? $" + x + " : 1/0):" + std::to_string(pcol),
-               With(role), kind, n);
+    for (const auto& [kind, role] : {std::pair<SpecialKind, const char*>{SpecialKind::kFold, "fold"},
+                                     {SpecialKind::kPeriodDoubling, "multiplier_minus_one"},
+                                     {SpecialKind::kGrazing, "grazing"},
+                                     {SpecialKind::kZeroVelocity, "zero_velocity"},
+                                     {SpecialKind::kPeak, "peak"},
+                                     {SpecialKind::kTorus, "torus"}}) {
+      const SpecialKind k = kind;  // (a structured binding cannot be captured before C++20's clang 16)
+      const std::string name_of_kind = ToString(k);
+      const long n = std::count_if(points.begin(), points.end(),
+                                   [k](const SpecialPoint& p) { return p.kind == k && DrawnSpecialPoint(p); });
+      plot.Add("'response_points.csv' using (strcol(3) eq '" + name_of_kind + "'" +
+                   (BoundsAStretch(k) ? "" : " && $8 == 1") + " ? $" + x + " : 1/0):" + std::to_string(pcol),
+               With(role), name_of_kind, n);
     }
     body << ResponseInsets(rows, points, backbone, frequency, periods, col, {frame_lo, frame_hi, y_lo, y_hi}, plot);
     const ChartStatus chart = DrawChart(dir, name, body.str());
