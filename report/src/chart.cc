@@ -350,7 +350,7 @@ std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable:
 }
 
 std::string FepChart(Context& c, const FepTable& table, const std::string& fep, const std::string& bridges,
-                     const std::string& transitions) {
+                     const std::string& transitions, const std::vector<Orbit>& also, const std::vector<Zoom>& zooms) {
   report::ResultFile out(c.dir, fep);
   table.Write(out.stream());
   out.Commit();
@@ -365,7 +365,7 @@ std::string FepChart(Context& c, const FepTable& table, const std::string& fep, 
   table.AddLayers(plot, fep, bridges, static_cast<long>(c.bridges.size()));
   TransitionMarks(c, transitions, false, plot);
   BridgeLabels(c, body);
-  body << BridgeInsets(c, plot);
+  body << BridgeInsets(c, plot, also, zooms);
   return body.str();
 }
 
@@ -453,40 +453,48 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
   std::ostringstream boxes, insets;
   int shown = 0;
   for (const Zoom& z : zooms) {
-    const double kW = z.width, kH = z.height;
     // The free place nearest the zoomed window, highest first: fewest cells
     // covered, then nearest, then with a leader crossing the least of the
     // subject; clear of the frame's edges (the inset's ground cut them).
-    // (`at`: the window's middle in the frame.)
+    // Where the inset's size hides something of the subject everywhere, at
+    // 80 % and then 65 % of it (fep_all_families' third inset: its two
+    // bridges' insets held the free corners). (`at`: the window's middle in
+    // the frame.)
+    double w = z.width, h = z.height;
     const double at = free.X(0.5 * (z.t_lo + z.t_hi));
     const double box_top = free.Y(z.e_hi), box_bottom = free.Y(z.e_lo);
     // The leader from the window's box to the inset's frame placed at (x, y).
     auto leader = [&](double x, double y) {
-      const double x0 = x + kLeft, x1 = x + kW - kEdge, y0 = y + kBelow, y1 = y + kH - kEdge;
+      const double x0 = x + kLeft, x1 = x + w - kEdge, y0 = y + kBelow, y1 = y + h - kEdge;
       const bool above = y0 >= box_top;
       return std::array<double, 4>{at, above ? box_top : box_bottom, std::clamp(at, x0, x1), above ? y0 : y1};
     };
     double best = INFINITY, bx = 0.0, by = 0.0;
-    for (double y = 1.0 - kH - 0.01; y >= 0.01; y -= 0.02) {
-      for (double x = 0.01; x <= 1.0 - kW - 0.01 + 1e-9; x += 0.01) {
-        const std::array<double, 4> l = leader(x, y);
-        int crossed = 0;
-        for (int i = 1; i < 40; ++i) {
-          const double fx = l[0] + (l[2] - l[0]) * i / 40.0, fy = l[1] + (l[3] - l[1]) * i / 40.0;
-          crossed += free.Count(fx, fy, fx, fy) >= Occupancy::kSubject;
-        }
-        const double cost = static_cast<double>(free.Count(x, y, x + kW, y + kH)) + std::abs(x + 0.5 * kW - at) +
-                            0.5 * (1.0 - kH - y) + 4.0 * crossed / 40.0;
-        if (cost < best) {
-          best = cost;
-          bx = x;
-          by = y;
+    for (const double scale : {1.0, 0.8, 0.65}) {
+      if (best < Occupancy::kSubject) break;
+      w = scale * z.width;
+      h = scale * z.height;
+      for (double y = 1.0 - h - 0.01; y >= 0.01; y -= 0.02) {
+        for (double x = 0.01; x <= 1.0 - w - 0.01 + 1e-9; x += 0.01) {
+          const std::array<double, 4> l = leader(x, y);
+          int crossed = 0;
+          for (int i = 1; i < 40; ++i) {
+            const double fx = l[0] + (l[2] - l[0]) * i / 40.0, fy = l[1] + (l[3] - l[1]) * i / 40.0;
+            crossed += free.Count(fx, fy, fx, fy) >= Occupancy::kSubject;
+          }
+          const double cost = static_cast<double>(free.Count(x, y, x + w, y + h)) + std::abs(x + 0.5 * w - at) +
+                              0.5 * (1.0 - h - y) + 4.0 * crossed / 40.0;
+          if (cost < best) {
+            best = cost;
+            bx = x;
+            by = y;
+          }
         }
       }
     }
     if (best >= Occupancy::kSubject) continue;  // (no place that hides nothing of the subject: not zoomed)
     // (With a margin: the next inset's ground would cut this one's labels.)
-    free.MarkBox(bx - 0.03, by - 0.03, bx + kW + 0.03, by + kH + 0.03);
+    free.MarkBox(bx - 0.03, by - 0.03, bx + w + 0.03, by + h + 0.03);
     // (And its leader: the next inset neither covers it nor crosses it.)
     {
       const std::array<double, 4> l = leader(bx, by);
@@ -502,8 +510,8 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     auto sx = [](double f) { return "(ns_x0 + " + std::to_string(f) + " * (ns_x1 - ns_x0))"; };
     auto sy = [](double f) { return "(ns_y0 + " + std::to_string(f) + " * (ns_y1 - ns_y0))"; };
     insets << "unset object\nunset label\nunset arrow\nunset key\nunset logscale y\nunset xlabel\nunset ylabel\n"
-           << "set object 1 rect from screen " << sx(bx) << ", screen " << sy(by) << " to screen " << sx(bx + kW)
-           << ", screen " << sy(by + kH) << " behind fillcolor rgb '" << style::Colour("white")
+           << "set object 1 rect from screen " << sx(bx) << ", screen " << sy(by) << " to screen " << sx(bx + w)
+           << ", screen " << sy(by + h) << " behind fillcolor rgb '" << style::Colour("white")
            << "' fillstyle solid 1.0 noborder\n";
     // A leader from the box's side facing the inset to the inset's frame,
     // drawn with the inset (over its ground, which covered a leader drawn
@@ -525,13 +533,16 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     last_label << e_last;
     const std::size_t chars = std::max(first_label.str().size(), last_label.str().size());
     insets << "set lmargin at screen (" << sx(bx + kEdge) << " + " << chars + 1 << " * ns_hc)\nset rmargin at screen "
-           << sx(bx + kW - kEdge) << "\nset bmargin at screen (" << sy(by + kEdge) << " + 1.5 * ns_vc)\nset tmargin at screen "
-           << sy(by + kH - kEdge) << "\n"
+           << sx(bx + w - kEdge) << "\nset bmargin at screen (" << sy(by + kEdge) << " + 1.5 * ns_vc)\nset tmargin at screen "
+           << sy(by + h - kEdge) << "\n"
            << "set xrange [" << z.t_lo << ":" << z.t_hi << "]\nset yrange [" << z.e_lo << ":" << z.e_hi << "]\n"
            << "set xtics " << (z.one_period_tick ? OneTick(0.5 * (z.t_lo + z.t_hi)) : TwoTicks(z.t_lo, z.t_hi))
            << "\nset ytics " << TwoTicks(z.e_lo, z.e_hi)
            << "\nset tics scale 0.5\nset mytics default\nset format y '%g'\n"
-           << (z.label.empty() ? "" : "set label '" + z.label + "' at graph 0.06, graph 0.86 front\n") << plot.Untitled();
+           << (z.label.empty() ? ""
+               : "set label '" + z.label + (z.label_centred ? "' at graph 0.5, graph 0.86 centre front\n"
+                                                             : "' at graph 0.06, graph 0.86 front\n"))
+           << plot.Untitled();
   }
   if (shown == 0) return plot.str();
   return boxes.str() + (in_multiplot ? "" : "set multiplot\n") + plot.str() +
@@ -543,10 +554,17 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
          insets.str() + (in_multiplot ? "" : "unset multiplot\n");
 }
 
-std::string BridgeInsets(const Context& c, const Plot& plot) {
+std::pair<double, double> StretchWindow(double first, double last, double axis, double min_half) {
+  const double mid = 0.5 * (first + last), half = std::max(1.5 * (last - first), min_half * axis);
+  return {mid - half, mid + half};
+}
+
+std::string BridgeInsets(const Context& c, const Plot& plot, const std::vector<Orbit>& also,
+                         const std::vector<Zoom>& more) {
   const auto [lo, hi] = EnergyRange(c);
   const double t_top = PeriodTop(c, false);
   std::vector<Zoom> zooms;
+  std::vector<double> at;  // each zoom's bridge's period
   for (std::size_t k = 0; k < c.bridges.size(); ++k) {
     const Bridge& b = c.bridges[k];
     // Seen at the chart's scale: a bridge over 4 % of the energy axis.
@@ -557,8 +575,30 @@ std::string BridgeInsets(const Context& c, const Plot& plot) {
     std::string label = "B";  // (not "B" + ...: GCC 12's -Wrestrict false positive on it)
     label += std::to_string(k + 1);
     zooms.push_back({b.period - dt, b.period + dt, b.energy_min - pad, b.energy_max + pad, label});
+    at.push_back(b.period);
   }
-  return ZoomInsets(c, plot, false, zooms);
+  // A window within a bridge's is shown in the bridge's inset, narrowed to
+  // both (15 % of their span beyond): two insets side by side found no free
+  // place for the second (on paper.toml, the 3-ipp family's stable stretch
+  // at T = 28.85 beside B3 at 29.31).
+  const std::size_t bridge_zooms = zooms.size();
+  for (const Zoom& m : more) {
+    std::size_t k = 0;
+    while (k < bridge_zooms && !(m.t_lo >= zooms[k].t_lo && m.t_hi <= zooms[k].t_hi)) ++k;
+    if (k == bridge_zooms) {
+      zooms.push_back(m);
+      continue;
+    }
+    Zoom& z = zooms[k];
+    const double first = std::min(m.t_lo, at[k]), last = std::max(m.t_hi, at[k]), pad = 0.15 * (last - first);
+    z.t_lo = first - pad;
+    z.t_hi = last + pad;
+    z.e_lo = std::min(z.e_lo, m.e_lo);
+    z.e_hi = std::max(z.e_hi, m.e_hi);
+  }
+  Occupancy free = FepOccupancy(c, false);
+  for (const Orbit& o : also) free.Mark(free.X(o.period), free.Y(o.energy));
+  return ZoomInsets(free, plot, zooms, false);
 }
 
 std::string StableStretchInsets(const Context& c, const Plot& plot) {
@@ -591,8 +631,8 @@ std::string StableStretchInsets(const Context& c, const Plot& plot) {
     const Transition &a = *marks[k], &b = *marks[k + 1];
     if (b.period - a.period > 0.01 * t_top || std::abs(std::log(b.energy / a.energy)) > 0.04 * std::log(hi / lo)) continue;
     const bool held = std::any_of(stretches.begin(), stretches.end(), [&](const auto& s) {
-      const double mid = 0.5 * (s.first + s.second), half = std::max(1.5 * (s.second - s.first), 0.005 * t_top);
-      return a.period >= mid - half && b.period <= mid + half;
+      const auto [w_lo, w_hi] = StretchWindow(s.first, s.second, t_top);
+      return a.period >= w_lo && b.period <= w_hi;
     });
     if (!held) stretches.push_back({a.period, b.period});
   }
@@ -600,17 +640,17 @@ std::string StableStretchInsets(const Context& c, const Plot& plot) {
   for (const auto& [first, last] : stretches) {
     // The zoom: the stretch in its middle third (at least 1 % of the axis
     // wide), the admissible branch's energies there.
-    const double mid = 0.5 * (first + last), half = std::max(1.5 * (last - first), 0.005 * t_top);
+    const auto [w_lo, w_hi] = StretchWindow(first, last, t_top);
     double e_lo = INFINITY, e_hi = 0.0;
     for (const auto& list : c.atlas.one.at) {
       const Orbit& o = list.front().orbit;
-      if (o.admissible && std::abs(o.period - mid) <= half) {
+      if (o.admissible && o.period >= w_lo && o.period <= w_hi) {
         e_lo = std::min(e_lo, o.energy);
         e_hi = std::max(e_hi, o.energy);
       }
     }
     for (const Transition* t : marks) {  // (a modal end lies above the sweep's last orbit)
-      if (std::abs(t->period - mid) <= half) {
+      if (t->period >= w_lo && t->period <= w_hi) {
         e_lo = std::min(e_lo, t->energy);
         e_hi = std::max(e_hi, t->energy);
       }
@@ -618,7 +658,7 @@ std::string StableStretchInsets(const Context& c, const Plot& plot) {
     if (!(e_hi > e_lo)) continue;
     // (Its foot above 0: the box is drawn on the chart's log axis.)
     const double pad = 0.15 * (e_hi - e_lo);
-    zooms.push_back({mid - half, mid + half, std::max(e_lo - pad, 0.5 * e_lo), e_hi + pad, ""});
+    zooms.push_back({w_lo, w_hi, std::max(e_lo - pad, 0.5 * e_lo), e_hi + pad, ""});
   }
   return ZoomInsets(c, plot, true, zooms);
 }
@@ -628,13 +668,32 @@ void FepTable::Write(std::ostream& out) const {
   // a new dataset).
   out << "family,T,t2,energy,stable,branch,mark\n";
   bool first = true;
-  for (const Family* f : {&one_, &half_, &three_}) {
+  for (const Family* f : {&one_, &half_}) {
     if (f->last < 0) continue;
     out << (first ? "" : "\n") << f->rows.str();
     first = false;
   }
-  const std::vector<std::vector<Root>> branches = TwoImpactBranches(roots_);
-  const std::vector<std::vector<bool>> marks = EqualStepMarks(branches);
+  // The 2-ipp branches and the 3-ipp family marked at equal steps of one
+  // frame; no 3-ipp mark within three orbits of a stable one (its dot: on
+  // paper.toml an unstable square at T = 28.87 covered the stable dots at
+  // 28.85 and 28.86).
+  std::vector<std::vector<Root>> branches = TwoImpactBranches(roots_);
+  branches.push_back(three_rows_);
+  std::vector<std::vector<bool>> marks = EqualStepMarks(branches);
+  branches.pop_back();
+  std::vector<bool> three_marks = std::move(marks.back());
+  marks.pop_back();
+  for (std::size_t k = 0; k < three_rows_.size(); ++k) {
+    if (!three_rows_[k].stable) continue;
+    for (std::size_t j = k >= 3 ? k - 3 : 0; j < std::min(k + 4, three_rows_.size()); ++j) three_marks[j] = false;
+  }
+  for (std::size_t k = 0; k < three_rows_.size(); ++k) {
+    const Root& r = three_rows_[k];
+    const bool gap = k > 0 && r.step != three_rows_[k - 1].step + 1 && r.step != three_rows_[k - 1].step;
+    out << (first ? "" : k == 0 || gap ? "\n" : "") << "3-ipp," << r.period << "," << r.t2 << "," << r.energy << ","
+        << r.stable << ",0," << three_marks[k] << "\n";
+    first = false;
+  }
   for (std::size_t b = 0; b < branches.size(); ++b) {
     out << (first ? "" : "\n");
     first = false;

@@ -282,11 +282,17 @@ class FepTable {
       (IsStable(s) ? two_stable_ : two_unstable_) += 1;
       return;
     }
-    Family& f = one ? one_ : half ? half_ : three_;
+    if (three) {  // (its rows written with their marks: Write)
+      three_rows_.push_back({step, o.period, o.times[0], o.energy, IsStable(s)});
+      (IsStable(s) ? three_.stable : three_.unstable) += 1;
+      three_.last = step;
+      return;
+    }
+    Family& f = one ? one_ : half_;
     if (f.last >= 0 && step != f.last + 1 && step != f.last) f.rows << "\n";  // (the same step: a stretch's end)
     f.last = step;
     (IsStable(s) ? f.stable : f.unstable) += 1;
-    f.rows << (one ? "1-ipp" : half ? "2-ipp-half" : "3-ipp") << "," << o.period << "," << (one ? 0.0 : o.times[0])
+    f.rows << (one ? "1-ipp" : "2-ipp-half") << "," << o.period << "," << (one ? 0.0 : o.times[0])
            << "," << o.energy << "," << IsStable(s) << ",0,0\n";
   }
   // The plot of the CSV `csv` written by Write and of a bridges CSV with
@@ -315,29 +321,29 @@ class FepTable {
     for (std::size_t k = 0; k < kKeyTitles.size(); ++k) {
       if (counts[k] > 0) plot.KeyOnly(k + 1 == kKeyTitles.size() ? BridgeLook() : With(roles[k], kinds[k]), kKeyTitles[k]);
     }
-    // The 3-ipp family first, under the 2-ipp branch it runs along from
+    // The bridges first, under every branch: their caps and bars had hidden
+    // the markers and the short unstable stretches at their ends (B1's foot,
+    // the 2-ipp marker over B4's top on paper.toml).
+    const std::string bridge = "'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)";
+    if (bridge_count > 0) plot.Unkeyed(bridge, BridgeLook());
+    const std::string source = "'" + csv + "'" + ix;
+    // The 3-ipp family, under the 2-ipp branch it runs along from
     // T = 26.7 to 29.3 on paper.toml (over it, its squares had hidden that
     // branch in every view; under it, they show beside it).
     // (A dot on every stable 3-ipp orbit: the stretch may be a few orbits,
-    // too short a line to see. Markers along the unstable ones: in
-    // greyscale its dash-dot-dot was the dilated branch's dash-dot.)
+    // too short a line to see. Markers along the unstable ones, at the rows
+    // the table marks: in greyscale its dash-dot-dot was the dilated
+    // branch's dash-dot.)
+    if (three_.unstable > 0) MarkedLine(plot, source, "2", "strcol(1) eq '3-ipp' && $5 == 0", "$4", 7, "three_unstable");
     if (three_.stable > 0) plot.Unkeyed(select("3-ipp", " && $5 == 1"), With("three_stable", "linespoints"));
-    if (three_.unstable > 0) plot.Unkeyed(select("3-ipp", " && $5 == 0"), MarkersAlong("three_unstable", three_.unstable));
     // The 2-ipp branches: each a line with its markers at the rows the
     // table marks (equal steps along it).
-    const std::string source = "'" + csv + "'" + ix;
     if (two_stable_ > 0) MarkedLine(plot, source, "2", "strcol(1) eq '2-ipp' && $5 == 1", "$4", 7, "two_stable");
     if (two_unstable_ > 0) MarkedLine(plot, source, "2", "strcol(1) eq '2-ipp' && $5 == 0", "$4", 7, "two_unstable");
-    // The bridges, among the 2-ipp markers, over a white halo that cuts the
-    // branches under them (the 3-ipp family runs on a 2-ipp branch: a halo
-    // there erased it).
-    const std::string bridge = "'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)";
     const std::tuple<std::string, std::string, long> layers[] = {
         {select("1-ipp", " && $5 == 1"), With("one_stable"), one_.stable},
         {select("1-ipp", " && $5 == 0"), With("one_unstable"), one_.unstable},
-        {select("2-ipp-half", ""), With("two_half"), half_.stable + half_.unstable},
-        {bridge, With("halo", "vectors"), bridge_count},
-        {bridge, BridgeLook(), bridge_count}};
+        {select("2-ipp-half", ""), With("two_half"), half_.stable + half_.unstable}};
     for (const auto& [spec, look, count] : layers) {
       if (count > 0) plot.Unkeyed(spec, look);
     }
@@ -361,7 +367,8 @@ class FepTable {
     long stable = 0, unstable = 0;
   };
   Family one_, half_, three_;
-  std::vector<Root> roots_;  // the 2-ipp roots off t2 = T/2
+  std::vector<Root> roots_;       // the 2-ipp roots off t2 = T/2
+  std::vector<Root> three_rows_;  // the 3-ipp family's orbits, t2 their first impact
   long two_stable_ = 0, two_unstable_ = 0;
 };
 
@@ -387,7 +394,12 @@ struct Zoom {
   std::string label;
   double width = 0.27, height = 0.30;  // the inset's, as fractions of the frame
   bool one_period_tick = false;        // a single tick on T, the window's middle (a narrow inset)
+  bool label_centred = false;          // the label at the top's middle, not its left (a curve's arm there)
 };
+// The periods a zoom on a short stretch [first, last] of a period axis
+// `axis` wide shows: the stretch in the window's middle third, the window at
+// least 2 * `min_half` of the axis wide. As (lo, hi).
+std::pair<double, double> StretchWindow(double first, double last, double axis, double min_half = 0.005);
 // A frame's free space: which of its 100 x 100 cells something drawn
 // crosses (T linear over [t_lo, t_hi], E over [e_lo, e_hi], logarithmic
 // unless `log_e` is false).
@@ -421,8 +433,10 @@ std::string ZoomInsets(const Context& c, const Plot& plot, bool one_only, const 
 // holds; `in_multiplot`: the chart is one panel of a multiplot already.
 std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>& zooms, bool in_multiplot);
 // The zooms on each bridge too short to see at the chart's scale (under 4 %
-// of the energy axis's height).
-std::string BridgeInsets(const Context& c, const Plot& plot);
+// of the energy axis's height), and on `zooms` besides; `also`: orbits the
+// chart draws besides the atlas's (an inset does not hide them).
+std::string BridgeInsets(const Context& c, const Plot& plot, const std::vector<Orbit>& also = {},
+                         const std::vector<Zoom>& zooms = {});
 // The zooms on each stable stretch of the 1-ipp branch too short to see (under
 // 1 % of the period axis), and on two marks of the chart on each other (under
 // 1 % of the period axis and 4 % of the energy axis apart), on the 1-ipp
@@ -464,8 +478,11 @@ void FigureAllFamilies(Context& c, const ThreeImpactPick& three);
 // CSV `fep`, the atlas's bridges to `bridges`, its transitions to
 // `transitions`; returns the gnuplot body: the energy axes, the families, the
 // singular and grazing transitions, the bridges labelled B1, B2, ...
+// `also`, `zooms`: orbits the table holds besides the atlas's, and windows
+// to zoom on besides the bridges (BridgeInsets).
 std::string FepChart(Context& c, const FepTable& table, const std::string& fep, const std::string& bridges,
-                     const std::string& transitions);
+                     const std::string& transitions, const std::vector<Orbit>& also = {},
+                     const std::vector<Zoom>& zooms = {});
 
 // The admissible 1- and 2-ipp orbits of 401 periods over [t - w, t + w]
 // into `table`; returns the range of their energies (and, with `periods`,
