@@ -23,7 +23,9 @@ For each chart DIR/NAME.png.gp (the gnuplot script nsmodal wrote and ran):
 - gnuplot is run on the script with `set table`, which lists the points of
   every plotted curve: every keyed curve must have a point inside the axes
   (a key that names a series not drawn fails). Surfaces (pm3d), which gnuplot
-  cannot tabulate, are not counted.
+  cannot tabulate, are not counted; one is keyed by a legend-only filled
+  swatch (boxes) of its colour, which passes only if a surface of that
+  colour is plotted.
 Prints one line per failure, then a table per chart, and exits 1 on a failure.
 """
 import glob
@@ -266,7 +268,13 @@ def check(directory, keys=True, allowed="style"):
                         by_style = grey and item[1] == "lines" and sum(
                             1 for d in drawn if d[0] == "lines" and d[1] == item[2] and d[2] is not None
                             and d[2].upper()[-6:] != GREY) >= 2
-                        if item[5] and item[1:4] not in drawn and not apart and not by_map and not by_style:
+                        # A filled swatch (legend-only boxes) for a surface of its
+                        # colour (pm3d, which has no key sample of its own).
+                        swatch = item[5] and item[1] == "boxes" and item[3] is not None and any(
+                            it[1] == "pm3d" and it[3] is not None and it[3].upper()[-6:] == item[3].upper()[-6:]
+                            for its in plots for it in its)
+                        if (item[5] and item[1:4] not in drawn and not apart and not by_map and not by_style
+                                and not swatch):
                             failures.append(f"{name}: the key names '{item[0]}', whose style no panel draws")
                         elif not item[5] and inside == 0:
                             failures.append(f"{name}: the key names '{item[0]}', which draws no point inside the axes")

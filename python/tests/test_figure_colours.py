@@ -109,6 +109,18 @@ def test_a_grey_key_stands_for_a_line_style_drawn_in_several_colours(tmp_path):
     assert run(tmp_path, two + key.replace("dt 2", "dt 3"), keys=True) == 1
 
 
+@pytest.mark.skipif(shutil.which("gnuplot") is None, reason="the key check runs gnuplot")
+def test_a_swatch_stands_for_a_surface_of_its_colour(tmp_path):
+    # A surface (pm3d) has no key sample: a legend-only filled box of its
+    # colour keys it, and fails where no surface of that colour is plotted.
+    (tmp_path / "a.csv").write_text("0,1,0\n0,1,1\n\n1,1,0\n1,1,1\n")
+    plane = ("set datafile separator ','\nsplot 'a.csv' using 1:2:3 with pm3d fillcolor rgb '#BBBBBB' notitle, "
+             "'' using 1:2:3 with lines lc rgb '#0072B2' title 'edge'")
+    key = ", NaN with boxes fs solid 1.0 noborder lc rgb '#BBBBBB' title 'the plane'"
+    assert run(tmp_path, plane + key, keys=True) == 0
+    assert run(tmp_path, plane + key.replace("#BBBBBB", "#999999"), keys=True) == 1
+
+
 def test_the_style_pairs_that_only_colour_tells_apart():
     # The style's stability pairs (report/style.toml), stable dark, unstable
     # light: 1-ipp blue and sky blue, 2-ipp vermillion (darkened) and orange,

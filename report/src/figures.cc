@@ -627,14 +627,18 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        << "$plane << EOD\n"
        << lo[0] << "," << c.b.gap << "," << lo[2] << "\n" << lo[0] << "," << c.b.gap << "," << hi[2] << "\n\n"
        << hi[0] << "," << c.b.gap << "," << lo[2] << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\nEOD\n"
-       // The plane's outline, keyed (a surface has no key sample).
+       // The plane's outline, drawn as the obstacle is elsewhere.
        << "$edge << EOD\n" << lo[0] << "," << c.b.gap << "," << lo[2] << "\n" << lo[0] << "," << c.b.gap << "," << hi[2]
        << "\n" << hi[0] << "," << c.b.gap << "," << hi[2] << "\n" << hi[0] << "," << c.b.gap << "," << lo[2] << "\n"
        << lo[0] << "," << c.b.gap << "," << lo[2] << "\nEOD\n";
   Plot surface("splot");
   surface.Unkeyed("'" + name + ".csv' index 0 using " + u + ":" + w + ":" + v + ":2", "with pm3d")
       .Unkeyed("$plane using 1:2:3", "with pm3d fillcolor rgb '" + style::Colour("plane") + "'")
-      .Add("$edge using 1:2:3", With("obstacle"), "obstacle " + Xc(c) + " = d (the plane)");
+      .Unkeyed("$edge using 1:2:3", With("obstacle"));
+  // The plane keyed by a swatch of its grey (a surface has no key sample;
+  // keyed by its dashed outline, it read as a line, not the grey plane).
+  surface.KeyOnly("with boxes fs solid 1.0 noborder lc rgb '" + style::Colour("plane") + "'",
+                  "obstacle " + Xc(c) + " = d (the plane)");
   // The projection: every other orbit of a family of more than 8 (the
   // curves overlap: 11 orbits of two loops were 22 curves in a band).
   const std::string every = family.orbits.size() > 8 ? " every :2" : "";
@@ -1015,6 +1019,29 @@ void Figure17(Context& c) {
     table.AddLayers(plot, "fig17_bridges_fep.csv", "fig17_bridges.csv", 1, k);
     // A grazing bridge's top is the grazing 1-ipp orbit: circled, as on Fig. 8.
     if (IsGrazing(br)) Mark(plot, br.period, br.energy_max, "grazing", "grazing, T_G");
+    // An end that lies near an admissible orbit of the bridge's period but
+    // not on it (within 5 % of the panel's height, apart by more than 1e-6
+    // relative): both energies written beside them, the end's to the right
+    // and the orbit's to the left (B4's top at 3.160 read as reaching the
+    // 2-ipp branch at 3.254).
+    body << "unset label\n";
+    for (const double end : {br.energy_min, br.energy_max}) {
+      double nearest = NAN;
+      for (const int impacts : {1, 2}) {
+        SweepOptions admissible_only;
+        admissible_only.stability = StabilityPolicy::kAdmissible;
+        for (const OrbitRecord& r : OrbitsAt(c.b, br.period, impacts, admissible_only)) {
+          if (r.orbit.admissible && !(std::abs(r.orbit.energy - end) >= std::abs(nearest - end))) nearest = r.orbit.energy;
+        }
+      }
+      const double gap = std::abs(nearest - end);
+      if (!(gap > 1e-6 * end && gap < 0.05 * (hi - lo))) continue;
+      const bool above = nearest > end;
+      body << std::fixed << std::setprecision(3) << "set label '" << end << " J' at " << br.period << ", " << end
+           << " left offset 0.8, " << (above ? -0.5 : 0.5) << " front\nset label '" << nearest << " J' at " << br.period
+           << ", " << nearest << " right offset -0.8, " << (above ? 0.6 : -0.6) << " front\n"
+           << std::defaultfloat << std::setprecision(6);
+    }
     body << plot.str();
     entries.insert(entries.end(), plot.Collected().begin(), plot.Collected().end());
   }
@@ -1179,10 +1206,11 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
     for (const Orbit* o : {&pick.start, &graze}) {
       free.MarkBox(free.X(o->period) - 0.03, free.Y(o->energy) - 0.03, free.X(o->period) + 0.03, free.Y(o->energy) + 0.03);
     }
-    const double mid = 0.5 * (s_first + s_last), half = std::max(1.5 * (s_last - s_first), 0.005 * (t_hi - t_lo));
+    const auto [w_lo, w_hi] = StretchWindow(s_first, s_last, t_hi - t_lo);
+    const double mid = 0.5 * (w_lo + w_hi);
     double e_lo = INFINITY, e_hi = 0.0;
     for (const Orbit& o : pick.family) {
-      if (std::abs(o.period - mid) <= half) {
+      if (o.period >= w_lo && o.period <= w_hi) {
         e_lo = std::min(e_lo, o.energy);
         e_hi = std::max(e_hi, o.energy);
       }
@@ -1191,7 +1219,7 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
     free.MarkBox(free.X(mid) - 0.1, free.Y(s_e / three[2]) - 0.08, free.X(mid) + 0.1, free.Y(s_e / three[2]));  // its label
     // (Most of the width between the ends' lines: its tick labels, five digits
     // of E, would fill a smaller one; one tick on T, two met in the column.)
-    if (e_hi > e_lo) zooms.push_back({mid - half, mid + half, e_lo - pad, e_hi + pad, "", 0.62, 0.34, true});
+    if (e_hi > e_lo) zooms.push_back({w_lo, w_hi, e_lo - pad, e_hi + pad, "", 0.62, 0.34, true});
   }
   body << ZoomInsets(free, energies, zooms, true) << impacts.str();
   // The right panel: what the left one (and its inset) set, reset.
