@@ -216,11 +216,14 @@ void FigureMultipliers(Context& c) {
        << "set ylabel 'max |{/Symbol m}|'\nset logscale y\nset yrange [0.7:" << m_top << "]\n"
        << "set xrange [" << t_lo - 0.02 * (t_hi - t_lo) << ":" << t_hi + 0.02 * (t_hi - t_lo) << "]\n";
   // |mu| = 1 first: the stable stretches lie on it, a thick solid line over
-  // its thin dashes; the unstable ones dashed, as on Fig. 3. The lower
+  // its thin dashes; the unstable ones dashed, as on Fig. 3, over their
+  // path drawn thin and solid (the spikes are a few samples wide: the
+  // dashes' gaps cut 187 to 165 at T = 8.9). The lower
   // panel's keys here too (legend-only, in black: their colour is T's).
   Plot left;
   left.Add("1", With("unit_circle"), "|{/Symbol m}| = 1")
       .Add("$branch using 1:($2 == 1 ? $3 : 1/0)", With("one_stable"), "stable", stable)
+      .Unkeyed("$branch using 1:($2 == 0 ? $3 : 1/0)", With("one_unstable_trace"))
       .Add("$branch using 1:($2 == 0 ? $3 : 1/0)", With("one_unstable"), "unstable", unstable)
       .Add("$plus using 1:2", With("multiplier_plus_one"), "{/Symbol m} through +1", static_cast<long>(plus.size()))
       .Add("$minus using 1:2", With("multiplier_minus_one"), "{/Symbol m} through -1", static_cast<long>(minus.size()));
