@@ -127,10 +127,13 @@ std::pair<double, double> EnergyRange(const Context& c) {
   return {0.8 * lo, std::min(hi, 1e4 * lo)};
 }
 
-std::string LogTics(const char* axis, double lo, double hi) {
+std::string LogTics(const char* axis, double lo, double hi, bool ends) {
   std::ostringstream os;
   os << "set " << axis << "tics (";
   const double decades = std::log10(hi / lo);
+  // (A tick within 7 % of the axis of a named end left out: "20" under
+  // "23.6" on Fig. 7's bar in the column PDF.)
+  auto clear = [&](double v) { return !ends || std::min(std::log10(v / lo), std::log10(hi / v)) > 0.07 * decades; };
   // (Up to 2 decades 1, 2, 3, 5 (with 1 and 3 alone, Fig. 7's colour bar had no
   // label in its darkest third); with 1, 2, 5, a range from 0.25 had no
   // label in its lowest third.)
@@ -140,10 +143,14 @@ std::string LogTics(const char* axis, double lo, double hi) {
   for (double p = std::floor(std::log10(lo)); p <= std::ceil(std::log10(hi)); ++p) {
     for (double m : mantissas) {
       const double v = m * std::pow(10.0, p);
-      if (v < lo * (1 - 1e-9) || v > hi * (1 + 1e-9)) continue;
+      if (v < lo * (1 - 1e-9) || v > hi * (1 + 1e-9) || !clear(v)) continue;
       os << (first ? "" : ", ") << "'" << v << "' " << v;
       first = false;
     }
+  }
+  if (ends) {
+    os << (first ? "" : ", ") << "'" << Num(lo, 3) << "' " << lo << ", '" << Num(hi, 3) << "' " << hi;
+    first = false;
   }
   os << ")\nset m" << axis << "tics 10\n";
   return first ? std::string("set format ") + axis + " '10^{%T}'\n" : os.str();

@@ -199,10 +199,11 @@ int XCol(const Context&, int dof);
 std::pair<double, double> EnergyRange(const Context& c);
 // The top of an energy axis: 30 times the median of `energies` (not empty).
 double EnergyTop(std::vector<double> energies);
-// The labelled ticks of a log axis over [lo, hi]: 1, 2, 5 per decade on
-// up to a decade and a half, 1 and 3 on up to three and a half, powers of 10
-// beyond (a log axis with two labels is hard to read).
-std::string LogTics(const char* axis, double lo, double hi);
+// The labelled ticks of a log axis over [lo, hi]: 1, 2, 3, 5 per decade on
+// up to two decades, 1 and 3 on up to three and a half, powers of 10
+// beyond (a log axis with two labels is hard to read). With `ends`, lo and
+// hi labelled too (to three digits), a tick near either left out.
+std::string LogTics(const char* axis, double lo, double hi, bool ends = false);
 // About `ticks` ticks on [lo, hi] none of them within 0.4 of a step of its
 // ends: on a 3-D chart's floor the two axes' end labels meet at a corner.
 std::string InnerTics(const char* axis, double lo, double hi, int ticks);

@@ -213,7 +213,7 @@ void FigureMultipliers(Context& c) {
        << "set xlabel 'period T (s)'\n"
        // (From 0.7 and 2 % beyond the branch's ends: the stable orbits, at
        // |mu| = 1, and the ends' points clear of the frame.)
-       << "set ylabel 'max |{/Symbol m}|'\nset logscale y\nset yrange [0.7:" << m_top << "]\n"
+       << "set ylabel 'max |{/Symbol m}|'\nset logscale y\n" << LogTics("y", 0.7, m_top) << "set yrange [0.7:" << m_top << "]\n"
        << "set xrange [" << t_lo - 0.02 * (t_hi - t_lo) << ":" << t_hi + 0.02 * (t_hi - t_lo) << "]\n";
   // |mu| = 1 first: the stable stretches lie on it, a thick solid line over
   // its thin dashes; the unstable ones dashed, as on Fig. 3, over their

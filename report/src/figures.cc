@@ -375,11 +375,11 @@ void Figure7(Context& c) {
   // the dilated branch's marks).
   body << "set xlabel 'period T (s)'\nset ylabel 'second impact time t_2 / T'\nset key below\n"
        << "set xrange [0:" << PeriodTop(c) << "]\nset yrange [0:1]\n"
-       << style::Palette("energy", "energy E (J)") << "set logscale cb\n" << LogTics("cb", e_lo, e_hi)
-       << "set cbrange [" << e_lo << ":" << e_hi << "]\n"
-       // (The bar's ends named too, to three digits: the lowest and highest
-       // energies drawn.)
-       << "set cbtics add ('" << Num(e_lo, 3) << "' " << e_lo << ", '" << Num(e_hi, 3) << "' " << e_hi << ")\n";
+       // (The bar's title above it: beside it, the column PDF cut it at the
+       // canvas's edge. Its ends named too, to three digits: the lowest and
+       // highest energies drawn.)
+       << style::Palette("energy", "") << "set tmargin 2.2\nset label 'E (J)' at graph 1.065, graph 1.05 centre\nset logscale cb\n"
+       << LogTics("cb", e_lo, e_hi, true) << "set cbrange [" << e_lo << ":" << e_hi << "]\n";
   Plot plot;
   plot.Add("'fig07_two_impact.csv' using 1:($9 == 1 && $5 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "points", style::Colour("grey_faint")),
            "potential, not admissible", grey)
