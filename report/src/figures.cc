@@ -1368,8 +1368,9 @@ void Figure18(Context& c) {
        << "set key below";
   // The key's title names the walls the sequences number (a (1, 2) did not
   // say which wall was 2).
+  // (A blank line over it: under the x label, it read as a second one.)
   if (c.model) {
-    body << " title 'impacts per period, in order, on walls";
+    body << " title \"\\n\".'impacts per period, in order, on walls";
     for (std::size_t k = 0; k < c.model->contacts.size(); ++k) {
       body << (k ? ", " : " ") << k + 1 << ": " << GnuplotText(c.model->contacts[k].Describe());
     }
@@ -1402,6 +1403,16 @@ void Figure18(Context& c) {
     const char* role;
   };
   std::vector<Layer> layers;
+  // The key's entries a row per sequence, stable then unstable, where each
+  // sequence has both (gnuplot fills the key's columns first: the stable
+  // entries, then the unstable ones, in columns as high as the sequences
+  // are many); else in the sequences' order.
+  // (A sequence with no admissible orbit has no entry.)
+  const bool paired = std::all_of(order.begin(), order.end(), [&](std::size_t s) {
+    return (counts[s][0] > 0) == (counts[s][1] > 0);
+  });
+  const long keyed = std::count_if(order.begin(), order.end(), [&](std::size_t s) { return counts[s][1] > 0; });
+  std::vector<std::pair<std::string, std::string>> keys[2];  // unstable, stable
   std::size_t ones = 0, twos = 0;
   for (const std::size_t s : order) {
     const bool one = sequences[s].size() == 1;
@@ -1415,9 +1426,13 @@ void Figure18(Context& c) {
       const char* role = one ? (stable ? "one_stable" : "one_unstable") : stable ? two_roles[k % 3].first
                                                                                  : two_roles[k % 3].second;
       const std::string look = With(role, one ? "lines" : "linespoints", colour);
-      plot.KeyOnly(look, titles[s] + (stable ? " stable" : " unstable"));
+      keys[paired ? stable : 1].push_back({look, titles[s] + (stable ? " stable" : " unstable")});
       layers.push_back({rows, one ? look : colour, one, role});
     }
+  }
+  if (paired && keyed > 0) body << "set key maxrows " << keyed << "\n";
+  for (const int stable : {1, 0}) {
+    for (const auto& [look, title] : keys[stable]) plot.KeyOnly(look, title);
   }
   for (const Layer& l : layers) {
     if (!l.one) MarkedLine(plot, "'fig18_sequences_fep.csv'", "3", l.rows, "$5", 8, l.role, l.look);
