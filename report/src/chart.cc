@@ -463,10 +463,12 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     // The free place nearest the zoomed window, highest first: fewest cells
     // covered, then nearest, then with a leader crossing the least of the
     // subject; clear of the frame's edges (the inset's ground cut them).
-    // Where the inset's size hides something of the subject everywhere, at
-    // 80 % and then 65 % of it (fep_all_families' third inset: its two
-    // bridges' insets held the free corners). (`at`: the window's middle in
-    // the frame.)
+    // At its size, or at 80 % or 65 % of it: the largest whose best place
+    // hides nothing of the subject and has a leader crossing none of it;
+    // else the largest whose best place hides nothing (fep_all_families'
+    // third inset found no place at its size; response_energy's, at 0.34
+    // of the frame, found one only in the far corner, behind a leader
+    // across the chart). (`at`: the window's middle in the frame.)
     double w = z.width, h = z.height;
     const double at = free.X(0.5 * (z.t_lo + z.t_hi));
     const double box_top = free.Y(z.e_hi), box_bottom = free.Y(z.e_lo);
@@ -476,11 +478,13 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
       const bool above = y0 >= box_top;
       return std::array<double, 4>{at, above ? box_top : box_bottom, std::clamp(at, x0, x1), above ? y0 : y1};
     };
-    double best = INFINITY, bx = 0.0, by = 0.0;
+    double best = INFINITY, bx = 0.0, by = 0.0, b_scale = 1.0;
+    bool clear = false;  // (the chosen place's leader crosses nothing of the subject)
     for (const double scale : {1.0, 0.8, 0.65}) {
-      if (best < Occupancy::kSubject) break;
       w = scale * z.width;
       h = scale * z.height;
+      double in_scale = INFINITY, sx = 0.0, sy = 0.0;
+      int s_crossed = 0;
       for (double y = 1.0 - h - 0.01; y >= 0.01; y -= 0.02) {
         for (double x = 0.01; x <= 1.0 - w - 0.01 + 1e-9; x += 0.01) {
           const std::array<double, 4> l = leader(x, y);
@@ -491,15 +495,27 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
           }
           const double cost = static_cast<double>(free.Count(x, y, x + w, y + h)) + std::abs(x + 0.5 * w - at) +
                               0.5 * (1.0 - h - y) + 4.0 * crossed / 40.0;
-          if (cost < best) {
-            best = cost;
-            bx = x;
-            by = y;
+          if (cost < in_scale) {
+            in_scale = cost;
+            sx = x;
+            sy = y;
+            s_crossed = crossed;
           }
         }
       }
+      if (in_scale >= Occupancy::kSubject) continue;
+      if (best >= Occupancy::kSubject || (!clear && s_crossed == 0)) {
+        best = in_scale;
+        bx = sx;
+        by = sy;
+        b_scale = scale;
+        clear = s_crossed == 0;
+      }
+      if (clear) break;
     }
     if (best >= Occupancy::kSubject) continue;  // (no place that hides nothing of the subject: not zoomed)
+    w = b_scale * z.width;
+    h = b_scale * z.height;
     // (With a margin: the next inset's ground would cut this one's labels.)
     free.MarkBox(bx - 0.03, by - 0.03, bx + w + 0.03, by + h + 0.03);
     // (And its leader: the next inset neither covers it nor crosses it.)
