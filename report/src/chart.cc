@@ -397,6 +397,10 @@ void Occupancy::MarkBox(double x0, double y0, double x1, double y1) {
   }
 }
 
+void Occupancy::MarkSegment(double x0, double y0, double x1, double y1, int steps) {
+  for (int i = 0; i <= steps; ++i) Mark(x0 + (x1 - x0) * i / steps, y0 + (y1 - y0) * i / steps);
+}
+
 long Occupancy::Count(double x0, double y0, double x1, double y1) const {
   long n = 0;
   for (int i = std::max(0, static_cast<int>(x0 * kCells)); i < std::min(kCells, static_cast<int>(x1 * kCells) + 1); ++i) {
@@ -521,7 +525,7 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     // (And its leader: the next inset neither covers it nor crosses it.)
     {
       const std::array<double, 4> l = leader(bx, by);
-      for (int i = 0; i <= 40; ++i) free.Mark(l[0] + (l[2] - l[0]) * i / 40.0, l[1] + (l[3] - l[1]) * i / 40.0);
+      free.MarkSegment(l[0], l[1], l[2], l[3], 40);
     }
     free.MarkBox(free.X(z.t_lo), free.Y(z.e_lo), free.X(z.t_hi), free.Y(z.e_hi));
     ++shown;

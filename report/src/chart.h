@@ -416,6 +416,9 @@ class Occupancy {
   // The cell at (fx, fy) holds at least `weight` (outside the frame: nothing).
   void Mark(double fx, double fy, long weight = kSubject);
   void MarkBox(double x0, double y0, double x1, double y1);
+  // A segment's cells, from (x0, y0) to (x1, y1) (fractions of the frame),
+  // at `steps` + 1 equal steps.
+  void MarkSegment(double x0, double y0, double x1, double y1, int steps);
   // The cells' weights summed over a box.
   long Count(double x0, double y0, double x1, double y1) const;
 

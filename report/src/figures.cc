@@ -1588,11 +1588,7 @@ std::string ResponseInsets(const std::vector<ResponseRow>& rows, const std::vect
     const double x = x_of(rows[k].orbit), y = y_of(rows[k].orbit);
     free.Mark(free.X(x), free.Y(y));
     if (k + 1 < rows.size() && rows[k + 1].branch == rows[k].branch) {
-      const double x1 = x_of(rows[k + 1].orbit), y1 = y_of(rows[k + 1].orbit);
-      for (int i = 1; i < 8; ++i) {
-        const double f = i / 8.0;
-        free.Mark(free.X(x + f * (x1 - x)), (1 - f) * free.Y(y) + f * free.Y(y1));
-      }
+      free.MarkSegment(free.X(x), free.Y(y), free.X(x_of(rows[k + 1].orbit)), free.Y(y_of(rows[k + 1].orbit)), 8);
     }
   }
   if (backbone && log_y) {
