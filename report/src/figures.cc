@@ -498,13 +498,13 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
   const std::string &u = col.u, &w = col.w, &v = col.v;
   std::ostringstream body;
   body << "set multiplot\n" << style::Palette("family", parameter) << bar << "set cbrange [0:1]\n"
-       // (The key below both panels in up to three rows of two, 0.3 high:
-       // at 0.24 its one column ran into the x labels in the column PDF;
-       // the top at 0.95, the d label above the right panel clear of the
-       // canvas's edge.)
-       << "set bmargin at screen 0.3\nset tmargin at screen 0.95\n"
+       // (The key below both panels in columns of three rows, 0.22 high:
+       // "horizontal maxcols 2" set its five entries in one column, which
+       // needed 0.3 and left a white band in the PNG; the top at 0.95, the
+       // d label above the right panel clear of the canvas's edge.)
+       << "set bmargin at screen 0.22\nset tmargin at screen 0.95\n"
        << "set lmargin at screen 0.1\nset rmargin at screen 0.44\nunset colorbox\n"
-       << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 2 maxrows 3\n"
+       << "set key at screen 0.5, screen 0.005 center bottom vertical maxrows 3\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
        << DofLabel("x", c.contact, "m") << "'\nset xtics " << NiceStep(lo[0], hi[0], 4) << "\nset ytics "
        << NiceStep(lo[1], hi[1], 4) << "\nset xrange " << PaddedRange(lo[0], hi[0]) << "\nset yrange "
@@ -539,7 +539,7 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
   right.Unkeyed("'" + name + ".csv' index 0 using " + ImpactStates(c, w, v), style::WithPalette("impact_state"));
   left.KeyOnly(With("impact_state", "points", style::Colour("black")), "impact state (right)");
   body << left.str() << "unset key\nset lmargin at screen 0.58\nset rmargin at screen 0.82\n"
-       << "set colorbox user origin screen 0.845, screen 0.3 size screen 0.025, screen 0.6\n"
+       << "set colorbox user origin screen 0.845, screen 0.22 size screen 0.025, screen 0.68\n"
        << ContactProjectionAxes(c, lo, hi) << right.str() << "unset multiplot";
   Draw(c, name, body.str(), note);
 }
@@ -1433,7 +1433,7 @@ void Figure18(Context& c) {
       layers.push_back({rows, one ? look : colour, one, role});
     }
   }
-  if (paired && keyed > 0) body << "set key maxrows " << keyed << "\n";
+  if (paired && keyed > 0) body << "set key maxrows " << keyed << " maxcols 2\n";
   for (const int stable : {1, 0}) {
     for (const auto& [look, title] : keys[stable]) plot.KeyOnly(look, title);
   }
