@@ -127,7 +127,7 @@ std::pair<double, double> EnergyRange(const Context& c) {
   return {0.8 * lo, std::min(hi, 1e4 * lo)};
 }
 
-std::string LogTics(const char* axis, double lo, double hi, bool ends) {
+std::string LogTics(const char* axis, double lo, double hi, bool ends, Beyond beyond) {
   std::ostringstream os;
   os << "set " << axis << "tics (";
   const double decades = std::log10(hi / lo);
@@ -149,7 +149,8 @@ std::string LogTics(const char* axis, double lo, double hi, bool ends) {
     }
   }
   if (ends) {
-    os << (first ? "" : ", ") << "'" << Num(lo, 3) << "' " << lo << ", '" << Num(hi, 3) << "' " << hi;
+    os << (first ? "" : ", ") << "'" << (beyond.lo ? "{/Symbol \\243} " : "") << Num(lo, 3) << "' " << lo << ", '"
+       << (beyond.hi ? "{/Symbol \\263} " : "") << Num(hi, 3) << "' " << hi;
     first = false;
   }
   os << ")\nset m" << axis << "tics 10\n";

@@ -202,8 +202,13 @@ double EnergyTop(std::vector<double> energies);
 // The labelled ticks of a log axis over [lo, hi]: 1, 2, 3, 5 per decade on
 // up to two decades, 1 and 3 on up to three and a half, powers of 10
 // beyond (a log axis with two labels is hard to read). With `ends`, lo and
-// hi labelled too (to three digits), a tick near either left out.
-std::string LogTics(const char* axis, double lo, double hi, bool ends = false);
+// hi labelled too (to three digits), a tick near either left out; an end
+// `beyond` what it stands for (values past it drawn at it: a colour bar's
+// clamped ends) labelled with <= or >= before it.
+struct Beyond {
+  bool lo = false, hi = false;
+};
+std::string LogTics(const char* axis, double lo, double hi, bool ends = false, Beyond beyond = {});
 // About `ticks` ticks on [lo, hi] none of them within 0.4 of a step of its
 // ends: on a 3-D chart's floor the two axes' end labels meet at a corner.
 std::string InnerTics(const char* axis, double lo, double hi, int ticks);
