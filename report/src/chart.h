@@ -319,11 +319,11 @@ class FepTable {
     // The key by family (kKeyTitles' order), first and alone; the layers
     // after it, unkeyed, in the drawing's order (the 1-ipp lines over the
     // 2-ipp branches they meet).
-    const long counts[] = {one_.stable,  one_.unstable, two_stable_, two_unstable_, half_.stable + half_.unstable,
-                           three_.stable, three_.unstable, bridge_count};
-    const char* roles[] = {"one_stable", "one_unstable", "two_stable", "two_unstable",
+    const long counts[] = {one_.stable,   one_.unstable,   two_stable_,   two_unstable_, half_.stable,
+                           half_.unstable, three_.stable, three_.unstable, bridge_count};
+    const char* roles[] = {"one_stable", "one_unstable", "two_stable",   "two_unstable",   "two_half_stable",
                            "two_half",   "three_stable", "three_unstable", "bridge"};
-    const char* kinds[] = {"", "", "linespoints", "linespoints", "", "linespoints", "linespoints", ""};  // as keyed
+    const char* kinds[] = {"", "", "linespoints", "linespoints", "", "", "linespoints", "linespoints", ""};  // as keyed
     for (std::size_t k = 0; k < kKeyTitles.size(); ++k) {
       if (counts[k] > 0) plot.KeyOnly(k + 1 == kKeyTitles.size() ? BridgeLook() : With(roles[k], kinds[k]), kKeyTitles[k]);
     }
@@ -349,15 +349,18 @@ class FepTable {
     const std::tuple<std::string, std::string, long> layers[] = {
         {select("1-ipp", " && $5 == 1"), With("one_stable"), one_.stable},
         {select("1-ipp", " && $5 == 0"), With("one_unstable"), one_.unstable},
-        {select("2-ipp-half", ""), With("two_half"), half_.stable + half_.unstable}};
+        // (The dilated branch's stability too: its changes are where B2's
+        // foot and B4 leave it, on paper.toml.)
+        {select("2-ipp-half", " && $5 == 1"), With("two_half_stable"), half_.stable},
+        {select("2-ipp-half", " && $5 == 0"), With("two_half"), half_.unstable}};
     for (const auto& [spec, look, count] : layers) {
       if (count > 0) plot.Unkeyed(spec, look);
     }
   }
   // The key's entries, by family (Fig. 17 orders its panels' collected ones so).
-  static constexpr std::array<const char*, 8> kKeyTitles = {
-      "1-ipp, stable",    "1-ipp, unstable", "2-ipp, stable",   "2-ipp, unstable",
-      "2-ipp, t_2 = T/2", "3-ipp, stable",   "3-ipp, unstable", "bridge"};
+  static constexpr std::array<const char*, 9> kKeyTitles = {
+      "1-ipp, stable",  "1-ipp, unstable", "2-ipp, stable",   "2-ipp, unstable", "2-ipp, t_2 = T/2, stable",
+      "2-ipp, t_2 = T/2, unstable", "3-ipp, stable", "3-ipp, unstable", "bridge"};
   void Write(std::ostream& out) const;
 
   struct Root {
