@@ -989,9 +989,9 @@ void Figure17(Context& c) {
   // The panels above one key for all of them (the series of the panels
   // are the same kinds; a key per panel took a third of the height), each
   // titled above its frame; the plot areas placed by hand.
-  // (The key's band 0.11 of the height: at 0.14 a white band lay between
-  // the panels and the key.)
-  const double key_band = 0.11, cw = 1.0 / cols, ch = (1.0 - key_band) / rows;
+  // (The key's band 0.15 of the height: four rows of two in the column
+  // PDF, three of three in the PNG.)
+  const double key_band = 0.15, cw = 1.0 / cols, ch = (1.0 - key_band) / rows;
   body << "set multiplot\nset xlabel 'period T (s)' offset 0, 0.3\nset ytics scale 0.5\n";
   std::vector<Plot::Entry> entries;
   for (int k = 0; k < n; ++k) {
@@ -1029,8 +1029,21 @@ void Figure17(Context& c) {
          << " s' offset 0, -0.6\n";
     Plot plot("plot", Plot::Keys::kCollected);
     table.AddLayers(plot, "fig17_bridges_fep.csv", "fig17_bridges.csv", 1, k);
-    // A grazing bridge's top is the grazing 1-ipp orbit: circled, as on Fig. 8.
-    if (IsGrazing(br)) Mark(plot, br.period, br.energy_max, "grazing", "grazing, T_G");
+    // A grazing bridge's top is the grazing 1-ipp orbit: circled, as on Fig. 8;
+    // another bridge's end circled too where its orbit grazes d between its
+    // impacts (NC3's margin within 1e-6 d of 0: B4's ends, at 3.160 J, on
+    // paper.toml), keyed alike: "grazing orbit".
+    if (IsGrazing(br)) {
+      Mark(plot, br.period, br.energy_max, "grazing", "grazing orbit");
+    } else {
+      double marked = NAN;  // (a symmetric bridge's two ends are one point)
+      for (const double s : {br.s_begin, br.s_end}) {
+        const Orbit end = BridgeOrbit(c.b, br, s);
+        if (std::abs(end.max_excess) > 1e-6 * c.b.gap || std::abs(end.energy - marked) <= 1e-9 * end.energy) continue;
+        Mark(plot, br.period, end.energy, "grazing", "grazing orbit");
+        marked = end.energy;
+      }
+    }
     // An end that lies near an admissible orbit of the bridge's period but
     // not on it (within 5 % of the panel's height, apart by more than 1e-6
     // relative): both energies written beside them, the end's to the right
