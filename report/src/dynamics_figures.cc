@@ -307,7 +307,10 @@ void FigureTimeHistory(Context& c) {
   jumps.Commit();
   std::ostringstream body;
   const std::string t = "1", xc = std::to_string(2 + c.contact), vc = std::to_string(2 + n + c.contact);
-  body << "set multiplot layout 2,1\nset key below\nset xrange [0:" << opt.t_end << "]\nset format x ''\n"
+  // (Keys in rows of two, spaced for the subscripts: in one column of four
+  // in the column PDF, x_1's subscript touched the next row.)
+  body << "set multiplot layout 2,1\nset key below maxrows 2 spacing 1.15\nset xrange [0:" << opt.t_end
+       << "]\nset format x ''\n"
        << "set ylabel 'displacement (m)'\nset lmargin 10\n";
   Plot top;
   // (The orbit's period in its key, as Figs. 2, 5 and 9 give it.)
