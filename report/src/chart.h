@@ -327,11 +327,6 @@ class FepTable {
     for (std::size_t k = 0; k < kKeyTitles.size(); ++k) {
       if (counts[k] > 0) plot.KeyOnly(k + 1 == kKeyTitles.size() ? BridgeLook() : With(roles[k], kinds[k]), kKeyTitles[k]);
     }
-    // The bridges first, under every branch: their caps and bars had hidden
-    // the markers and the short unstable stretches at their ends (B1's foot,
-    // the 2-ipp marker over B4's top on paper.toml).
-    const std::string bridge = "'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)";
-    if (bridge_count > 0) plot.Unkeyed(bridge, BridgeLook());
     const std::string source = "'" + csv + "'" + ix;
     // The 3-ipp family, under the 2-ipp branch it runs along from
     // T = 26.7 to 29.3 on paper.toml (over it, its squares had hidden that
@@ -346,13 +341,19 @@ class FepTable {
     // table marks (equal steps along it).
     if (two_stable_ > 0) MarkedLine(plot, source, "2", "strcol(1) eq '2-ipp' && $5 == 1", "$4", 7, "two_stable");
     if (two_unstable_ > 0) MarkedLine(plot, source, "2", "strcol(1) eq '2-ipp' && $5 == 0", "$4", 7, "two_unstable");
+    const std::string bridge = "'" + bridges + "'" + ix + " using 1:3:(0):($4-$3)";
     const std::tuple<std::string, std::string, long> layers[] = {
         {select("1-ipp", " && $5 == 1"), With("one_stable"), one_.stable},
         {select("1-ipp", " && $5 == 0"), With("one_unstable"), one_.unstable},
         // (The dilated branch's stability too: its changes are where B2's
         // foot and B4 leave it, on paper.toml.)
         {select("2-ipp-half", " && $5 == 1"), With("two_half_stable"), half_.stable},
-        {select("2-ipp-half", " && $5 == 0"), With("two_half"), half_.unstable}};
+        {select("2-ipp-half", " && $5 == 0"), With("two_half"), half_.unstable},
+        // The bridges last, over a white halo that cuts the branches under
+        // them (under the branches, two read as reaching a branch they did
+        // not and B1 as a striped bar, in two readings).
+        {bridge, With("halo", "vectors"), bridge_count},
+        {bridge, BridgeLook(), bridge_count}};
     for (const auto& [spec, look, count] : layers) {
       if (count > 0) plot.Unkeyed(spec, look);
     }
