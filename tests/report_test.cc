@@ -192,4 +192,47 @@ TEST(Charts, TwoBranchesLeavingTheTrivialRootAreNotJoined) {
   EXPECT_EQ(report::TwoImpactBranches(roots).size(), 3u);
 }
 
+// The 3-ipp family's markers (its unstable rows marked at equal steps with
+// the 2-ipp branches) keep clear of its stable orbits' dots: on paper.toml
+// a square at T = 28.87 covered the stable dots at 28.85 and 28.86.
+TEST(Charts, TheThreeImpactMarkersKeepClearOfItsStableOrbits) {
+  report::FepTable table;
+  Stability stable, unstable;
+  stable.stable = true;
+  for (int k = 0; k <= 200; ++k) {
+    Orbit o;
+    o.impacts = 3;
+    o.admissible = true;
+    o.period = 26.0 + 0.01 * k;
+    o.times = {0.4 * o.period, 0.7 * o.period};
+    o.energy = 0.4 + 0.01 * std::abs(k - 100);  // a V: steep enough to be marked along
+    table.Add(k, o, k == 100 || k == 101 ? stable : unstable);
+  }
+  std::ostringstream csv;
+  table.Write(csv);
+  std::istringstream in(csv.str());
+  std::string line;
+  std::getline(in, line);  // the header
+  std::vector<std::pair<bool, bool>> rows;  // (stable, marked)
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::vector<std::string> f;
+    std::istringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) f.push_back(cell);
+    ASSERT_EQ(f.size(), 7u) << line;
+    ASSERT_EQ(f[0], "3-ipp");
+    rows.push_back({f[4] == "1", f[6] == "1"});
+  }
+  ASSERT_EQ(rows.size(), 201u);
+  int marks = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    if (!rows[k].second || rows[k].first) continue;
+    ++marks;
+    for (std::size_t j = k >= 3 ? k - 3 : 0; j <= std::min(k + 3, rows.size() - 1); ++j) {
+      EXPECT_FALSE(rows[j].first) << "a marker at row " << k << ", beside the stable row " << j;
+    }
+  }
+  EXPECT_GE(marks, 2);  // (marked at all: the check above is not empty)
+}
+
 }  // namespace nsmodal
