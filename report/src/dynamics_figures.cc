@@ -468,17 +468,37 @@ void FigureAllFamilies(Context& c, const ThreeImpactPick& three) {
   // The family's stable stretches, each as its first and last period.
   std::vector<std::pair<double, double>> stretches;
   bool in = false;
+  int last_step = 0;
   for (std::size_t k = 0; k < three.family.size(); ++k) {
     const Orbit& o = three.family[k];
     const std::optional<Stability> s = o.admissible ? std::optional<Stability>(OrbitStability(c.b, o)) : std::nullopt;
     if (o.admissible) {
       table.Add(static_cast<int>(k), o, s);
       drawn.push_back(o);
+      last_step = static_cast<int>(k);
     }
     const bool stable = o.admissible && IsStable(s);
     if (stable && !in) stretches.push_back({o.period, o.period});
     if (stable) stretches.back().second = o.period;
     in = stable;
+  }
+  // The family drawn to its end on a 1-ipp grazing orbit (as the 1-ipp
+  // stretches are drawn to theirs: on paper.toml its last orbit of the grid,
+  // T = 29.30, stopped 0.007 s short of B3's top at T_G = 29.3072): where
+  // the last admissible orbit lies within a step of the admissible stretch's
+  // end and within 2 % of that grazing orbit's energy, the grazing orbit
+  // ends the line, with the last orbit's stability.
+  if (!drawn.empty()) {
+    const Orbit& last = drawn.back();
+    const Orbit graze = OneImpactOrbit(c.b, three.admissible_to);
+    const double gap = three.admissible_to - last.period;
+    if (gap > 0.0 && gap <= 0.011 && std::abs(graze.energy - last.energy) <= 0.02 * graze.energy) {
+      Orbit end = last;
+      end.period = three.admissible_to;
+      end.energy = graze.energy;
+      table.Add(last_step, end, OrbitStability(c.b, last));  // (the same step: the stretch's end)
+      drawn.push_back(end);
+    }
   }
   // A stable stretch too short to see (under 1 % of the period axis; on
   // paper.toml two orbits, T = 28.85 and 28.86, at the family's lowest
