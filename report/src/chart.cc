@@ -169,10 +169,30 @@ std::string InnerTics(const char* axis, double lo, double hi, int ticks) {
   return os.str();
 }
 
+namespace {
+
+// A bridge too short to see at a frequency-energy chart's scale (under 4 %
+// of its energy axis's height): zoomed on in an inset (BridgeInsets), the
+// window T within 2 % of the period axis on each side.
+bool ShortBridge(const Context& c, const Bridge& b) {
+  const auto [lo, hi] = EnergyRange(c);
+  return b.energy_max > b.energy_min && std::log(b.energy_max / b.energy_min) <= 0.04 * std::log(hi / lo);
+}
+constexpr double kBridgeWindow = 0.02;
+
+}  // namespace
+
 void BridgeLabels(const Context& c, std::ostream& body) {
   for (std::size_t k = 0; k < c.bridges.size(); ++k) {
     const Bridge& b = c.bridges[k];
-    body << "set label 'B" << k + 1 << "' at " << b.period << ", " << b.energy_max << " offset -0.6, 1.1 front\n";
+    if (ShortBridge(c, b)) {
+      // Left of its window's box, whose leader rises from the box's top
+      // through a label above it.
+      body << "set label 'B" << k + 1 << "' at " << b.period - kBridgeWindow * PeriodTop(c, false) << ", "
+           << std::sqrt(b.energy_min * b.energy_max) << " right offset -0.4, 0 front\n";
+    } else {
+      body << "set label 'B" << k + 1 << "' at " << b.period << ", " << b.energy_max << " offset -0.6, 1.1 front\n";
+    }
   }
 }
 
@@ -589,17 +609,14 @@ std::pair<double, double> StretchWindow(double first, double last, double axis, 
 
 std::string BridgeInsets(const Context& c, const Plot& plot, const std::vector<Orbit>& also,
                          const std::vector<Zoom>& more) {
-  const auto [lo, hi] = EnergyRange(c);
   const double t_top = PeriodTop(c, false);
   std::vector<Zoom> zooms;
   std::vector<double> at;  // each zoom's bridge's period
   for (std::size_t k = 0; k < c.bridges.size(); ++k) {
     const Bridge& b = c.bridges[k];
-    // Seen at the chart's scale: a bridge over 4 % of the energy axis.
-    if (!(b.energy_max > b.energy_min) || std::log(b.energy_max / b.energy_min) > 0.04 * std::log(hi / lo)) continue;
-    // The zoom: the bridge over 2/3 of the inset's height, T within 2 % of
-    // the period axis on each side.
-    const double pad = 0.25 * (b.energy_max - b.energy_min), dt = 0.02 * t_top;
+    if (!ShortBridge(c, b)) continue;  // (seen at the chart's scale)
+    // The zoom: the bridge over 2/3 of the inset's height.
+    const double pad = 0.25 * (b.energy_max - b.energy_min), dt = kBridgeWindow * t_top;
     std::string label = "B";  // (not "B" + ...: GCC 12's -Wrestrict false positive on it)
     label += std::to_string(k + 1);
     zooms.push_back({b.period - dt, b.period + dt, b.energy_min - pad, b.energy_max + pad, label});
