@@ -882,9 +882,12 @@ void Figures13To15(Context& c) {
     // their positions along the half, as Fig. 14 shades them (each keyed:
     // three curves need no colour bar). Below, each orbit less the grazing
     // one: the orbits lie within 0.4 d of each other. One key, under both.
+    // (Each orbit's colour the map's at its place, interpolated as Fig. 14's
+    // surface: the map's nearest stop had drawn s = 0.3 s_end in the colour
+    // Fig. 14's bar gives 0.25.)
     const std::string xc = std::to_string(XCol(c, c.contact));
     // (Margins in characters: the panels' frames aligned in every format.)
-    body << "set multiplot\nset lmargin 9\nset rmargin 2\n"
+    body << style::Palette("family", "") << "unset colorbox\nset multiplot\nset lmargin 9\nset rmargin 2\n"
          << "set origin 0, 0.5\nset size 1, 0.5\nset bmargin 0.5\nset format x ''\n"
          << "set xlabel ' '\nset ylabel '" << XcLabel(c) << "'\nset xrange [0:" << t << "]\n";
     Plot upper("plot", Plot::Keys::kCollected);
@@ -894,7 +897,7 @@ void Figures13To15(Context& c) {
              "grazing shifted by T/2, s = s_{end}");
     std::vector<std::string> roles;
     for (int pct : {10, 30, 50}) {
-      roles.push_back(With("orbit", "lines", style::MapColour("family", pct / 50.0)));
+      roles.push_back(style::WithMapped("orbit", "lines", pct / 50.0));
       upper.Add("'' using (strcol(1) eq 's" + std::to_string(pct) + "' ? $3 : 1/0):" + xc, roles.back(),
                 "2-ipp, s = 0." + std::to_string(pct / 10) + " s_{end}");
     }
