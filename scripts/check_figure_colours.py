@@ -152,7 +152,7 @@ def series(script):
             keyed = title is not None and title.group(1) and not re.search(r"\bnotitle\b", part)
             items.append((title.group(1) if keyed else None, kind.group(1) if kind else "lines",
                           dash.group(1) if dash else "1", colour.group(1) if colour else None, "palette" in part,
-                          part.strip().startswith("NaN "), point.group(1) if point else None))
+                          part.strip().startswith(("NaN ", "keyentry ")), point.group(1) if point else None))
         plots.append(items)
     return plots
 

@@ -116,7 +116,7 @@ def test_a_swatch_stands_for_a_surface_of_its_colour(tmp_path):
     (tmp_path / "a.csv").write_text("0,1,0\n0,1,1\n\n1,1,0\n1,1,1\n")
     plane = ("set datafile separator ','\nsplot 'a.csv' using 1:2:3 with pm3d fillcolor rgb '#BBBBBB' notitle, "
              "'' using 1:2:3 with lines lc rgb '#0072B2' title 'edge'")
-    key = ", NaN with boxes fs solid 1.0 noborder lc rgb '#BBBBBB' title 'the plane'"
+    key = ", keyentry with boxes fs solid 1.0 noborder lc rgb '#BBBBBB' title 'the plane'"
     assert run(tmp_path, plane + key, keys=True) == 0
     assert run(tmp_path, plane + key.replace("#BBBBBB", "#999999"), keys=True) == 1
 

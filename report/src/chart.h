@@ -71,6 +71,14 @@ class Plot {
     }
     return legend.str();
   }
+  // A key entry for a surface (pm3d has no key sample): gnuplot's
+  // `keyentry`, a filled swatch of `style` ("with boxes fs solid ..."). (A
+  // legend-only NaN layer with boxes in the splot drew every facet's border
+  // black: Fig. 14's surface turned to a black mesh.)
+  Plot& KeySwatch(const std::string& style, const std::string& title) {
+    layers_.push_back("keyentry " + style + " title '" + title + "'");
+    return *this;
+  }
   // A key entry alone (a legend-only "NaN" layer), for a series drawn as
   // unkeyed layers (a line and its markers apart); the check accepts it
   // when those layers draw its style.

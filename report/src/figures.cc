@@ -646,8 +646,8 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
       .Unkeyed("$edge using 1:2:3", With("obstacle"));
   // The plane keyed by a swatch of its grey (a surface has no key sample;
   // keyed by its dashed outline, it read as a line, not the grey plane).
-  surface.KeyOnly("with boxes fs solid 1.0 noborder lc rgb '" + style::Colour("plane") + "'",
-                  "obstacle " + Xc(c) + " = d (the plane)");
+  surface.KeySwatch("with boxes fs solid 1.0 noborder lc rgb '" + style::Colour("plane") + "'",
+                    "obstacle " + Xc(c) + " = d (the plane)");
   // The projection: every other orbit of a family of more than 8 (the
   // curves overlap: 11 orbits of two loops were 22 curves in a band).
   const std::string every = family.orbits.size() > 8 ? " every :2" : "";
