@@ -607,6 +607,17 @@ std::pair<double, double> StretchWindow(double first, double last, double axis, 
   return {mid - half, mid + half};
 }
 
+std::pair<double, double> EnergySpan(const std::vector<Orbit>& orbits, double t_lo, double t_hi) {
+  double e_lo = INFINITY, e_hi = 0.0;
+  for (const Orbit& o : orbits) {
+    if (o.period >= t_lo && o.period <= t_hi) {
+      e_lo = std::min(e_lo, o.energy);
+      e_hi = std::max(e_hi, o.energy);
+    }
+  }
+  return {e_lo, e_hi};
+}
+
 std::string BridgeInsets(const Context& c, const Plot& plot, const std::vector<Orbit>& also,
                          const std::vector<Zoom>& more) {
   const double t_top = PeriodTop(c, false);
@@ -650,15 +661,12 @@ std::string StableStretchInsets(const Context& c, const Plot& plot) {
   const double t_top = PeriodTop(c, true);
   // The admissible 1-ipp branch's stable stretches, each as its first and
   // last period.
-  std::vector<std::pair<double, double>> stretches;
-  bool in = false;
+  StableStretches found;
   for (const auto& list : c.atlas.one.at) {
     const OrbitRecord& r = list.front();
-    const bool stable = r.orbit.admissible && IsStable(r.stability);
-    if (stable && !in) stretches.push_back({r.orbit.period, r.orbit.period});
-    if (stable) stretches.back().second = r.orbit.period;
-    in = stable;
+    found.Add(r.orbit.period, r.orbit.admissible && IsStable(r.stability));
   }
+  std::vector<std::pair<double, double>>& stretches = found.stretches();
   // (Seen at the chart's scale: a stretch over 1 % of the period axis.)
   std::erase_if(stretches, [&](const auto& s) { return s.second - s.first > 0.01 * t_top; });
   // Two marks of the chart (TransitionMarks) on each other, under 1 % of the

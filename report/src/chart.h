@@ -418,6 +418,24 @@ struct Zoom {
 // `axis` wide shows: the stretch in the window's middle third, the window at
 // least 2 * `min_half` of the axis wide. As (lo, hi).
 std::pair<double, double> StretchWindow(double first, double last, double axis, double min_half = 0.005);
+// The lowest and highest energies of `orbits` with a period in [t_lo, t_hi]
+// (INFINITY and 0 where none is).
+std::pair<double, double> EnergySpan(const std::vector<Orbit>& orbits, double t_lo, double t_hi);
+// A family's stable stretches, each as its first and last period: its
+// orbits added in order of period, each stable or not.
+class StableStretches {
+ public:
+  void Add(double period, bool stable) {
+    if (stable && !in_) stretches_.push_back({period, period});
+    if (stable) stretches_.back().second = period;
+    in_ = stable;
+  }
+  std::vector<std::pair<double, double>>& stretches() { return stretches_; }
+
+ private:
+  std::vector<std::pair<double, double>> stretches_;
+  bool in_ = false;
+};
 // A frame's free space: which of its 100 x 100 cells something drawn
 // crosses (T linear over [t_lo, t_hi], E over [e_lo, e_hi], logarithmic
 // unless `log_e` is false).

@@ -466,9 +466,9 @@ void FigureAllFamilies(Context& c, const ThreeImpactPick& three) {
   table.AddAtlas(c.atlas);
   std::vector<Orbit> drawn;
   // The family's stable stretches, each as its first and last period.
-  std::vector<std::pair<double, double>> stretches;
-  bool in = false;
+  StableStretches stretches;
   int last_step = 0;
+  std::optional<Stability> last_stability;
   for (std::size_t k = 0; k < three.family.size(); ++k) {
     const Orbit& o = three.family[k];
     const std::optional<Stability> s = o.admissible ? std::optional<Stability>(OrbitStability(c.b, o)) : std::nullopt;
@@ -476,11 +476,9 @@ void FigureAllFamilies(Context& c, const ThreeImpactPick& three) {
       table.Add(static_cast<int>(k), o, s);
       drawn.push_back(o);
       last_step = static_cast<int>(k);
+      last_stability = s;
     }
-    const bool stable = o.admissible && IsStable(s);
-    if (stable && !in) stretches.push_back({o.period, o.period});
-    if (stable) stretches.back().second = o.period;
-    in = stable;
+    stretches.Add(o.period, o.admissible && IsStable(s));
   }
   // The family drawn to its end on a 1-ipp grazing orbit (as the 1-ipp
   // stretches are drawn to theirs: on paper.toml its last orbit of the grid,
@@ -496,7 +494,7 @@ void FigureAllFamilies(Context& c, const ThreeImpactPick& three) {
       Orbit end = last;
       end.period = three.admissible_to;
       end.energy = graze.energy;
-      table.Add(last_step, end, OrbitStability(c.b, last));  // (the same step: the stretch's end)
+      table.Add(last_step, end, last_stability);  // (the same step: the stretch's end)
       drawn.push_back(end);
     }
   }
@@ -507,16 +505,10 @@ void FigureAllFamilies(Context& c, const ThreeImpactPick& three) {
   // chart's: there the stretch was two dots on each other.)
   const double axis = PeriodTop(c, false);
   std::vector<Zoom> zooms;
-  for (const auto& [first, last] : stretches) {
+  for (const auto& [first, last] : stretches.stretches()) {
     if (last - first > 0.01 * axis) continue;
     const auto [w_lo, w_hi] = StretchWindow(first, last, axis, 0.0015);
-    double e_lo = INFINITY, e_hi = 0.0;
-    for (const Orbit& o : drawn) {
-      if (o.period >= w_lo && o.period <= w_hi) {
-        e_lo = std::min(e_lo, o.energy);
-        e_hi = std::max(e_hi, o.energy);
-      }
-    }
+    const auto [e_lo, e_hi] = EnergySpan(drawn, w_lo, w_hi);
     if (!(e_hi > e_lo)) continue;
     const double pad = 0.2 * (e_hi - e_lo);
     Zoom z{w_lo, w_hi, e_lo - pad, e_hi + pad, "3-ipp, stable"};

@@ -1053,14 +1053,20 @@ void Figure17(Context& c) {
     // and the orbit's to the left (B4's top at 3.160 read as reaching the
     // 2-ipp branch at 3.254).
     body << "unset label\n";
+    std::vector<double> at_period;  // the admissible orbits' energies at the bridge's period
+    {
+      SweepOptions admissible_only;
+      admissible_only.stability = StabilityPolicy::kAdmissible;
+      for (const int impacts : {1, 2}) {
+        for (const OrbitRecord& r : OrbitsAt(c.b, br.period, impacts, admissible_only)) {
+          if (r.orbit.admissible) at_period.push_back(r.orbit.energy);
+        }
+      }
+    }
     for (const double end : {br.energy_min, br.energy_max}) {
       double nearest = NAN;
-      for (const int impacts : {1, 2}) {
-        SweepOptions admissible_only;
-        admissible_only.stability = StabilityPolicy::kAdmissible;
-        for (const OrbitRecord& r : OrbitsAt(c.b, br.period, impacts, admissible_only)) {
-          if (r.orbit.admissible && !(std::abs(r.orbit.energy - end) >= std::abs(nearest - end))) nearest = r.orbit.energy;
-        }
+      for (const double e : at_period) {
+        if (!(std::abs(e - end) >= std::abs(nearest - end))) nearest = e;
       }
       const double gap = std::abs(nearest - end);
       if (!(gap > 1e-6 * end && gap < 0.05 * (hi - lo))) continue;
@@ -1236,13 +1242,7 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
     }
     const auto [w_lo, w_hi] = StretchWindow(s_first, s_last, t_hi - t_lo);
     const double mid = 0.5 * (w_lo + w_hi);
-    double e_lo = INFINITY, e_hi = 0.0;
-    for (const Orbit& o : pick.family) {
-      if (o.period >= w_lo && o.period <= w_hi) {
-        e_lo = std::min(e_lo, o.energy);
-        e_hi = std::max(e_hi, o.energy);
-      }
-    }
+    const auto [e_lo, e_hi] = EnergySpan(pick.family, w_lo, w_hi);
     const double pad = 0.3 * (e_hi - e_lo);
     free.MarkBox(free.X(mid) - 0.1, free.Y(s_e / three[2]) - 0.08, free.X(mid) + 0.1, free.Y(s_e / three[2]));  // its label
     // (Most of the width between the ends' lines: its tick labels, five digits
