@@ -281,7 +281,10 @@ void FigureTimeHistory(Context& c) {
   out << "\n";
   jumps << "t,x_c,v_before,v_after\n";
   double v_lo = 0.0, v_hi = 0.0;  // the contact velocity's range (about four ticks on it)
+  double x_lo = c.b.gap, x_hi = c.b.gap;  // the displacements' and d's (the same)
   auto row = [&](double t, const Eigen::VectorXd& z) {
+    x_lo = std::min(x_lo, z.head(n).minCoeff());
+    x_hi = std::max(x_hi, z.head(n).maxCoeff());
     v_lo = std::min(v_lo, z[n + c.contact]);
     v_hi = std::max(v_hi, z[n + c.contact]);
     out << t;
@@ -307,15 +310,26 @@ void FigureTimeHistory(Context& c) {
   jumps.Commit();
   std::ostringstream body;
   const std::string t = "1", xc = std::to_string(2 + c.contact), vc = std::to_string(2 + n + c.contact);
-  // (Keys in rows of two, spaced for the subscripts: in one column of four
-  // in the column PDF, x_1's subscript touched the next row.)
-  body << "set multiplot layout 2,1\nset key below maxrows 2 spacing 1.15\nset xrange [0:" << opt.t_end
-       << "]\nset format x ''\n"
-       << "set ylabel 'displacement (m)'\nset lmargin 10\n";
-  Plot top;
-  // (The orbit's period in its key, as Figs. 2, 5 and 9 give it.)
+  // Two panels of one height placed by hand over one key for both, at the
+  // foot of the canvas, spaced for the subscripts. (Each panel's own key below it took
+  // the displacement panel's height in the column PDF; the orbit's period is
+  // the chart's title, as Figs. 2, 5 and 9 give it in theirs.)
+  auto panel = [](double bottom, double top) {
+    std::ostringstream os;
+    os << "set lmargin at screen 0.14\nset rmargin at screen 0.96\nset bmargin at screen " << bottom
+       << "\nset tmargin at screen " << top << "\n";
+    return os.str();
+  };
+  body << "set multiplot\nset xrange [0:" << opt.t_end << "]\nset format x ''\n"
+       << "set title 'the stable 1-ipp orbit, T = " << Num(o->period) << " s'\n"
+       << panel(0.6, 0.9) << "set ylabel 'displacement (m)'\nset ytics " << NiceStep(x_lo, x_hi, 4) << "\n"
+       // (Its range the motion's, not the tics': rounded out, -6 to 2 left a
+       // fifth of the panel empty.)
+       << "set yrange [" << x_lo - 0.06 * (x_hi - x_lo) << ":" << x_hi + 0.06 * (x_hi - x_lo) << "]\n";
+  const std::string contact = std::to_string(c.contact + 1);
+  Plot top("plot", Plot::Keys::kCollected);
   top.Add("'time_history.csv' using " + t + ":" + xc, With("dof_contact"),
-          "x_{" + std::to_string(c.contact + 1) + "} (contact), T = " + Num(o->period) + " s");
+          "x_{" + contact + "}, v_{" + contact + "} (contact)");
   for (int i = 0; i < n; ++i) {
     if (i == c.contact) continue;
     if (i == (c.contact == 0 ? 1 : 0)) {
@@ -327,13 +341,15 @@ void FigureTimeHistory(Context& c) {
   }
   top.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d")
       .Add("'time_history_impacts.csv' using 1:2", With("orbit_impact"), "impacts", s.impacts);
-  Plot bottom;
-  bottom.Add("'time_history.csv' using 1:" + vc, With("dof_contact"), "v_{" + std::to_string(c.contact + 1) + "}")
+  Plot bottom("plot", Plot::Keys::kCollected);
+  bottom.Add("'time_history.csv' using 1:" + vc, With("dof_contact"), "x_{" + contact + "}, v_{" + contact + "} (contact)")
       .Add("'time_history_impacts.csv' using 1:3:(0):($4 - $3)", With("velocity_jump"), "velocity jump at an impact",
            s.impacts);
-  body << top.str() << "set format x '% g'\nset xlabel 'time t (s)'\nset ylabel 'contact velocity (m/s)'\nset ytics "
-       << NiceStep(v_lo, v_hi, 4) << "\n" << bottom.str()
-       << "unset multiplot";
+  std::vector<Plot::Entry> entries = top.Collected();
+  entries.insert(entries.end(), bottom.Collected().begin(), bottom.Collected().end());
+  body << top.str() << "unset title\nset format x '% g'\nset xlabel 'time t (s)'\nset ylabel 'contact velocity (m/s)'\nset yrange [*:*]\n"
+       << panel(0.26, 0.56) << "set ytics " << NiceStep(v_lo, v_hi, 4) << "\n" << bottom.str() << LegendPanel(0.14)
+       << "set key spacing 1.3\n" << Plot::Legend(entries) << "unset multiplot";
   Draw(c, "time_history", body.str(),
        "the stable 1-ipp orbit T = " + Num(o->period, 6) + ", " + std::to_string(periods) + " periods simulated (exact), " +
            std::to_string(s.impacts) + " impacts");
