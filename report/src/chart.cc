@@ -497,14 +497,39 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     double w = z.width, h = z.height;
     const double at = free.X(0.5 * (z.t_lo + z.t_hi));
     const double box_top = free.Y(z.e_hi), box_bottom = free.Y(z.e_lo);
-    // The leader from the window's box to the inset's frame placed at (x, y).
+    // The inset's period ticks, as fractions of its frame's width.
+    std::vector<double> ticks = {0.5};
+    if (!z.one_period_tick) {
+      const auto [first, last] = TwoTickValues(z.t_lo, z.t_hi);
+      ticks = {(first - z.t_lo) / (z.t_hi - z.t_lo), (last - z.t_lo) / (z.t_hi - z.t_lo)};
+    }
+    // Where the leader ends on the frame placed at (x, y), as a fraction of
+    // its width: above the window's middle, and, into the frame's foot
+    // (above the box), off its period labels: between two, or a fifth of the
+    // frame off one. (On the column PDF, Fig. 3's leader ran through the
+    // upper inset's "20". kLabel: a label's half width and a gap, as a
+    // fraction of the inset's frame on the column PDF.)
+    auto end_fraction = [&](double x, double y) {
+      constexpr double kLabel = 0.2;
+      const double x0 = x + kLeft, x1 = x + w - kEdge;
+      const double f = std::clamp((at - x0) / (x1 - x0), 0.0, 1.0);
+      if (y + kBelow < box_top) return f;  // (into its top: no labels there)
+      for (const double tick : ticks) {
+        if (std::abs(f - tick) >= kLabel) continue;
+        return ticks.size() == 2 ? 0.5 * (ticks[0] + ticks[1]) : (f < tick ? tick - 0.3 : tick + 0.3);
+      }
+      return f;
+    };
+    // The leader from the window's box to the inset's frame placed at (x, y):
+    // into its foot (above the box) or its top.
     auto leader = [&](double x, double y) {
       const double x0 = x + kLeft, x1 = x + w - kEdge, y0 = y + kBelow, y1 = y + h - kEdge;
       const bool above = y0 >= box_top;
-      return std::array<double, 4>{at, above ? box_top : box_bottom, std::clamp(at, x0, x1), above ? y0 : y1};
+      return std::array<double, 4>{at, above ? box_top : box_bottom, x0 + end_fraction(x, y) * (x1 - x0), above ? y0 : y1};
     };
     double best = INFINITY, bx = 0.0, by = 0.0, b_scale = 1.0;
-    bool clear = false;  // (the chosen place's leader crosses nothing of the subject)
+    bool clear = false;  // (the chosen place's leader crosses at most one line of the subject)
+    constexpr int kOneLine = 0;
     for (const double scale : {1.0, 0.8, 0.65}) {
       w = scale * z.width;
       h = scale * z.height;
@@ -529,12 +554,15 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
         }
       }
       if (in_scale >= Occupancy::kSubject) continue;
-      if (best >= Occupancy::kSubject || (!clear && s_crossed == 0)) {
+      // (Crossing one line is clear enough: a leader's 40 samples put two or
+      // three on a line it crosses. response_energy's full-size inset, whose
+      // leader crossed one dotted curve, read better than a shrunk one.)
+      if (best >= Occupancy::kSubject || (!clear && s_crossed <= kOneLine)) {
         best = in_scale;
         bx = sx;
         by = sy;
         b_scale = scale;
-        clear = s_crossed == 0;
+        clear = s_crossed <= kOneLine;
       }
       if (clear) break;
     }
@@ -566,11 +594,6 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     // with the chart).
     // (Thin, solid and grey: dotted, it read as a non-admissible branch;
     // light grey, it was not seen.)
-    {
-      const std::array<double, 4> l = leader(bx, by);
-      insets << "set arrow from screen " << sx(l[0]) << ", screen " << sy(l[1]) << " to screen " << sx(l[2])
-             << ", screen " << sy(l[3]) << " nohead lw 0.6 dt 1 lc rgb '" << style::Colour("grey") << "' front\n";
-    }
     // Its frame inside the ground, clear of its tick labels at their width
     // in this format's characters (ns_hc, ns_vc: a character's width and
     // height as fractions of the canvas): the energy's widest label and a
@@ -580,8 +603,22 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     first_label << e_first;
     last_label << e_last;
     const std::size_t chars = std::max(first_label.str().size(), last_label.str().size());
-    insets << "set lmargin at screen (" << sx(bx + kEdge) << " + " << chars + 1 << " * ns_hc)\nset rmargin at screen "
-           << sx(bx + w - kEdge) << "\nset bmargin at screen (" << sy(by + kEdge) << " + 1.5 * ns_vc)\nset tmargin at screen "
+    // (Streams, not "(" + ... chains: GCC 12's -Wrestrict false positive.)
+    std::ostringstream left_os;
+    left_os << "(" << sx(bx + kEdge) << " + " << chars + 1 << " * ns_hc)";
+    const std::string frame_left = left_os.str(), frame_right = sx(bx + w - kEdge);
+    {
+      // (Its end on the frame as this format places it: kLeft is about the
+      // PNG's; the column PDF's labels are wider.)
+      const std::array<double, 4> l = leader(bx, by);
+      std::ostringstream end_os;
+      end_os << "(" << frame_left << " + " << end_fraction(bx, by) << " * (" << frame_right << " - " << frame_left << "))";
+      const std::string end = end_os.str();
+      insets << "set arrow from screen " << sx(l[0]) << ", screen " << sy(l[1]) << " to screen " << end << ", screen "
+             << sy(l[3]) << " nohead lw 0.6 dt 1 lc rgb '" << style::Colour("grey") << "' front\n";
+    }
+    insets << "set lmargin at screen " << frame_left << "\nset rmargin at screen "
+           << frame_right << "\nset bmargin at screen (" << sy(by + kEdge) << " + 1.5 * ns_vc)\nset tmargin at screen "
            << sy(by + h - kEdge) << "\n"
            << "set xrange [" << z.t_lo << ":" << z.t_hi << "]\nset yrange [" << z.e_lo << ":" << z.e_hi << "]\n"
            << "set xtics " << (z.one_period_tick ? OneTick(0.5 * (z.t_lo + z.t_hi)) : TwoTicks(z.t_lo, z.t_hi))
