@@ -603,13 +603,31 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
          << "\nsplot 'bar_spacetime.csv' using 1:2:3 with lines notitle\nunset table\n";
   }
   body << "unset contour\nset surface\n";
-  body << "set multiplot\nset lmargin at screen 0.12\nset rmargin at screen 0.82\n"
-       << "set origin 0, 0.36\nset size 1, 0.64\nset bmargin 0.5\nset format x ''\nset ylabel 'position along the bar x (m)'\n"
+  // The panels placed on the canvas (screen fractions), the colour bar
+  // beside the map as high as it, each contour level drawn across the bar in
+  // its contour's line: the bar is the contours' key (readers had asked
+  // which level a line was).
+  constexpr double kLeft = 0.12, kRight = 0.82, kMapBottom = 0.42, kMapTop = 0.97, kEndBottom = 0.11, kEndTop = 0.38;
+  constexpr double kBarLeft = 0.84, kBarWidth = 0.03;
+  body << "set multiplot\nset lmargin at screen " << kLeft << "\nset rmargin at screen " << kRight
+       << "\nset bmargin at screen " << kMapBottom << "\nset tmargin at screen " << kMapTop
+       << "\nset format x ''\nset ylabel 'position along the bar x (m)'\n"
        // (a strip above x = L: the impacts marked there are not cut.)
        << "set xrange [0:" << 1e3 * opt.t_end << "]\nset yrange [0:" << 1.06 * bar.length << "]\nset ytics "
        << NiceStep(0.0, bar.length, 4) << "\n"
-           << style::Palette("displacement", "u / d") << "set cbrange [" << -m << ":" << m
-       << "]\nunset key\n";
+       << style::Palette("displacement", "u / d") << "set cbrange [" << -m << ":" << m
+       << "]\nset colorbox user origin screen " << kBarLeft << ", screen " << kMapBottom << " size screen " << kBarWidth
+       << ", screen " << kMapTop - kMapBottom << "\nunset key\n";
+  auto level_mark = [&](double level, const char* role) {
+    const double y = kMapBottom + (level + m) / (2.0 * m) * (kMapTop - kMapBottom);
+    body << "set arrow from screen " << kBarLeft << ", screen " << y << " to screen " << kBarLeft + kBarWidth
+         << ", screen " << y << " nohead " << style::Look(role, "lines") << " front\n";
+  };
+  for (double level = 0.5; level < m; level += 0.5) {
+    level_mark(level, "contour_positive");
+    level_mark(-level, "contour_negative");
+  }
+  level_mark(0.0, "contour_zero");
   Plot map;
   // (The contour tables are written with spaces, read here through the
   // comma separator as one field of words.)
@@ -623,7 +641,8 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
                    " ? real(word(strcol(1), 2)) : 1/0)",
                With("contour_zero"))
       .Unkeyed("'bar_spacetime_impacts.csv' using 1:2", With("impact"));
-  body << map.str() << "set origin 0, 0\nset size 1, 0.36\nset tmargin 0.5\nset bmargin 3.5\nunset colorbox\n"
+  body << map.str() << "unset arrow\nset bmargin at screen " << kEndBottom << "\nset tmargin at screen " << kEndTop
+       << "\nunset colorbox\n"
        << "set format x '% g'\nset xlabel 'time t (ms)'\nset ylabel 'u(L) / d'\nset yrange ["
        << end_min - 0.15 * (1.0 - end_min) << ":" << 1.0 + 0.2 * (1.0 - end_min) << "]\nset ytics "
        << NiceStep(end_min, 1.0, 3) << "\n"
