@@ -463,8 +463,17 @@ Occupancy FepOccupancy(const Context& c, bool one_only) {
     }
   }
   if (!one_only) {
-    for (const Bridge& b : c.bridges) {  // with its label above it (BridgeLabels)
-      free.MarkBox(free.X(b.period) - 0.03, free.Y(b.energy_min), free.X(b.period) + 0.01, free.Y(b.energy_max) + 0.08);
+    // Each bridge with its label (BridgeLabels): above it, or, zoomed on,
+    // left of its window's box.
+    const double window = kBridgeWindow * PeriodTop(c, false);
+    for (const Bridge& b : c.bridges) {
+      if (ShortBridge(c, b)) {
+        const double label_y = free.Y(std::sqrt(b.energy_min * b.energy_max));
+        free.MarkBox(free.X(b.period) - 0.01, free.Y(b.energy_min), free.X(b.period) + 0.01, free.Y(b.energy_max));
+        free.MarkBox(free.X(b.period - window) - 0.05, label_y - 0.03, free.X(b.period - window), label_y + 0.03);
+      } else {
+        free.MarkBox(free.X(b.period) - 0.03, free.Y(b.energy_min), free.X(b.period) + 0.01, free.Y(b.energy_max) + 0.08);
+      }
     }
   }
   return free;
