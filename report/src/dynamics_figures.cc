@@ -206,7 +206,9 @@ void FigureMultipliers(Context& c) {
   // beside it in the upper panel's right margin.
   // (The complex plane's Im within 1.4 of 0: beyond it, nothing; the rest
   // of the height to the branch.)
-  constexpr double kLeft = 0.11, kRight = 0.81, kBottom = 0.07, kTop = 0.42, kAspect = 1.15, kIm = 1.4;
+  // (kLeft: room for "1000" and the label in the column PDF; at 0.11 the
+  // label touched the page's edge.)
+  constexpr double kLeft = 0.13, kRight = 0.81, kBottom = 0.07, kTop = 0.42, kAspect = 1.15, kIm = 1.4;
   body << marks.str() << "set multiplot\nset size 1, 0.53\nset origin 0, 0.47\n"
        << "set lmargin at screen " << kLeft << "\nset rmargin at screen " << kRight << "\n"
        << "set key at graph 0.29, graph 0.97 left top Left reverse samplen 1.5 maxrows 7\n"
