@@ -412,9 +412,9 @@ void Occupancy::Mark(double fx, double fy, long weight) {
   cell = std::max(cell, weight);
 }
 
-void Occupancy::MarkBox(double x0, double y0, double x1, double y1) {
+void Occupancy::MarkBox(double x0, double y0, double x1, double y1, long weight) {
   for (double x = x0; x <= x1; x += 0.5 / kCells) {
-    for (double y = y0; y <= y1; y += 0.5 / kCells) Mark(x, y);
+    for (double y = y0; y <= y1; y += 0.5 / kCells) Mark(x, y, weight);
   }
 }
 
@@ -493,7 +493,18 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
   constexpr double kLeft = 0.06, kBelow = 0.075, kEdge = 0.012;
   std::ostringstream boxes, insets;
   int shown = 0;
-  for (const Zoom& z : zooms) {
+  for (std::size_t i = 0; i < zooms.size(); ++i) {
+    const Zoom& z = zooms[i];
+    // Where this inset may go: the frame as drawn so far, and the windows
+    // still to zoom on with their corridors to the top (on Fig. 3's column
+    // PDF, the first inset sat right above the second's window, whose
+    // leader then ran through its labels).
+    Occupancy here = free;
+    for (std::size_t j = i + 1; j < zooms.size(); ++j) {
+      const double mid = free.X(0.5 * (zooms[j].t_lo + zooms[j].t_hi));
+      here.MarkBox(free.X(zooms[j].t_lo), free.Y(zooms[j].e_lo), free.X(zooms[j].t_hi), free.Y(zooms[j].e_hi));
+      here.MarkBox(mid - 0.02, free.Y(zooms[j].e_hi), mid + 0.02, 1.0, Occupancy::kCorridor);
+    }
     // The free place nearest the zoomed window, highest first: fewest cells
     // covered, then nearest, then with a leader crossing the least of the
     // subject; clear of the frame's edges (the inset's ground cut them).
@@ -513,21 +524,17 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
       ticks = {(first - z.t_lo) / (z.t_hi - z.t_lo), (last - z.t_lo) / (z.t_hi - z.t_lo)};
     }
     // Where the leader ends on the frame placed at (x, y), as a fraction of
-    // its width: above the window's middle, and, into the frame's foot
-    // (above the box), off its period labels: between two, or a fifth of the
-    // frame off one. (On the column PDF, Fig. 3's leader ran through the
-    // upper inset's "20". kLabel: a label's half width and a gap, as a
-    // fraction of the inset's frame on the column PDF.)
+    // its width: into its top, above the window's middle; into its foot
+    // (above the box), where no period label can be, whatever this format's
+    // label widths: between the two labels, or, with one, at the corner
+    // nearer the window. (On the column PDF, Fig. 3's leader ran through the
+    // upper inset's "20", and Fig. 16's, at the window's place, through the
+    // "6" of its one label "28.86".)
     auto end_fraction = [&](double x, double y) {
-      constexpr double kLabel = 0.2;
       const double x0 = x + kLeft, x1 = x + w - kEdge;
-      const double f = std::clamp((at - x0) / (x1 - x0), 0.0, 1.0);
-      if (y + kBelow < box_top) return f;  // (into its top: no labels there)
-      for (const double tick : ticks) {
-        if (std::abs(f - tick) >= kLabel) continue;
-        return ticks.size() == 2 ? 0.5 * (ticks[0] + ticks[1]) : (f < tick ? tick - 0.3 : tick + 0.3);
-      }
-      return f;
+      if (y + kBelow < box_top) return std::clamp((at - x0) / (x1 - x0), 0.0, 1.0);
+      if (ticks.size() == 2) return 0.5 * (ticks[0] + ticks[1]);
+      return at < 0.5 * (x0 + x1) ? 0.0 : 1.0;
     };
     // The leader from the window's box to the inset's frame placed at (x, y):
     // into its foot (above the box) or its top.
@@ -550,9 +557,9 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
           int crossed = 0;
           for (int i = 1; i < 40; ++i) {
             const double fx = l[0] + (l[2] - l[0]) * i / 40.0, fy = l[1] + (l[3] - l[1]) * i / 40.0;
-            crossed += free.Count(fx, fy, fx, fy) >= Occupancy::kSubject;
+            crossed += here.Count(fx, fy, fx, fy) >= Occupancy::kSubject;
           }
-          const double cost = static_cast<double>(free.Count(x, y, x + w, y + h)) + std::abs(x + 0.5 * w - at) +
+          const double cost = static_cast<double>(here.Count(x, y, x + w, y + h)) + std::abs(x + 0.5 * w - at) +
                               0.5 * (1.0 - h - y) + 4.0 * crossed / 40.0;
           if (cost < in_scale) {
             in_scale = cost;
@@ -622,9 +629,19 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
       const std::array<double, 4> l = leader(bx, by);
       std::ostringstream end_os;
       end_os << "(" << frame_left << " + " << end_fraction(bx, by) << " * (" << frame_right << " - " << frame_left << "))";
-      const std::string end = end_os.str();
-      insets << "set arrow from screen " << sx(l[0]) << ", screen " << sy(l[1]) << " to screen " << end << ", screen "
-             << sy(l[3]) << " nohead lw 0.6 dt 1 lc rgb '" << style::Colour("grey") << "' front\n";
+      const std::string end = end_os.str(), look = " nohead lw 0.6 dt 1 lc rgb '" + style::Colour("grey") + "' front\n";
+      if (l[3] > l[1]) {
+        // Into the foot: to the ground's edge below the gap, then straight
+        // up through the gap to the frame. (Slanted through the labels'
+        // band, it cut "28.86" and "0.52" in the column PDF, whose labels
+        // are wider than the PNG's.)
+        insets << "set arrow from screen " << sx(l[0]) << ", screen " << sy(l[1]) << " to screen " << end << ", screen "
+               << sy(by) << look << "set arrow from screen " << end << ", screen " << sy(by) << " to screen " << end
+               << ", screen (" << sy(by + kEdge) << " + 1.5 * ns_vc)" << look;
+      } else {
+        insets << "set arrow from screen " << sx(l[0]) << ", screen " << sy(l[1]) << " to screen " << end << ", screen "
+               << sy(l[3]) << look;
+      }
     }
     insets << "set lmargin at screen " << frame_left << "\nset rmargin at screen "
            << frame_right << "\nset bmargin at screen (" << sy(by + kEdge) << " + 1.5 * ns_vc)\nset tmargin at screen "

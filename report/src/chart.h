@@ -443,14 +443,16 @@ class Occupancy {
  public:
   // What a cell holds: the chart's subject (an inset there hides it) or its
   // context (the potential orbits of Fig. 3: an inset avoids them if it can).
-  static constexpr long kSubject = 1000, kContext = 1;
+  // (kCorridor: the way from a window not yet zoomed on up to the top, where
+  // its inset will likely go: another inset avoids it more than context.)
+  static constexpr long kSubject = 1000, kCorridor = 30, kContext = 1;
   Occupancy(double t_lo, double t_hi, double e_lo, double e_hi, bool log_e = true);
   // A period and an energy as fractions of the frame.
   double X(double t) const;
   double Y(double e) const;
   // The cell at (fx, fy) holds at least `weight` (outside the frame: nothing).
   void Mark(double fx, double fy, long weight = kSubject);
-  void MarkBox(double x0, double y0, double x1, double y1);
+  void MarkBox(double x0, double y0, double x1, double y1, long weight = kSubject);
   // A segment's cells, from (x0, y0) to (x1, y1) (fractions of the frame),
   // at `steps` + 1 equal steps.
   void MarkSegment(double x0, double y0, double x1, double y1, int steps);
