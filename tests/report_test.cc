@@ -162,7 +162,73 @@ std::vector<report::FepTable::Root> Line(double u) {
   return roots;
 }
 
+// The "set arrow" lines of an inset script, each as its from x, from y, to
+// x and to y expressions.
+std::vector<std::vector<std::string>> Arrows(const std::string& script) {
+  std::vector<std::vector<std::string>> out;
+  std::istringstream in(script);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("set arrow from screen ", 0) != 0) continue;
+    const std::size_t to = line.find(" to screen ");
+    const std::size_t end = line.find(" nohead");
+    if (to == std::string::npos || end == std::string::npos) continue;
+    auto pair = [](const std::string& xy) {
+      const std::size_t comma = xy.find(", screen ");
+      return std::pair<std::string, std::string>{xy.substr(0, comma), xy.substr(comma + 9)};
+    };
+    const auto [fx, fy] = pair(line.substr(22, to - 22));
+    const auto [tx, ty] = pair(line.substr(to + 11, end - to - 11));
+    out.push_back({fx, fy, tx, ty});
+  }
+  return out;
+}
+
+// The x (a fraction of the main frame) where the inset's ground starts
+// ("set object 1 rect from screen (ns_x0 + X * ...").
+std::vector<double> GroundStarts(const std::string& script) {
+  std::vector<double> out;
+  const std::string key = "set object 1 rect from screen (ns_x0 + ";
+  for (std::size_t at = script.find(key); at != std::string::npos; at = script.find(key, at + 1)) {
+    out.push_back(std::stod(script.substr(at + key.size())));
+  }
+  return out;
+}
+
 }  // namespace
+
+// A leader into an inset's foot (the inset above its window) rises its last
+// stretch straight up, between the two period labels: slanted, leaders cut
+// the labels "28.8" and "0.52" in the column PDF.
+TEST(Charts, ALeaderRisesIntoAnInsetsFootBetweenItsPeriodLabels) {
+  report::Occupancy free(0.0, 40.0, 0.1, 20.0);
+  const report::Zoom z{9.0, 11.0, 0.3, 0.4, "B1"};
+  const std::string script = report::ZoomInsets(free, report::Plot(), {z}, false);
+  const std::vector<std::vector<std::string>> arrows = Arrows(script);
+  ASSERT_EQ(arrows.size(), 2u) << script;  // to the ground's edge, then up
+  EXPECT_EQ(arrows[1][0], arrows[1][2]) << "the last stretch is not vertical";
+  EXPECT_EQ(arrows[0][2], arrows[1][0]) << "the two stretches do not meet";
+  // Its x: the frame's left + f (its width), f halfway between the ticks
+  // 9.5 and 10.5 of [9, 11] (TwoTickValues): 0.5.
+  const std::string& x = arrows[1][0];
+  const std::size_t plus = x.find(" ns_hc) + ");
+  ASSERT_NE(plus, std::string::npos) << x;
+  EXPECT_NEAR(std::stod(x.substr(plus + 10)), 0.5, 1e-6) << x;
+}
+
+// An inset keeps off the windows still to be zoomed on and the way up from
+// each: on Fig. 3, the first inset sat right above the second's window,
+// whose leader then ran through its labels.
+TEST(Charts, AnInsetKeepsOffTheWayUpFromTheNextWindow) {
+  report::Occupancy free(0.0, 40.0, 0.1, 20.0);
+  // Two windows 4 apart (a tenth of the frame): an inset 27 % wide centred
+  // above the first would cover the way up from the second.
+  const std::vector<report::Zoom> zooms = {{9.5, 10.5, 0.3, 0.4, "A"}, {13.5, 14.5, 0.3, 0.4, "B"}};
+  const std::vector<double> starts = GroundStarts(report::ZoomInsets(free, report::Plot(), zooms, false));
+  ASSERT_EQ(starts.size(), 2u);
+  const double second = free.X(14.0);
+  EXPECT_FALSE(starts[0] - 0.02 < second && second < starts[0] + 0.27 + 0.02)
+      << "the first inset (from " << starts[0] << ") covers the way up from the second window (at " << second << ")";
+}
 
 TEST(Charts, TwoBranchesMeetingAtAFoldAreOneCurve) {
   std::vector<report::FepTable::Root> roots = Line(0.8);
