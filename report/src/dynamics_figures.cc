@@ -313,9 +313,11 @@ void FigureTimeHistory(Context& c) {
   std::ostringstream body;
   const std::string t = "1", xc = std::to_string(2 + c.contact), vc = std::to_string(2 + n + c.contact);
   // Two panels of one height placed by hand over one key for both, at the
-  // foot of the canvas, spaced for the subscripts. (Each panel's own key below it took
-  // the displacement panel's height in the column PDF; the orbit's period is
-  // the chart's title, as Figs. 2, 5 and 9 give it in theirs.)
+  // foot of the canvas, spaced for the subscripts. (Each panel's own key
+  // below it took the displacement panel's height in the column PDF.) The
+  // orbit's period in the impacts' entry, as Figs. 2, 5 and 9 give it in
+  // their keys (charts carry no title; in the contact's entry, the key took
+  // one column in the column PDF).
   auto panel = [](double bottom, double top) {
     std::ostringstream os;
     os << "set lmargin at screen 0.14\nset rmargin at screen 0.96\nset bmargin at screen " << bottom
@@ -323,15 +325,14 @@ void FigureTimeHistory(Context& c) {
     return os.str();
   };
   body << "set multiplot\nset xrange [0:" << opt.t_end << "]\nset format x ''\n"
-       << "set title 'the stable 1-ipp orbit, T = " << Num(o->period) << " s'\n"
-       << panel(0.6, 0.9) << "set ylabel 'displacement (m)'\nset ytics " << NiceStep(x_lo, x_hi, 4) << "\n"
+       << panel(0.6, 0.96) << "set ylabel 'displacement (m)'\nset ytics " << NiceStep(x_lo, x_hi, 4) << "\n"
        // (Its range the motion's, not the tics': rounded out, -6 to 2 left a
        // fifth of the panel empty.)
        << "set yrange [" << x_lo - 0.06 * (x_hi - x_lo) << ":" << x_hi + 0.06 * (x_hi - x_lo) << "]\n";
   const std::string contact = std::to_string(c.contact + 1);
   Plot top("plot", Plot::Keys::kCollected);
-  top.Add("'time_history.csv' using " + t + ":" + xc, With("dof_contact"),
-          "x_{" + contact + "}, v_{" + contact + "} (contact)");
+  const std::string contact_title = "x_{" + contact + "}, v_{" + contact + "} (contact)";
+  top.Add("'time_history.csv' using " + t + ":" + xc, With("dof_contact"), contact_title);
   for (int i = 0; i < n; ++i) {
     if (i == c.contact) continue;
     if (i == (c.contact == 0 ? 1 : 0)) {
@@ -342,15 +343,16 @@ void FigureTimeHistory(Context& c) {
     }
   }
   top.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d")
-      .Add("'time_history_impacts.csv' using 1:2", With("orbit_impact"), "impacts", s.impacts);
+      .Add("'time_history_impacts.csv' using 1:2", With("orbit_impact"), "impacts, every T = " + Num(o->period) + " s",
+           s.impacts);
   Plot bottom("plot", Plot::Keys::kCollected);
-  bottom.Add("'time_history.csv' using 1:" + vc, With("dof_contact"), "x_{" + contact + "}, v_{" + contact + "} (contact)")
+  bottom.Add("'time_history.csv' using 1:" + vc, With("dof_contact"), contact_title)
       .Add("'time_history_impacts.csv' using 1:3:(0):($4 - $3)", With("velocity_jump"), "velocity jump at an impact",
            s.impacts);
   std::vector<Plot::Entry> entries = top.Collected();
   entries.insert(entries.end(), bottom.Collected().begin(), bottom.Collected().end());
-  body << top.str() << "unset title\nset format x '% g'\nset xlabel 'time t (s)'\nset ylabel 'contact velocity (m/s)'\nset yrange [*:*]\n"
-       << panel(0.26, 0.56) << "set ytics " << NiceStep(v_lo, v_hi, 4) << "\n" << bottom.str() << LegendPanel(0.14)
+  body << top.str() << "set format x '% g'\nset xlabel 'time t (s)'\nset ylabel 'contact velocity (m/s)'\nset yrange [*:*]\n"
+       << panel(0.26, 0.58) << "set ytics " << NiceStep(v_lo, v_hi, 4) << "\n" << bottom.str() << LegendPanel(0.14)
        << "set key spacing 1.3\n" << Plot::Legend(entries) << "unset multiplot";
   Draw(c, "time_history", body.str(),
        "the stable 1-ipp orbit T = " + Num(o->period, 6) + ", " + std::to_string(periods) + " periods simulated (exact), " +

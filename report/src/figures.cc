@@ -968,7 +968,10 @@ void Figures13To15(Context& c) {
     const double e_lo = std::min(lo, br->energy_min), e_hi = std::max(hi, br->energy_max);
     const double pad = 0.1 * (e_hi - e_lo);
     std::ostringstream body;
-    body << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key below\n"
+    // (The key inside, at the foot's left, under the branches, which fall
+    // from left to right: below, in three columns, it had left "grazing"
+    // alone at the far right.)
+    body << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset key inside left bottom opaque\n"
          << "set xrange [" << t - w << ":" << t + w << "]\nset yrange [" << e_lo - pad << ":" << e_hi + pad << "]\n"
          << "set label 'B" << (br - c.bridges.data()) + 1 << "' at " << t << ", " << br->energy_max
          << " offset -0.6, 1.1 front\n";
