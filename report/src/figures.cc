@@ -896,15 +896,17 @@ void Figures13To15(Context& c) {
     // surface: the map's nearest stop had drawn s = 0.3 s_end in the colour
     // Fig. 14's bar gives 0.25.)
     const std::string xc = std::to_string(XCol(c, c.contact));
-    // (Margins in characters: the panels' frames aligned in every format.)
-    body << style::Palette("family", "") << "unset colorbox\nset multiplot\nset lmargin 9\nset rmargin 2\n"
-         << "set origin 0, 0.5\nset size 1, 0.5\nset bmargin 0.5\nset format x ''\n"
-         << "set xlabel ' '\nset ylabel '" << XcLabel(c) << "'\nset xrange [0:" << t << "]\n";
+    // (The panels placed on the canvas, their frames aligned in every
+    // format, over one key in three columns at its foot: below the lower
+    // panel in one column of seven, it squeezed that panel in the column PDF.)
+    body << style::Palette("family", "") << "unset colorbox\nset multiplot\nset lmargin at screen 0.14\n"
+         << "set rmargin at screen 0.97\nset bmargin at screen 0.575\nset tmargin at screen 0.97\nset format x ''\n"
+         << "set xlabel ''\nset ylabel '" << XcLabel(c) << "'\nset xrange [0:" << t << "]\n";
     Plot upper("plot", Plot::Keys::kCollected);
     upper.Add("'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" + xc, With("limit"),
               "grazing, s = 0")
         .Add("'' using (strcol(1) eq 'one_shifted' ? $3 : 1/0):" + xc, With("limit_shifted"),
-             "grazing shifted by T/2, s = s_{end}");
+             "shifted by T/2, s = s_{end}");
     std::vector<std::string> roles;
     for (int pct : {10, 30, 50}) {
       roles.push_back(style::WithMapped("orbit", "lines", pct / 50.0));
@@ -915,19 +917,18 @@ void Figures13To15(Context& c) {
     // The impacts every orbit of the bridge shares: 0, t2, T (at t2 the
     // grazing orbit's graze, the 2-ipp orbits' second impact).
     ImpactMarks(c, {0.0, br->t2, t})(upper);
-    // The lower panel: the differences, and the key of both.
+    // The lower panel: the differences.
     Plot lower;
-    for (const Plot::Entry& e : upper.Collected()) lower.KeyOnly(e.style, e.title);
     const std::string d = "'fig13_bridge_differences.csv' using (strcol(1) eq '";
     lower.Unkeyed("0", With("limit")).Unkeyed(d + "one_shifted' ? $2 : 1/0):3", With("limit_shifted"));
     for (int pct : {10, 30, 50}) lower.Unkeyed(d + "s" + std::to_string(pct) + "' ? $2 : 1/0):3", roles[(pct - 10) / 20]);
     const std::string x = Xc(c);
-    body << "unset key\n" << upper.str() << "set key below maxcols 2 maxrows 4\nset origin 0, 0\nset size 1, 0.5\nset tmargin 0.5\n"
+    body << upper.str() << "set bmargin at screen 0.25\nset tmargin at screen 0.545\n"
          // (Short: "x - x(s = 0)" ran into the upper panel's label in the
          // column PDF; the caption says what it is.)
-         << "unset bmargin\nset format x '% g'\nset xlabel 'time t (s)'\nset ylabel '{/Symbol D}" << x
+         << "set format x '% g'\nset xlabel 'time t (s)'\nset ylabel '{/Symbol D}" << x
          << " (m)'\nset ytics " << NiceStep(-c.b.gap, c.b.gap, 4) << "\n"
-         << lower.str() << "unset multiplot\n";
+         << lower.str() << LegendPanel(0.14) << Plot::Legend(upper.Collected()) << "unset multiplot\n";
     out.Commit();
     std::ostringstream note;
     note << "T_G = " << t << ", the shift " << t - br->t2;
