@@ -629,6 +629,9 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        // About four ticks per 3-D axis: more collide at the column PDF's size.
        << InnerTics("x", lo[0], hi[0], 5) << InnerTics("y", lo[1], hi[1], 5) << "set ztics " << NiceStep(lo[2], hi[2], 4)
        << "\n"
+       // (The plane's place on its axis named: the inner ticks stop short of
+       // it, and a reader asked where x_c = d was.)
+       << "set ytics add ('d' " << c.b.gap << ")\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
        << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate offset 2.5, 0\n"
        // (The data's ranges, set: the overlay of the limit curve below maps
