@@ -42,12 +42,13 @@ void Draw(Context& c, const std::string& name, const std::string& body, const st
 }
 
 // The set-up of a multi-panel chart's one key (Plot::Legend, the plot that
-// follows): an invisible frame, the key centred at the foot of the canvas in
+// follows): an invisible frame, no object (a panel's inset ground, drawn
+// again behind the key's plot, covered the inset), the key centred at the foot of the canvas in
 // up to three columns, in a band `height` high (screen fraction) that the
 // panels leave free.
 std::string LegendPanel(double height) {
   std::ostringstream os;
-  os << "unset title\nunset border\nunset tics\nunset grid\nunset arrow\nunset label\nunset logscale\nset xlabel ''\nset ylabel ''\n"
+  os << "unset title\nunset border\nunset tics\nunset grid\nunset arrow\nunset label\nunset object\nunset logscale\nset xlabel ''\nset ylabel ''\n"
      << "set lmargin at screen 0.01\nset rmargin at screen 0.99\nset tmargin at screen " << height
      << "\nset bmargin at screen " << height - 0.01 << "\nset xrange [0:1]\nset yrange [0:1]\n"
      << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 3\n";
@@ -601,7 +602,7 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     // canvas), a white ground under it and its tick labels; E linear.
     auto sx = [](double f) { return "(ns_x0 + " + std::to_string(f) + " * (ns_x1 - ns_x0))"; };
     auto sy = [](double f) { return "(ns_y0 + " + std::to_string(f) + " * (ns_y1 - ns_y0))"; };
-    insets << "unset object\nunset label\nunset arrow\nunset key\nunset logscale y\nunset xlabel\nunset ylabel\n"
+    insets << "unset object\nunset label\nunset arrow\nunset key\nunset title\nunset logscale y\nunset xlabel\nunset ylabel\n"
            << "set object 1 rect from screen " << sx(bx) << ", screen " << sy(by) << " to screen " << sx(bx + w)
            << ", screen " << sy(by + h) << " behind fillcolor rgb '" << style::Colour("white")
            << "' fillstyle solid 1.0 noborder\n";

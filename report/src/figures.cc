@@ -1049,21 +1049,6 @@ void Figure17(Context& c) {
          << " s' offset 0, -0.6\n";
     Plot plot("plot", Plot::Keys::kCollected);
     table.AddLayers(plot, "fig17_bridges_fep.csv", "fig17_bridges.csv", 1, k);
-    // A grazing bridge's top is the grazing 1-ipp orbit: circled, as on Fig. 8;
-    // another bridge's end circled too where its orbit grazes d between its
-    // impacts (NC3's margin within 1e-6 d of 0: B4's ends, at 3.160 J, on
-    // paper.toml), keyed alike: "grazing orbit".
-    if (IsGrazing(br)) {
-      Mark(plot, br.period, br.energy_max, "grazing", "grazing orbit");
-    } else {
-      double marked = NAN;  // (a symmetric bridge's two ends are one point)
-      for (const double s : {br.s_begin, br.s_end}) {
-        const Orbit end = BridgeOrbit(c.b, br, s);
-        if (std::abs(end.max_excess) > 1e-6 * c.b.gap || std::abs(end.energy - marked) <= 1e-9 * end.energy) continue;
-        Mark(plot, br.period, end.energy, "grazing", "grazing orbit");
-        marked = end.energy;
-      }
-    }
     // An end that lies near an admissible orbit of the bridge's period but
     // not on it (within 5 % of the panel's height, apart by more than 1e-6
     // relative): both energies written beside them, the end's to the right
@@ -1080,18 +1065,50 @@ void Figure17(Context& c) {
         }
       }
     }
+    std::vector<std::pair<double, double>> near;  // (the end's energy, the orbit's)
     for (const double end : {br.energy_min, br.energy_max}) {
       double nearest = NAN;
       for (const double e : at_period) {
         if (!(std::abs(e - end) >= std::abs(nearest - end))) nearest = e;
       }
       const double gap = std::abs(nearest - end);
-      if (!(gap > 1e-6 * end && gap < 0.05 * (hi - lo))) continue;
+      if (gap > 1e-6 * end && gap < 0.05 * (hi - lo)) near.push_back({end, nearest});
+    }
+    // A grazing bridge's top is the grazing 1-ipp orbit: circled, as on Fig. 8;
+    // another bridge's end circled too where its orbit grazes d between its
+    // impacts (NC3's margin within 1e-6 d of 0: B4's ends, at 3.160 J, on
+    // paper.toml), keyed alike: "grazing orbit". An end near an orbit is
+    // not circled but labelled so ("3.160 J, grazing"): the circle, wider
+    // than the gap, reached the branch.
+    std::vector<double> grazing_near;
+    if (IsGrazing(br)) {
+      Mark(plot, br.period, br.energy_max, "grazing", "grazing orbit");
+    } else {
+      double marked = NAN;  // (a symmetric bridge's two ends are one point)
+      for (const double s : {br.s_begin, br.s_end}) {
+        const Orbit end = BridgeOrbit(c.b, br, s);
+        if (std::abs(end.max_excess) > 1e-6 * c.b.gap || std::abs(end.energy - marked) <= 1e-9 * end.energy) continue;
+        marked = end.energy;
+        const bool labelled = std::any_of(near.begin(), near.end(), [&](const auto& p) {
+          return std::abs(p.first - end.energy) <= 1e-9 * end.energy;
+        });
+        if (labelled) {
+          grazing_near.push_back(end.energy);
+        } else {
+          Mark(plot, br.period, end.energy, "grazing", "grazing orbit");
+        }
+      }
+    }
+    for (const auto& [end, nearest] : near) {
       const bool above = nearest > end;
-      body << std::fixed << std::setprecision(3) << "set label '" << end << " J' at " << br.period << ", " << end
-           << " left offset 0.8, " << (above ? -0.9 : 0.9) << " front\nset label '" << nearest << " J' at " << br.period
-           << ", " << nearest << " right offset -0.8, " << (above ? 0.6 : -0.6) << " front\n"
-           << std::defaultfloat << std::setprecision(6);
+      const bool grazes = std::any_of(grazing_near.begin(), grazing_near.end(),
+                                      [&](double e) { return std::abs(e - end) <= 1e-9 * end; });
+      // (On two lines where it grazes: on one, it ran past the column PDF's
+      // panel.)
+      body << std::fixed << std::setprecision(3) << "set label \"" << end << " J" << (grazes ? "\\ngrazing" : "")
+           << "\" at " << br.period << ", " << end << " left offset 0.8, " << (above ? (grazes ? -1.4 : -0.9) : 0.9)
+           << " front\nset label '" << nearest << " J' at " << br.period << ", " << nearest << " right offset -0.8, "
+           << (above ? 0.6 : -0.6) << " front\n" << std::defaultfloat << std::setprecision(6);
     }
     body << plot.str();
     entries.insert(entries.end(), plot.Collected().begin(), plot.Collected().end());
