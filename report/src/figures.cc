@@ -290,8 +290,8 @@ void Figure6(Context& c) {
     for (std::size_t i = 0, run = 0; i < branch.size(); i += run) {
       // A run of one admissibility shorter than 3 roots (a line through one
       // or two roots is not seen): its roots drawn as points.
-      // So is a run under 1 % of the frame's diagonal (the admissible runs
-      // of Fig. 6 at T = 35.5 and 38.5, lines a reader did not find).
+      // So is an admissible run under 1 % of the frame's diagonal (those of
+      // Fig. 6 at T = 35.5, lines a reader did not find).
       run = 1;
       while (i + run < branch.size() && branch[i + run].stable == branch[i].stable) ++run;
       double t_lo = INFINITY, t_hi = -INFINITY, s_lo = INFINITY, s_hi = -INFINITY;
@@ -301,7 +301,10 @@ void Figure6(Context& c) {
         s_lo = std::min(s_lo, branch[k].t2 / branch[k].period);
         s_hi = std::max(s_hi, branch[k].t2 / branch[k].period);
       }
-      const bool short_run = run < 3 || std::hypot((t_hi - t_lo) / c.periods.back(), s_hi - s_lo) < 0.01 * std::sqrt(2.0);
+      // (The diagonal's test for the admissible runs only: the others are
+      // context, and as points they clumped into grey blobs on the curves.)
+      const bool short_run =
+          run < 3 || (branch[i].stable && std::hypot((t_hi - t_lo) / c.periods.back(), s_hi - s_lo) < 0.01 * std::sqrt(2.0));
       for (std::size_t k = i; k < i + run; ++k) {
         const FepTable::Root& r = branch[k];
         curves << r.period << "," << r.t2 << "," << r.stable << "," << b + 1 << "," << short_run << "\n";
