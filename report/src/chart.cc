@@ -43,9 +43,9 @@ void Draw(Context& c, const std::string& name, const std::string& body, const st
 
 // The set-up of a multi-panel chart's one key (Plot::Legend, the plot that
 // follows): an invisible frame, no object (a panel's inset ground, drawn
-// again behind the key's plot, covered the inset), the key centred at the foot of the canvas in
-// up to three columns, in a band `height` high (screen fraction) that the
-// panels leave free.
+// again behind the key's plot, covered the inset), the key centred at the
+// foot of the canvas in up to three columns, in a band `height` high
+// (screen fraction) that the panels leave free.
 std::string LegendPanel(double height) {
   std::ostringstream os;
   os << "unset title\nunset border\nunset tics\nunset grid\nunset arrow\nunset label\nunset object\nunset logscale\nset xlabel ''\nset ylabel ''\n"
@@ -545,8 +545,7 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
       return std::array<double, 4>{at, above ? box_top : box_bottom, x0 + end_fraction(x, y) * (x1 - x0), above ? y0 : y1};
     };
     double best = INFINITY, bx = 0.0, by = 0.0, b_scale = 1.0;
-    bool clear = false;  // (the chosen place's leader crosses at most one line of the subject)
-    constexpr int kOneLine = 0;
+    bool clear = false;  // (the chosen place's leader crosses nothing of the subject)
     for (const double scale : {1.0, 0.8, 0.65}) {
       w = scale * z.width;
       h = scale * z.height;
@@ -571,15 +570,12 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
         }
       }
       if (in_scale >= Occupancy::kSubject) continue;
-      // (Crossing one line is clear enough: a leader's 40 samples put two or
-      // three on a line it crosses. response_energy's full-size inset, whose
-      // leader crossed one dotted curve, read better than a shrunk one.)
-      if (best >= Occupancy::kSubject || (!clear && s_crossed <= kOneLine)) {
+      if (best >= Occupancy::kSubject || (!clear && s_crossed == 0)) {
         best = in_scale;
         bx = sx;
         by = sy;
         b_scale = scale;
-        clear = s_crossed <= kOneLine;
+        clear = s_crossed == 0;
       }
       if (clear) break;
     }
@@ -606,11 +602,6 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
            << "set object 1 rect from screen " << sx(bx) << ", screen " << sy(by) << " to screen " << sx(bx + w)
            << ", screen " << sy(by + h) << " behind fillcolor rgb '" << style::Colour("white")
            << "' fillstyle solid 1.0 noborder\n";
-    // A leader from the box's side facing the inset to the inset's frame,
-    // drawn with the inset (over its ground, which covered a leader drawn
-    // with the chart).
-    // (Thin, solid and grey: dotted, it read as a non-admissible branch;
-    // light grey, it was not seen.)
     // Its frame inside the ground, clear of its tick labels at their width
     // in this format's characters (ns_hc, ns_vc: a character's width and
     // height as fractions of the canvas): the energy's widest label and a
@@ -625,8 +616,12 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     left_os << "(" << sx(bx + kEdge) << " + " << chars + 1 << " * ns_hc)";
     const std::string frame_left = left_os.str(), frame_right = sx(bx + w - kEdge);
     {
-      // (Its end on the frame as this format places it: kLeft is about the
-      // PNG's; the column PDF's labels are wider.)
+      // A leader from the box's side facing the inset to the inset's frame,
+      // drawn with the inset (over its ground, which covered a leader drawn
+      // with the chart); its end on the frame as this format places it
+      // (kLeft is about the PNG's; the column PDF's labels are wider).
+      // (Thin, solid and grey: dotted, it read as a non-admissible branch;
+      // light grey, it was not seen.)
       const std::array<double, 4> l = leader(bx, by);
       std::ostringstream end_os;
       end_os << "(" << frame_left << " + " << end_fraction(bx, by) << " * (" << frame_right << " - " << frame_left << "))";
