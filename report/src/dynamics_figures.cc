@@ -122,9 +122,10 @@ void FigureModel(Context& c) {
   lines << "EOD\n";
   body << "set arrow from " << left(n - 1) + size << ", -0.15 to " << wall << ", -0.15 heads size 0.1,25 "
        << style::Look("function") << "\nset label 'd = " << Num(m.FirstContact().gap) << " m' at "
-       // (In the gap, just above its arrow; e short: at the column's width
-       // the labels are a larger part of the drawing.)
-       << 0.5 * (left(n - 1) + size + wall) << ", 0.15 center\n"
+       // (Under its arrow, a row below the masses' labels: in the gap above
+       // it, it touched the mass and the stop at the column's width; e
+       // short: there the labels are a larger part of the drawing.)
+       << 0.5 * (left(n - 1) + size + wall) << ", -0.7 center\n"
        << "set label 'e = " << Num(stop.restitution) << "' at " << wall << ", 1.6 center\n";
   std::ostringstream chart;
   // The canvas of the drawing's shape: no white bands around it.
@@ -611,7 +612,7 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
   // beside the map as high as it, each contour level drawn across the bar in
   // its contour's line: the bar is the contours' key (readers had asked
   // which level a line was).
-  constexpr double kLeft = 0.12, kRight = 0.82, kMapBottom = 0.48, kMapTop = 0.97, kEndBottom = 0.21, kEndTop = 0.44;
+  constexpr double kLeft = 0.12, kRight = 0.82, kMapBottom = 0.42, kMapTop = 0.97, kEndBottom = 0.11, kEndTop = 0.38;
   constexpr double kBarLeft = 0.84, kBarWidth = 0.03;
   body << "set multiplot\nset lmargin at screen " << kLeft << "\nset rmargin at screen " << kRight
        << "\nset bmargin at screen " << kMapBottom << "\nset tmargin at screen " << kMapTop
@@ -650,13 +651,14 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
        << "set format x '% g'\nset xlabel 'time t (ms)'\nset ylabel 'u(L) / d'\nset yrange ["
        << end_min - 0.15 * (1.0 - end_min) << ":" << 1.0 + 0.2 * (1.0 - end_min) << "]\nset ytics "
        << NiceStep(end_min, 1.0, 3) << "\n"
-       // The key in one row under the panel: nothing of the curve under it.
-       // (Beside it, under the colour bar, it read as outside the figure.)
-       << "set key at screen 0.5, screen 0.005 center bottom horizontal maxrows 1\n";
+       // The key beside the panel, under the colour bar: nothing of the curve
+       // under it. (In a row under the panels, it left a gap above it in the
+       // PNG and wrapped in the column PDF: a reader preferred it here.)
+       << "set key at screen 0.835, screen 0.33 left top Left reverse samplen 1.5 vertical\n";
   Plot end;
   end.Add("'bar_spacetime_end.csv' using 1:2", With("dof_contact"), "u(L)/d")
       .Add("1", With("obstacle"), "wall")
-      .Add("'bar_spacetime_impacts.csv' using 1:(1)", With("impact"), "impacts (bursts)", impacts);
+      .Add("'bar_spacetime_impacts.csv' using 1:(1)", With("impact"), "impacts", impacts);
   body << end.str() << "unset multiplot";
   log << "figures in " << dir.path().string() << ":\n";
   const ChartStatus chart = DrawChart(dir, "bar_spacetime", body.str());
