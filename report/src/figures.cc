@@ -491,7 +491,7 @@ std::string PaddedRange(double a, double b, double beyond = -INFINITY) {
 std::string ContactProjectionAxes(const Context& c, const double lo[3], const double hi[3]) {
   std::ostringstream os;
   os << "set xlabel '" << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s")
-     << "'\nset xtics " << NiceStep(lo[1], hi[1], 3) << "\nset ytics " << NiceStep(lo[2], hi[2], 5) << "\nset xrange "
+     << "'\nset xtics " << NiceStep(lo[1], hi[1], 4) << "\nset ytics " << NiceStep(lo[2], hi[2], 5) << "\nset xrange "
      << PaddedRange(lo[1], hi[1], c.b.gap + 0.08 * (hi[1] - lo[1])) << "\nset yrange " << PaddedRange(lo[2], hi[2])
      << "\nset arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead " << style::Look("obstacle")
      << "\nset label 'd' at " << c.b.gap << ", graph 1 center offset 0, 0.7\n";
