@@ -1209,7 +1209,9 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   // Two panels above one key for both (a key under each ran into the other
   // panel at the column's width); the energy axis from 0.7 of the lowest
   // orbit drawn, so that the lowest stretch and its label clear the frame.
-  constexpr double kFoot = 0.27;  // the panels' foot, over the key's band (0.15, five rows at a column's width) and the axes' labels
+  // The panels' foot, over the key's band (five rows at a column's width,
+  // spaced for T_G's subscript) and the axes' labels.
+  constexpr double kFoot = 0.34;
   body << "set multiplot\nset tmargin at screen 0.97\nset bmargin at screen " << kFoot << "\n"
        << "set lmargin at screen 0.12\nset rmargin at screen 0.53\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset logscale y\n" << LogTics("y", bottom, top)
@@ -1291,8 +1293,10 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   body << "set lmargin at screen 0.68\nset rmargin at screen 0.98\nset tmargin at screen 0.97\nset bmargin at screen "
        << kFoot << "\nunset object\nunset arrow\nset tics scale default\nset format y '% h'\n"
        << "unset logscale y\nunset label\nset xtics autofreq\nset ytics autofreq right offset 0, 0\nset mytics default\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
-       << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << LegendPanel(0.15)
-       << Plot::Legend(entries) << "unset multiplot";
+       << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << LegendPanel(0.18)
+       // (Spaced for the subscript of T_G, which touched the next row in the
+       // column PDF.)
+       << "set key spacing 1.2\n" << Plot::Legend(entries) << "unset multiplot";
   out.Commit();
   one.Commit();
   orbit.Commit();
