@@ -455,6 +455,43 @@ Occupancy FepOccupancy(const Context& c, bool one_only) {
       }
     }
   }
+  // The lines between them, as the charts draw them: the 1-ipp branch and
+  // the orbits with t2 = T/2 step to step, the other 2-ipp roots joined into
+  // branches (TwoImpactBranches). (The orbits alone left the cells of a
+  // steep stretch free between them: Fig. 8's B3 leader crossed the 2-ipp
+  // branch at T = 35.5.)
+  auto segment = [&free](const Orbit& a, const Orbit& b) {
+    free.MarkSegment(free.X(a.period), free.Y(a.energy), free.X(b.period), free.Y(b.energy), 50);
+  };
+  const auto& one = c.atlas.one.at;
+  for (std::size_t k = 1; k < one.size(); ++k) {
+    if (!one[k - 1].empty() && !one[k].empty() && one[k - 1].front().orbit.admissible && one[k].front().orbit.admissible) {
+      segment(one[k - 1].front().orbit, one[k].front().orbit);
+    }
+  }
+  if (!one_only) {
+    std::vector<FepTable::Root> roots;
+    const Orbit* half_before = nullptr;
+    for (std::size_t k = 0; k < c.atlas.two.at.size(); ++k) {
+      const Orbit* half = nullptr;
+      for (const OrbitRecord& r : c.atlas.two.at[k]) {
+        if (!r.orbit.admissible) continue;
+        if (IsHalfPeriodRoot(r.orbit)) {
+          half = &r.orbit;
+        } else {
+          roots.push_back({static_cast<int>(k), r.orbit.period, r.orbit.times[0], r.orbit.energy, false});
+        }
+      }
+      if (half && half_before) segment(*half_before, *half);
+      half_before = half;
+    }
+    for (const auto& branch : TwoImpactBranches(std::move(roots))) {
+      for (std::size_t i = 1; i < branch.size(); ++i) {
+        free.MarkSegment(free.X(branch[i - 1].period), free.Y(branch[i - 1].energy), free.X(branch[i].period),
+                         free.Y(branch[i].energy), 50);
+      }
+    }
+  }
   for (const Transition& t : c.transitions) {
     if (t.kind == TransitionKind::kSingular) free.MarkBox(free.X(t.period), 0.0, free.X(t.period), 1.0);
     // A mark drawn (TransitionMarks: every kind on the 1-ipp chart, the
