@@ -55,8 +55,10 @@ void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const cha
   const long above = (tr.col(1 + c.contact).array() > c.b.gap + 1e-6 * std::abs(c.b.gap)).count();
   const std::string xc = std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact));
   std::ostringstream body;
-  body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset xrange [0:" << o.period
-       << "]\n" << setup;
+  // (The range the orbit's and d's, 5 % beyond, not rounded out to the
+  // ticks: Fig. 5's -1.5 to 1.5 left a band below its -1.1 empty.)
+  body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset autoscale yfix\nset xrange [0:"
+       << o.period << "]\n" << setup;
   Plot plot;
   plot.Add("'" + name + ".csv' using " + xc, "with filledcurves above y=" + std::to_string(c.b.gap) + " " + style::Look("excess"),
            Xc(c) + " > d: NC3 fails", above)
@@ -153,7 +155,7 @@ void Figure4(Context& c, const ModalPick& m) {
   WriteTrajectory(out.stream(), "modal", mode.period, OrbitTrajectory(c.b, mode, kSamples));
   WriteTrajectory(out.stream(), "not_admissible", beyond.period, OrbitTrajectory(c.b, beyond, kSamples));
   std::ostringstream body;
-  body << "set xlabel 'normalised time t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n";
+  body << "set xlabel 'normalised time t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset autoscale yfix\n";
   const std::string xc = std::to_string(XCol(c, c.contact));
   std::ostringstream in_title, mode_title, beyond_title;  // (periods to 4 digits: the note has them all)
   // The admissible orbit as the 1-ipp branch draws it there: stable dark
@@ -793,7 +795,9 @@ void Figures11And12(Context& c) {
   // its colour.
   const std::string arc = "($" + std::to_string(6 + 2 * c.b.n) + " / " + std::to_string(std::abs(s1 - s0)) + ")";
   const std::string xc = std::to_string(XCol(c, c.contact));
-  body << "set xlabel 'time over the period t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\n"
+  // (The orbits' range, not rounded out to the ticks: -2 to 1.5 left a
+  // quarter of the height empty.)
+  body << "set xlabel 'time over the period t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset autoscale yfix\n"
        << style::Palette("family", "arclength {/Symbol s} (s)") << bar.str() << "set cbrange [0:1]\n"
        << "set xrange [0:1]\n";
   // Each orbit solid where stable, dashed where not (keyed in black: their
