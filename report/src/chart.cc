@@ -49,9 +49,15 @@ void Draw(Context& c, const std::string& name, const std::string& body, const st
 std::string LegendPanel(double height) {
   std::ostringstream os;
   os << "unset title\nunset border\nunset tics\nunset grid\nunset arrow\nunset label\nunset object\nunset logscale\nset xlabel ''\nset ylabel ''\n"
-     << "set lmargin at screen 0.01\nset rmargin at screen 0.99\nset tmargin at screen " << height
-     << "\nset bmargin at screen " << height - 0.01 << "\nset xrange [0:1]\nset yrange [0:1]\n"
+     << "set lmargin at screen 0.01\nset rmargin at screen 0.99\nset tmargin at screen " << KeyFoot(0.0, height)
+     << "\nset bmargin at screen " << KeyFoot(-0.01, height) << "\nset xrange [0:1]\nset yrange [0:1]\n"
      << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols 3\n";
+  return os.str();
+}
+
+std::string KeyFoot(double labels, double band) {
+  std::ostringstream os;
+  os << "(" << labels << " + " << band << " * ns_key_band)";
   return os.str();
 }
 

@@ -496,6 +496,11 @@ std::function<void(Plot&)> ImpactMarks(const Context& c, const std::vector<doubl
 // up to three columns, in a band `height` high (screen fraction) that the
 // panels leave free.
 std::string LegendPanel(double height);
+// Where a multi-panel chart's panels start (a gnuplot expression, a screen
+// fraction): `labels` above the canvas's foot for the x labels, and the
+// key's band, `band` of the height in the column PDF, scaled by the
+// format's key_band (style.toml: fewer rows where more columns fit).
+std::string KeyFoot(double labels, double band);
 
 // The transitions of the 1-ipp family on a frequency-energy plot, written
 // to CSV `name` (T,kind,energy): singular ones (T_S) as vertical lines

@@ -319,14 +319,20 @@ void FigureTimeHistory(Context& c) {
   // orbit's period in the impacts' entry, as Figs. 2, 5 and 9 give it in
   // their keys (charts carry no title; in the contact's entry, the key took
   // one column in the column PDF).
-  auto panel = [](double bottom, double top) {
+  // (Their foot over the x label and the key's band, 0.14 of the height
+  // where the key has the column PDF's rows: KeyFoot.)
+  const std::string foot = KeyFoot(0.12, 0.14);
+  auto panel = [](const std::string& bottom, const std::string& top) {
     std::ostringstream os;
     os << "set lmargin at screen 0.14\nset rmargin at screen 0.96\nset bmargin at screen " << bottom
        << "\nset tmargin at screen " << top << "\n";
     return os.str();
   };
+  std::ostringstream upper_foot, lower_top;
+  upper_foot << "((" << foot << " + 0.96) / 2 + 0.01)";
+  lower_top << "((" << foot << " + 0.96) / 2 - 0.01)";
   body << "set multiplot\nset xrange [0:" << opt.t_end << "]\nset format x ''\n"
-       << panel(0.6, 0.96) << "set ylabel 'displacement (m)'\nset ytics " << NiceStep(x_lo, x_hi, 4) << "\n"
+       << panel(upper_foot.str(), "0.96") << "set ylabel 'displacement (m)'\nset ytics " << NiceStep(x_lo, x_hi, 4) << "\n"
        // (Its range the motion's, not the tics': rounded out, -6 to 2 left a
        // fifth of the panel empty.)
        << "set yrange [" << x_lo - 0.06 * (x_hi - x_lo) << ":" << x_hi + 0.06 * (x_hi - x_lo) << "]\n";
@@ -353,7 +359,8 @@ void FigureTimeHistory(Context& c) {
   std::vector<Plot::Entry> entries = top.Collected();
   entries.insert(entries.end(), bottom.Collected().begin(), bottom.Collected().end());
   body << top.str() << "set format x '% g'\nset xlabel 'time t (s)'\nset ylabel 'contact velocity (m/s)'\nset yrange [*:*]\n"
-       << panel(0.26, 0.58) << "set ytics " << NiceStep(v_lo, v_hi, 4) << "\n" << bottom.str() << LegendPanel(0.14)
+       << panel(foot, lower_top.str()) << "set ytics " << NiceStep(v_lo, v_hi, 4) << "\n" << bottom.str()
+       << LegendPanel(0.14)
        << "set key spacing 1.3\n" << Plot::Legend(entries) << "unset multiplot";
   Draw(c, "time_history", body.str(),
        "the stable 1-ipp orbit T = " + Num(o->period, 6) + ", " + std::to_string(periods) + " periods simulated (exact), " +
@@ -422,17 +429,20 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
   const int cols = static_cast<int>(orbits.size());
   // Panels placed by hand (margins and gaps wide enough for the column
   // PDF's tick labels) over one key for all, at the foot of the canvas as
-  // wide as the canvas: the panels draw the same series.
+  // wide as the canvas: the panels draw the same series. (Their foot over
+  // the x labels and the key's band, 0.14 of the height where the key has
+  // the column PDF's rows: KeyFoot; ns_h, a row's height.)
   auto panel = [&](int row, int col) {
-    constexpr double kLeft = 0.14, kRight = 0.96, kBottom = 0.25, kTop = 0.9, kGapX = 0.09, kGapY = 0.14;
-    const double w = (kRight - kLeft - (cols - 1) * kGapX) / cols, h = (kTop - kBottom - kGapY) / 2;
-    const double x0 = kLeft + col * (w + kGapX), y0 = kTop - (row + 1) * h - row * kGapY;
+    constexpr double kLeft = 0.14, kRight = 0.96, kTop = 0.9, kGapX = 0.09, kGapY = 0.14;
+    const double w = (kRight - kLeft - (cols - 1) * kGapX) / cols;
+    const double x0 = kLeft + col * (w + kGapX);
     std::ostringstream os;
-    os << "set lmargin at screen " << x0 << "\nset rmargin at screen " << x0 + w << "\nset bmargin at screen " << y0
-       << "\nset tmargin at screen " << y0 + h << "\n";
+    os << "set lmargin at screen " << x0 << "\nset rmargin at screen " << x0 + w << "\nset bmargin at screen ("
+       << kTop << " - " << row + 1 << " * ns_h - " << row * kGapY << ")\nset tmargin at screen (" << kTop << " - " << row
+       << " * ns_h - " << row * kGapY << ")\n";
     return os.str();
   };
-  body << "set multiplot\n";
+  body << "set multiplot\nns_h = (0.9 - " << KeyFoot(0.11, 0.14) << " - 0.14) / 2.0\n";
   std::vector<Plot::Entry> entries;
   for (int k = 0; k < cols; ++k) {
     const Orbit& o = orbits[k].second;

@@ -908,9 +908,12 @@ void Figures13To15(Context& c) {
     const std::string xc = std::to_string(XCol(c, c.contact));
     // (The panels placed on the canvas, their frames aligned in every
     // format, over one key in three columns at its foot: below the lower
-    // panel in one column of seven, it squeezed that panel in the column PDF.)
-    body << style::Palette("family", "") << "unset colorbox\nset multiplot\nset lmargin at screen 0.14\n"
-         << "set rmargin at screen 0.97\nset bmargin at screen 0.575\nset tmargin at screen 0.97\nset format x ''\n"
+    // panel in one column of seven, it squeezed that panel in the column PDF;
+    // their foot over the x labels and the key's band: KeyFoot), the lower
+    // panel 0.4 of their height.
+    body << style::Palette("family", "") << "unset colorbox\nset multiplot\nns_foot = " << KeyFoot(0.11, 0.14)
+         << "\nns_split = ns_foot + 0.4 * (0.97 - ns_foot - 0.03)\nset lmargin at screen 0.14\n"
+         << "set rmargin at screen 0.97\nset bmargin at screen (ns_split + 0.03)\nset tmargin at screen 0.97\nset format x ''\n"
          << "set xlabel ''\nset ylabel '" << XcLabel(c) << "'\nset xrange [0:" << t << "]\n";
     Plot upper("plot", Plot::Keys::kCollected);
     upper.Add("'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" + xc, With("limit"),
@@ -933,7 +936,7 @@ void Figures13To15(Context& c) {
     lower.Unkeyed("0", With("limit")).Unkeyed(d + "one_shifted' ? $2 : 1/0):3", With("limit_shifted"));
     for (int pct : {10, 30, 50}) lower.Unkeyed(d + "s" + std::to_string(pct) + "' ? $2 : 1/0):3", roles[(pct - 10) / 20]);
     const std::string x = Xc(c);
-    body << upper.str() << "set bmargin at screen 0.25\nset tmargin at screen 0.545\n"
+    body << upper.str() << "set bmargin at screen ns_foot\nset tmargin at screen ns_split\n"
          // (Short: "x - x(s = 0)" ran into the upper panel's label in the
          // column PDF; the caption says what it is.)
          << "set format x '% g'\nset xlabel 'time t (s)'\nset ylabel '{/Symbol D}" << x
@@ -1016,10 +1019,12 @@ void Figure17(Context& c) {
   // The panels above one key for all of them (the series of the panels
   // are the same kinds; a key per panel took a third of the height), each
   // titled above its frame; the plot areas placed by hand.
-  // (The key's band 0.15 of the height: four rows of two in the column
-  // PDF, three of three in the PNG.)
-  const double key_band = 0.15, cw = 1.0 / cols, ch = (1.0 - key_band) / rows;
-  body << "set multiplot\nset xlabel 'period T (s)' offset 0, 0.3\nset ytics scale 0.5\n";
+  // (The key's band 0.15 of the height in the column PDF, four rows of two;
+  // less where it has three rows of three, as in the PNG: KeyFoot. ns_ch,
+  // a row of panels' height.)
+  const double key_band = 0.15, cw = 1.0 / cols;
+  body << "set multiplot\nset xlabel 'period T (s)' offset 0, 0.3\nset ytics scale 0.5\nns_ch = (1.0 - "
+       << KeyFoot(0.0, key_band) << ") / " << rows << ".0\n";
   std::vector<Plot::Entry> entries;
   for (int k = 0; k < n; ++k) {
     const Bridge& br = c.bridges[k];
@@ -1038,7 +1043,8 @@ void Figure17(Context& c) {
     out << "\n\n";
     WriteBridges(bo.stream(), {br});
     bo << "\n\n";
-    const double x0 = (k % cols) * cw, y0 = 1.0 - (k / cols + 1) * ch;
+    const double x0 = (k % cols) * cw;
+    const int row = k / cols;
     // (The energy label on the left column only: the right one's would run
     // into its neighbour.)
     const double lo = br.energy_min - 0.5 * height, hi = br.energy_max + 0.5 * height;
@@ -1047,7 +1053,8 @@ void Figure17(Context& c) {
     // centred over it, reached the canvas's edge in the column PDF.)
     const double left = x0 + (k % cols == 0 || cols == 1 ? 0.3 : 0.24) * cw;
     body << "set lmargin at screen " << left << "\nset rmargin at screen " << left + 0.65 * cw
-         << "\nset tmargin at screen " << y0 + 0.88 * ch << "\nset bmargin at screen " << y0 + 0.24 * ch << "\n"
+         << "\nset tmargin at screen (1.0 - " << row + 1 << " * ns_ch + 0.88 * ns_ch)\nset bmargin at screen (1.0 - "
+         << row + 1 << " * ns_ch + 0.24 * ns_ch)\n"
          << "set ylabel '" << (k % cols == 0 ? "energy E (J)" : "") << "'\n"
          << "set xtics " << TwoTicksStep(x_lo, x_hi) << "\nset ytics " << NiceStep(lo, hi, 4) << "\n"
          << "set xrange [" << x_lo << ":" << x_hi << "]\nset yrange [" << lo << ":" << hi << "]\n"
@@ -1214,8 +1221,9 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   // panel at the column's width); the energy axis from 0.7 of the lowest
   // orbit drawn, so that the lowest stretch and its label clear the frame.
   // The panels' foot, over the key's band (five rows at a column's width,
-  // spaced for T_G's subscript) and the axes' labels.
-  constexpr double kFoot = 0.34;
+  // spaced for T_G's subscript; fewer where more columns fit: KeyFoot) and
+  // the axes' labels.
+  const std::string kFoot = KeyFoot(0.16, 0.18);
   body << "set multiplot\nset tmargin at screen 0.97\nset bmargin at screen " << kFoot << "\n"
        << "set lmargin at screen 0.12\nset rmargin at screen 0.53\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset logscale y\n" << LogTics("y", bottom, top)

@@ -133,6 +133,10 @@ Declaration Parse() {
     }
     format.options = os.str();
     format.key = Value<std::string>(f, "key", where);
+    format.key_band = Value<double>(f, "key_band", where);
+    if (!(format.key_band > 0.0 && format.key_band <= 1.0)) {
+      Broken(where + ".key_band " + Number(format.key_band) + " is not in (0, 1]");
+    }
     d.formats.push_back(format);
   }
   return d;
@@ -255,7 +259,8 @@ std::string CycleColour(std::string_view cycle, std::size_t k) {
 std::string ChartSetup(const Format& format) {
   // (Arrow style 1: the bridge's line with a flat cap at each end, for
   // `with vectors arrowstyle 1`; a plot command's own `size` took a comma.)
-  return The().dash_patterns + "set grid lt 1 lw 0.5 lc rgb '" + Colour("grid") + "'\nset key " + format.key +
+  return The().dash_patterns + "ns_key_band = " + Number(format.key_band) + "\nset grid lt 1 lw 0.5 lc rgb '" +
+         Colour("grid") + "'\nset key " + format.key +
          " noautotitle\nset style arrow 1 heads size screen 0.007,90 " + Look("bridge", "lines") + "\n";
 }
 

@@ -21,6 +21,7 @@ struct Format {
   std::string unit;       // of width and height: "" (pixels) or "cm"
   std::string options;    // font, line width, marker scale
   std::string key;        // the key's set-up (samplen, spacing, height, width)
+  double key_band = 1.0;  // the scale of a multi-panel chart's key band (gnuplot's ns_key_band)
   // The "set terminal" line; `aspect` > 0: height = aspect * width (a chart
   // whose subject has its own shape, the model's drawing), else the format's.
   std::string Terminal(double aspect = 0.0) const;
