@@ -122,10 +122,11 @@ void FigureModel(Context& c) {
   lines << "EOD\n";
   body << "set arrow from " << left(n - 1) + size << ", -0.15 to " << wall << ", -0.15 heads size 0.1,25 "
        << style::Look("function") << "\nset label 'd = " << Num(m.FirstContact().gap) << " m' at "
-       // (Under its arrow, a row below the masses' labels: in the gap above
-       // it, it touched the mass and the stop at the column's width; e
-       // short: there the labels are a larger part of the drawing.)
-       << 0.5 * (left(n - 1) + size + wall) << ", -0.7 center\n"
+       // (In the gap, just above its arrow, as the caption says: under it, a
+       // row below the masses' labels, a reader found it detached from the
+       // arrow; e short: at the column's width the labels are a larger part
+       // of the drawing.)
+       << 0.5 * (left(n - 1) + size + wall) << ", 0.15 center\n"
        << "set label 'e = " << Num(stop.restitution) << "' at " << wall << ", 1.6 center\n";
   std::ostringstream chart;
   // The canvas of the drawing's shape: no white bands around it.
