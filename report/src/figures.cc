@@ -1113,7 +1113,10 @@ void Figure17(Context& c) {
         }
       }
     }
-    for (const auto& [end, nearest] : near) {
+    for (const auto& pair : near) {
+      // (Not a structured binding: the lambda below captures it, which
+      // clang before 16 refuses.)
+      const double end = pair.first, nearest = pair.second;
       const bool above = nearest > end;
       const bool grazes = std::any_of(grazing_near.begin(), grazing_near.end(),
                                       [&](double e) { return std::abs(e - end) <= 1e-9 * end; });
