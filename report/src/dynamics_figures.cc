@@ -334,6 +334,8 @@ void FigureTimeHistory(Context& c) {
   lower_top << "((" << foot << " + 0.96) / 2 - 0.01)";
   body << "set multiplot\nset xrange [0:" << opt.t_end << "]\nset format x ''\n"
        << panel(upper_foot.str(), "0.96") << "set ylabel 'displacement (m)'\nset ytics " << NiceStep(x_lo, x_hi, 4) << "\n"
+       // (d named on the axis: the round ticks stopped short of it.)
+       << "set ytics add ('d' " << c.b.gap << ")\n"
        // (Its range the motion's, not the tics': rounded out, -6 to 2 left a
        // fifth of the panel empty.)
        << "set yrange [" << x_lo - 0.06 * (x_hi - x_lo) << ":" << x_hi + 0.06 * (x_hi - x_lo) << "]\n";

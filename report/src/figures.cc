@@ -255,7 +255,11 @@ void Figure6(Context& c) {
     // below 0 are rounding, 1e-32): the axis from just below 0, so that the
     // roots sit on its foot and a near-root reads as one.
     const double hi = range[period][1];
-    body << "set title 'T = " << period << " s'\nset xrange [0:" << period << "]\nset xtics (0, " << period << ")\n"
+    // (t2 from 4 % before 0 to 4 % past T: the roots at 0 and T sat on the
+    // frame; 0 labelled on the first column only: in the column PDF the
+    // neighbours' "T" and "0" ran together, "1 0 2".)
+    body << "set title 'T = " << period << " s'\nset xrange [" << -0.04 * period << ":" << 1.04 * period
+         << "]\nset xtics (" << (period % 5 == 1 ? "'0'" : "''") << " 0, '" << period << "' " << period << ")\n"
          << "set xlabel '" << (period > 5 ? "t_2 (s)" : "") << "'\nset ylabel '" << (period % 5 == 1 ? "det A_2" : "")
          << "'\nset yrange [" << -0.06 * hi << ":" << 1.06 * hi << "]\nset ytics 0, " << NiceStep(0.0, hi, 2) << "\n"
          << plot.str();
@@ -494,7 +498,9 @@ std::string ContactProjectionAxes(const Context& c, const double lo[3], const do
   std::ostringstream os;
   os << "set xlabel '" << DofLabel("x", c.contact, "m") << "'\nset ylabel '" << DofLabel("v", c.contact, "m/s")
      << "'\nset xtics " << NiceStep(lo[1], hi[1], 4) << "\nset ytics " << NiceStep(lo[2], hi[2], 5) << "\nset xrange "
-     << PaddedRange(lo[1], hi[1], c.b.gap + 0.08 * (hi[1] - lo[1])) << "\nset yrange " << PaddedRange(lo[2], hi[2])
+     // (Past d by 0.14 of the span: at 0.08 the impact states on x_c = d
+     // lay a few pixels from the frame.)
+     << PaddedRange(lo[1], hi[1], c.b.gap + 0.14 * (hi[1] - lo[1])) << "\nset yrange " << PaddedRange(lo[2], hi[2])
      << "\nset arrow from " << c.b.gap << ", graph 0 to " << c.b.gap << ", graph 1 nohead " << style::Look("obstacle")
      << "\nset label 'd' at " << c.b.gap << ", graph 1 center offset 0, 0.7\n";
   return os.str();
@@ -535,7 +541,10 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
        << PaddedRange(lo[1], hi[1], c.b.gap + 0.08 * (hi[1] - lo[1])) << "\n";
   // The curves (a family's limit) under the family: at x_c = d, where the
   // orbits' v_c jumps, the limit covered the jumps.
+  // The obstacle under everything on the left (over them, its dashes hid
+  // the orbits' arcs along x_c = d), keyed in its place below.
   Plot left, right;
+  left.Unkeyed(std::to_string(c.b.gap), With("obstacle"));
   for (std::size_t k = 0; k < curves.size(); ++k) {
     const std::string index = "'" + name + ".csv' index " + std::to_string(k + 1) + " using ";
     left.Add(index + u + ":" + w, With(curves[k].role), curves[k].title, static_cast<long>(curves[k].trajectories.size()));
@@ -556,7 +565,7 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
   if (dashed) {
     left.KeyOnly(With("family_orbit"), "stable orbit").KeyOnly(With("family_orbit_unstable"), "unstable orbit");
   }
-  left.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle " + Xc(c) + " = d");
+  left.KeyOnly(With("obstacle"), "obstacle " + Xc(c) + " = d");
   // The impact states on the right, just before and just after each impact
   // (the samples at x_c = d, to 1e-9 of it), filled in their orbit's colour:
   // where each orbit's loop breaks (keyed in black).
