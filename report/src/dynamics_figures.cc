@@ -206,11 +206,13 @@ void FigureMultipliers(Context& c) {
   // inside it, over T 10-19 where the branch is not admissible (clear of the
   // spike at 20.4); below, the complex plane at equal scales, its colour bar
   // beside it in the upper panel's right margin.
-  // (The complex plane's Im within 1.4 of 0: beyond it, nothing; the rest
-  // of the height to the branch.)
+  // (The complex plane's Im within 1.5 of 0: beyond 1, nothing, and at 1.4
+  // the frame's Re range, 2.37, put the multiplier at 2.35 on its edge; the
+  // rest of the height to the branch. kBottom: room for "Re mu" in the
+  // column PDF.)
   // (kLeft: room for "1000" and the label in the column PDF; at 0.11 the
   // label touched the page's edge.)
-  constexpr double kLeft = 0.13, kRight = 0.81, kBottom = 0.07, kTop = 0.42, kAspect = 1.15, kIm = 1.4;
+  constexpr double kLeft = 0.13, kRight = 0.81, kBottom = 0.085, kTop = 0.42, kAspect = 1.15, kIm = 1.5;
   body << marks.str() << "set multiplot\nset size 1, 0.53\nset origin 0, 0.47\n"
        << "set lmargin at screen " << kLeft << "\nset rmargin at screen " << kRight << "\n"
        << "set key at graph 0.29, graph 0.97 left top Left reverse samplen 1.5 maxrows 7\n"
@@ -233,7 +235,7 @@ void FigureMultipliers(Context& c) {
       .Add("$minus using 1:2", With("multiplier_minus_one"), "{/Symbol m} through -1", static_cast<long>(minus.size()));
   if (stable > 0) left.KeyOnly(With("map_stable", "points", style::Colour("black")), "{/Symbol m}, stable orbit");
   if (unstable > 0) left.KeyOnly(With("map_unstable", "points", style::Colour("black")), "{/Symbol m}, unstable orbit");
-  // The complex plane: Im mu within 1.4 of 0 and Re mu as far as the frame's
+  // The complex plane: Im mu within 1.5 of 0 and Re mu as far as the frame's
   // width allows at equal scales (the larger real ones of the unstable orbits
   // are on the upper panel), of every third stable and every third unstable
   // orbit (all of them lay hundreds deep: filled and open could not be told;
@@ -445,7 +447,9 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
        << " * ns_h - " << row * kGapY << ")\n";
     return os.str();
   };
-  body << "set multiplot\nns_h = (0.9 - " << KeyFoot(0.11, 0.14) << " - 0.14) / 2.0\n";
+  // (The orbits' x_c ranges as drawn, 5 % beyond, not rounded out to the
+  // ticks: the 1-ipp panel ran to 2, its top third empty above d = 1.)
+  body << "set multiplot\nns_h = (0.9 - " << KeyFoot(0.11, 0.14) << " - 0.14) / 2.0\nset autoscale yfix\n";
   std::vector<Plot::Entry> entries;
   for (int k = 0; k < cols; ++k) {
     const Orbit& o = orbits[k].second;
