@@ -447,9 +447,9 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
        << " * ns_h - " << row * kGapY << ")\n";
     return os.str();
   };
-  // (The orbits' x_c ranges as drawn, 5 % beyond, not rounded out to the
-  // ticks: the 1-ipp panel ran to 2, its top third empty above d = 1.)
-  body << "set multiplot\nns_h = (0.9 - " << KeyFoot(0.11, 0.14) << " - 0.14) / 2.0\nset autoscale yfix\n";
+  // (The orbits' x_c ranges rounded out to the ticks: fitted to them, the
+  // top frame lay 0.1 above d and the impact dots overlapped it.)
+  body << "set multiplot\nns_h = (0.9 - " << KeyFoot(0.11, 0.14) << " - 0.14) / 2.0\n";
   std::vector<Plot::Entry> entries;
   for (int k = 0; k < cols; ++k) {
     const Orbit& o = orbits[k].second;

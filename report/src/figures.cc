@@ -256,10 +256,10 @@ void Figure6(Context& c) {
     // roots sit on its foot and a near-root reads as one.
     const double hi = range[period][1];
     // (t2 from 4 % before 0 to 4 % past T: the roots at 0 and T sat on the
-    // frame; 0 labelled on the first column only: in the column PDF the
-    // neighbours' "T" and "0" ran together, "1 0 2".)
+    // frame, and the neighbours' labels "T" and "0" ran together in the
+    // column PDF, "1 0 2".)
     body << "set title 'T = " << period << " s'\nset xrange [" << -0.04 * period << ":" << 1.04 * period
-         << "]\nset xtics (" << (period % 5 == 1 ? "'0'" : "''") << " 0, '" << period << "' " << period << ")\n"
+         << "]\nset xtics (0, " << period << ")\n"
          << "set xlabel '" << (period > 5 ? "t_2 (s)" : "") << "'\nset ylabel '" << (period % 5 == 1 ? "det A_2" : "")
          << "'\nset yrange [" << -0.06 * hi << ":" << 1.06 * hi << "]\nset ytics 0, " << NiceStep(0.0, hi, 2) << "\n"
          << plot.str();
