@@ -466,13 +466,14 @@ Occupancy FepOccupancy(const Context& c, bool one_only) {
   // branches (TwoImpactBranches). (The orbits alone left the cells of a
   // steep stretch free between them: Fig. 8's B3 leader crossed the 2-ipp
   // branch at T = 35.5.)
-  auto segment = [&free](const Orbit& a, const Orbit& b) {
-    free.MarkSegment(free.X(a.period), free.Y(a.energy), free.X(b.period), free.Y(b.energy), 50);
+  auto segment = [&free](double t0, double e0, double t1, double e1) {
+    free.MarkSegment(free.X(t0), free.Y(e0), free.X(t1), free.Y(e1), 50);
   };
   const auto& one = c.atlas.one.at;
   for (std::size_t k = 1; k < one.size(); ++k) {
     if (!one[k - 1].empty() && !one[k].empty() && one[k - 1].front().orbit.admissible && one[k].front().orbit.admissible) {
-      segment(one[k - 1].front().orbit, one[k].front().orbit);
+      const Orbit &a = one[k - 1].front().orbit, &b = one[k].front().orbit;
+      segment(a.period, a.energy, b.period, b.energy);
     }
   }
   if (!one_only) {
@@ -488,13 +489,12 @@ Occupancy FepOccupancy(const Context& c, bool one_only) {
           roots.push_back({static_cast<int>(k), r.orbit.period, r.orbit.times[0], r.orbit.energy, false});
         }
       }
-      if (half && half_before) segment(*half_before, *half);
+      if (half && half_before) segment(half_before->period, half_before->energy, half->period, half->energy);
       half_before = half;
     }
     for (const auto& branch : TwoImpactBranches(std::move(roots))) {
       for (std::size_t i = 1; i < branch.size(); ++i) {
-        free.MarkSegment(free.X(branch[i - 1].period), free.Y(branch[i - 1].energy), free.X(branch[i].period),
-                         free.Y(branch[i].energy), 50);
+        segment(branch[i - 1].period, branch[i - 1].energy, branch[i].period, branch[i].energy);
       }
     }
   }

@@ -1088,7 +1088,11 @@ void Figure17(Context& c) {
         }
       }
     }
-    std::vector<std::pair<double, double>> near;  // (the end's energy, the orbit's)
+    struct NearEnd {
+      double end, nearest;   // the end's energy, the orbit's
+      bool grazes = false;   // (the end's orbit grazes d: labelled so, not circled)
+    };
+    std::vector<NearEnd> near;
     for (const double end : {br.energy_min, br.energy_max}) {
       double nearest = NAN;
       for (const double e : at_period) {
@@ -1103,7 +1107,6 @@ void Figure17(Context& c) {
     // paper.toml), keyed alike: "grazing orbit". An end near an orbit is
     // not circled but labelled so ("3.160 J, grazing"): the circle, wider
     // than the gap, reached the branch.
-    std::vector<double> grazing_near;
     if (IsGrazing(br)) {
       Mark(plot, br.period, br.energy_max, "grazing", "grazing orbit");
     } else {
@@ -1112,28 +1115,23 @@ void Figure17(Context& c) {
         const Orbit end = BridgeOrbit(c.b, br, s);
         if (std::abs(end.max_excess) > 1e-6 * c.b.gap || std::abs(end.energy - marked) <= 1e-9 * end.energy) continue;
         marked = end.energy;
-        const bool labelled = std::any_of(near.begin(), near.end(), [&](const auto& p) {
-          return std::abs(p.first - end.energy) <= 1e-9 * end.energy;
+        const auto labelled = std::find_if(near.begin(), near.end(), [&](const NearEnd& n) {
+          return std::abs(n.end - end.energy) <= 1e-9 * end.energy;
         });
-        if (labelled) {
-          grazing_near.push_back(end.energy);
+        if (labelled != near.end()) {
+          labelled->grazes = true;
         } else {
           Mark(plot, br.period, end.energy, "grazing", "grazing orbit");
         }
       }
     }
-    for (const auto& pair : near) {
-      // (Not a structured binding: the lambda below captures it, which
-      // clang before 16 refuses.)
-      const double end = pair.first, nearest = pair.second;
-      const bool above = nearest > end;
-      const bool grazes = std::any_of(grazing_near.begin(), grazing_near.end(),
-                                      [&](double e) { return std::abs(e - end) <= 1e-9 * end; });
+    for (const NearEnd& n : near) {
+      const bool above = n.nearest > n.end;
       // (On two lines where it grazes: on one, it ran past the column PDF's
       // panel.)
-      body << std::fixed << std::setprecision(3) << "set label \"" << end << " J" << (grazes ? "\\ngrazing" : "")
-           << "\" at " << br.period << ", " << end << " left offset 0.8, " << (above ? (grazes ? -1.4 : -0.9) : 0.9)
-           << " front\nset label '" << nearest << " J' at " << br.period << ", " << nearest << " right offset -0.8, "
+      body << std::fixed << std::setprecision(3) << "set label \"" << n.end << " J" << (n.grazes ? "\\ngrazing" : "")
+           << "\" at " << br.period << ", " << n.end << " left offset 0.8, " << (above ? (n.grazes ? -1.4 : -0.9) : 0.9)
+           << " front\nset label '" << n.nearest << " J' at " << br.period << ", " << n.nearest << " right offset -0.8, "
            << (above ? 0.6 : -0.6) << " front\n" << std::defaultfloat << std::setprecision(6);
     }
     body << plot.str();
