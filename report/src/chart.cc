@@ -209,7 +209,19 @@ std::string FamilyBarTics(double lo, double hi) {
     os << "set cbtics ('" << Num(lo, 3) << "' 0)\n";
     return os.str();
   }
-  const double step = NiceStep(lo, hi, 4);
+  // About four ticks; more (up to seven) where a finer round step lands on
+  // both ends (Fig. 14's 0 to 0.5 read 0, 0.2, 0.4, 0.5, unevenly spaced).
+  auto on_step = [](double x, double s) { return std::abs(x / s - std::round(x / s)) < 1e-9; };
+  double step = NiceStep(lo, hi, 4);
+  if (!(on_step(lo, step) && on_step(hi, step))) {
+    for (const int count : {6, 8}) {
+      const double finer = NiceStep(lo, hi, count);
+      if (on_step(lo, finer) && on_step(hi, finer) && (hi - lo) / finer < 7.5) {
+        step = finer;
+        break;
+      }
+    }
+  }
   os << "set cbtics (";
   const double first_tick = std::ceil(lo / step - 1e-9) * step;
   double last_tick = first_tick;

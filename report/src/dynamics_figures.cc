@@ -190,15 +190,35 @@ void FigureMultipliers(Context& c) {
     if (t.kind == TransitionKind::kMultiplierPlusOne) plus.push_back(t.period);
     if (t.kind == TransitionKind::kMultiplierMinusOne) minus.push_back(t.period);
   }
+  // The changes of stability marked in a row under |mu| = 1, where no
+  // branch runs (max |mu| >= 1: the multipliers of a conservative orbit come
+  // in pairs mu, 1/mu), each pointing at its place: on the line, the
+  // triangles hid the short stable stretches they bound (0.6 s wide at
+  // T = 5). A mark within 1.5 % of the period range of the one before it
+  // goes one row further down (the two -1 triangles at T = 9.49 and 9.62
+  // lay over each other).
+  constexpr double kRow = 1.3;  // a row's step down from |mu| = 1 (a factor: the axis is logarithmic)
+  int rows = 1;
+  auto row_of = [&](const std::vector<double>& ts) {
+    std::vector<std::pair<double, int>> placed;
+    for (const double t : ts) {
+      const int row = !placed.empty() && t - placed.back().first < 0.015 * (t_hi - t_lo) ? placed.back().second + 1 : 1;
+      placed.push_back({t, row});
+      rows = std::max(rows, row);
+    }
+    return placed;
+  };
+  std::sort(plus.begin(), plus.end());
+  std::sort(minus.begin(), minus.end());
   std::ostringstream marks;
   marks << branch.str() << "EOD\n$plus << EOD\n";
-  for (double t : plus) marks << t << ",1\n";
+  for (const auto& [t, row] : row_of(plus)) marks << t << "," << std::pow(kRow, -row) << "\n";
   marks << "EOD\n$minus << EOD\n";
-  for (double t : minus) marks << t << ",1\n";
+  for (const auto& [t, row] : row_of(minus)) marks << t << "," << std::pow(kRow, -row) << "\n";
   marks << "EOD\n$circle << EOD\n";
   for (int k = 0; k <= 180; ++k) marks << std::cos(k * std::numbers::pi / 90) << "," << std::sin(k * std::numbers::pi / 90) << "\n";
   marks << "EOD\n";
-  const double m_top = std::min(m_hi, 1e3) * 1.5;
+  const double m_top = std::min(m_hi, 1e3) * 1.5, m_bottom = std::pow(kRow, -(rows + 1.4));
   std::ostringstream body;
   // Two panels stacked (height 1.15 width), their frames between the same
   // left and right edges: above, the branch, where the stability changes
@@ -217,9 +237,10 @@ void FigureMultipliers(Context& c) {
        << "set lmargin at screen " << kLeft << "\nset rmargin at screen " << kRight << "\n"
        << "set key at graph 0.29, graph 0.97 left top Left reverse samplen 1.5 maxrows 7\n"
        << "set xlabel 'period T (s)'\n"
-       // (From 0.7 and 2 % beyond the branch's ends: the stable orbits, at
-       // |mu| = 1, and the ends' points clear of the frame.)
-       << "set ylabel 'max |{/Symbol m}|'\nset logscale y\n" << LogTics("y", 0.7, m_top) << "set yrange [0.7:" << m_top << "]\n"
+       // (From a row under the marks' last row and 2 % beyond the
+       // branch's ends: the marks and the ends' points clear of the frame.)
+       << "set ylabel 'max |{/Symbol m}|'\nset logscale y\n" << LogTics("y", m_bottom, m_top) << "set yrange ["
+       << m_bottom << ":" << m_top << "]\n"
        << "set xrange [" << t_lo - 0.02 * (t_hi - t_lo) << ":" << t_hi + 0.02 * (t_hi - t_lo) << "]\n";
   // |mu| = 1 first: the stable stretches lie on it, a thick solid line over
   // its thin dashes; the unstable ones dashed, as on Fig. 3, over their

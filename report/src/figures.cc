@@ -11,6 +11,7 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <tuple>
 #include <array>
@@ -507,11 +508,14 @@ std::string ContactProjectionAxes(const Context& c, const double lo[3], const do
 }
 
 // The `using` of a section's (x_c, v_c) samples at x_c = d (to 1e-9 of it):
-// the states just before and just after each impact, shaded by column 2.
-std::string ImpactStates(const Context& c, const std::string& w, const std::string& v) {
+// the states just before and just after each impact, shaded by column 2;
+// with `shade`, those of the orbit at that place along the family only.
+std::string ImpactStates(const Context& c, const std::string& w, const std::string& v,
+                         std::optional<double> shade = std::nullopt) {
   std::ostringstream os;
-  os << "(abs($" << w << " - " << c.b.gap << ") <= " << 1e-9 * std::max(1.0, std::abs(c.b.gap)) << " ? $" << w
-     << " : 1/0):" << v << ":2";
+  os << "(abs($" << w << " - " << c.b.gap << ") <= " << 1e-9 * std::max(1.0, std::abs(c.b.gap));
+  if (shade) os << " && abs($2 - " << *shade << ") < 1e-5";
+  os << " ? $" << w << " : 1/0):" << v << ":2";
   return os.str();
 }
 
@@ -567,10 +571,26 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
   }
   left.KeyOnly(With("obstacle"), "obstacle " + Xc(c) + " = d");
   // The impact states on the right, just before and just after each impact
-  // (the samples at x_c = d, to 1e-9 of it), filled in their orbit's colour:
-  // where each orbit's loop breaks (keyed in black).
-  right.Unkeyed("'" + name + ".csv' index 0 using " + ImpactStates(c, w, v), style::WithPalette("impact_state"));
-  left.KeyOnly(With("impact_state", "points", style::Colour("black")), "impact state (right)");
+  // (the samples at x_c = d, to 1e-9 of it), in their orbit's colour: where
+  // each orbit's loop breaks (keyed in black). An unstable orbit's open, as
+  // its line is dashed, under the stable ones' filled dots: the orbits'
+  // impact velocities lie close, and a layer of filled dots hid one orbit's
+  // under the others' (Fig. 12, a reader found); a ring shows through.
+  for (const bool stable : {false, true}) {
+    bool any = false;
+    for (const auto& [shade, orbit_stable] : orbits) {
+      if (orbit_stable != stable) continue;
+      right.Unkeyed("'" + name + ".csv' index 0 using " + ImpactStates(c, w, v, shade),
+                    style::WithPalette(stable ? "impact_state" : "impact_state_unstable"));
+      any = true;
+    }
+    if (any && !dashed) {
+      left.KeyOnly(With("impact_state", "points", style::Colour("black")), "impact state (right)");
+    } else if (any) {
+      left.KeyOnly(With(stable ? "impact_state" : "impact_state_unstable", "points", style::Colour("black")),
+                   stable ? "impact, stable orbit (right)" : "impact, unstable orbit (right)");
+    }
+  }
   body << left.str() << "unset key\nset lmargin at screen 0.58\nset rmargin at screen 0.82\n"
        << "set colorbox user origin screen 0.845, screen 0.22 size screen 0.025, screen 0.68\n"
        << ContactProjectionAxes(c, lo, hi) << right.str() << "unset multiplot";
@@ -637,9 +657,9 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   std::ostringstream body;
   // (No bar label: it would run into the projection's; the map's one
   // meaning, the position along the family, is said above the bar.)
-  body << "set multiplot\nset size 0.56, 1\nset origin 0, 0\n" << style::Palette("family", "")
-       << bar.str() << "set cbrange [0:1]\nset colorbox user origin screen 0.535, screen 0.25 size screen 0.02, screen 0.5\n"
-       << "set label 1 '" << family.parameter << "' at screen 0.545, screen 0.78 center\n"
+  body << "set multiplot\nset size 0.54, 1\nset origin 0, 0\n" << style::Palette("family", "")
+       << bar.str() << "set cbrange [0:1]\nset colorbox user origin screen 0.51, screen 0.25 size screen 0.02, screen 0.5\n"
+       << "set label 1 '" << family.parameter << "' at screen 0.52, screen 0.78 center\n"
        // About four ticks per 3-D axis: more collide at the column PDF's size.
        << InnerTics("x", lo[0], hi[0], 5) << InnerTics("y", lo[1], hi[1], 5) << "set ztics " << NiceStep(lo[2], hi[2], 4)
        << "\n"
@@ -702,7 +722,7 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   }
   // (Margins above and right: the d label and the last tick label had
   // met the canvas edge in the column PDF.)
-  body << "unset label 1\nset size 0.37, 1\nset origin 0.63, 0\nset tmargin 2\nset rmargin 2.5\nunset pm3d\nunset colorbox\nunset key\n"
+  body << "unset label 1\nset size 0.41, 1\nset origin 0.59, 0\nset tmargin 2\nset rmargin 2.5\nunset pm3d\nunset colorbox\nunset key\n"
        << ContactProjectionAxes(c, lo, hi) << projection.str() << "unset multiplot";
   Draw(c, name, body.str(), note);
 }
