@@ -911,6 +911,31 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
         since = 0.0;
       }
     }
+    // A stretch shorter than a step marked at its middle, not its start:
+    // Fig. 18's steep (1, 1) pieces, 0.1 s wide, read as a stray marker and
+    // a stray dash above it.
+    std::size_t start = 0;
+    double length = 0.0;
+    std::vector<double> at(branch.size(), 0.0);  // the length from the stretch's start
+    for (std::size_t k = 1; k <= branch.size(); ++k) {
+      if (k < branch.size() && branch[k].stable == branch[k - 1].stable) {
+        const FepTable::Root &r = branch[k], &p = branch[k - 1];
+        const double dy = r.energy > 0.0 && p.energy > 0.0 ? std::log10(r.energy / p.energy) / decades : 0.0;
+        length += std::hypot((r.period - p.period) / t_span, dy);
+        at[k] = length;
+        continue;
+      }
+      if (length < kMarkStep && k - start > 2) {
+        std::size_t middle = start;
+        for (std::size_t j = start; j < k; ++j) {
+          marks.back()[j] = false;
+          if (std::abs(at[j] - 0.5 * length) < std::abs(at[middle] - 0.5 * length)) middle = j;
+        }
+        marks.back()[middle] = true;
+      }
+      start = k;
+      length = 0.0;
+    }
   }
   return marks;
 }

@@ -919,10 +919,14 @@ void Figures13To15(Context& c) {
       diff << "\n";
     };
     difference("one_shifted", shifted);
+    // (The upper panel's x_c range: the orbits' and d.)
+    double x_lo = one_tr.col(col).minCoeff(), x_hi = std::max(one_tr.col(col).maxCoeff(), c.b.gap);
     for (const auto& [label, f] : {std::pair<const char*, double>{"s10", 0.1}, {"s30", 0.3}, {"s50", 0.5}}) {
       const Eigen::MatrixXd tr = OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, f * br->s_end), kSamples);
       WriteTrajectory(out.stream(), label, t, tr);
       difference(label, tr);
+      x_lo = std::min(x_lo, tr.col(col).minCoeff());
+      x_hi = std::max(x_hi, tr.col(col).maxCoeff());
     }
     diff.Commit();
     std::ostringstream body;
@@ -943,7 +947,11 @@ void Figures13To15(Context& c) {
     body << style::Palette("family", "") << "unset colorbox\nset multiplot\nns_foot = " << KeyFoot(0.11, 0.14)
          << "\nns_split = ns_foot + 0.4 * (0.97 - ns_foot - 0.03)\nset lmargin at screen 0.14\n"
          << "set rmargin at screen 0.97\nset bmargin at screen (ns_split + 0.03)\nset tmargin at screen 0.97\nset format x ''\n"
-         << "set xlabel ''\nset ylabel '" << XcLabel(c) << "'\nset xrange [0:" << t << "]\n";
+         << "set xlabel ''\nset ylabel '" << XcLabel(c) << "'\nset xrange [0:" << t << "]\n"
+         // (8 % of the span below the orbits and 12 % above d, the impact
+         // dots clear of the frame: rounded out to the ticks, the range ran
+         // 0.5 d above d, a band a reader found empty.)
+         << "set yrange [" << x_lo - 0.08 * (x_hi - x_lo) << ":" << x_hi + 0.12 * (x_hi - x_lo) << "]\n";
     Plot upper("plot", Plot::Keys::kCollected);
     upper.Add("'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" + xc, With("limit"),
               "grazing, s = 0")
@@ -968,7 +976,7 @@ void Figures13To15(Context& c) {
     body << upper.str() << "set bmargin at screen ns_foot\nset tmargin at screen ns_split\n"
          // (Short: "x - x(s = 0)" ran into the upper panel's label in the
          // column PDF; the caption says what it is.)
-         << "set format x '% g'\nset xlabel 'time t (s)'\nset ylabel '{/Symbol D}" << x
+         << "set autoscale y\nset format x '% g'\nset xlabel 'time t (s)'\nset ylabel '{/Symbol D}" << x
          << " (m)'\nset ytics " << NiceStep(-c.b.gap, c.b.gap, 4) << "\n"
          << lower.str() << LegendPanel(0.14) << Plot::Legend(upper.Collected()) << "unset multiplot\n";
     out.Commit();
