@@ -1481,9 +1481,20 @@ void Figure18(Context& c) {
   std::ostringstream body;
   // Up to 30 times the median energy, as the other frequency-energy plots:
   // the families fill the frame, their diverging ends leave it.
-  const double top = std::min(2.0 * hi, EnergyTop(energies));
-  // (Its ends not labelled: labelled, 18.9 and 0.247 broke the set's rule
-  // of round log labels and dropped 0.3, a reader found.)
+  // Its top rounded up to a value the log axis labels (1, 2, 3 or 5 a
+  // decade), so that the top is named: its ends labelled, 18.9 and 0.247
+  // broke the set's rule of round log labels and dropped 0.3; unlabelled,
+  // a reader asked what the top was.
+  double top = std::min(2.0 * hi, EnergyTop(energies));
+  {
+    const double decade = std::pow(10.0, std::floor(std::log10(top)));
+    for (const double m : {1.0, 2.0, 3.0, 5.0, 10.0}) {
+      if (m * decade >= top * (1 - 1e-9)) {
+        top = m * decade;
+        break;
+      }
+    }
+  }
   body << "set logscale y\n" << LogTics("y", 0.8 * lo, top) << "set yrange [" << 0.8 * lo << ":" << top << "]\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << PeriodTop(c) << "]\n"
        << "set key below";
