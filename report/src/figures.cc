@@ -1234,7 +1234,13 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   }
   report::ResultFile orbit(c.dir, "fig16_orbit.csv");
   WriteTrajectoryHeader(orbit.stream(), c);
-  WriteTrajectory(orbit.stream(), "x", pick.start.period, OrbitTrajectory(c.b, pick.start, kSamples));
+  const Eigen::MatrixXd orbit_tr = OrbitTrajectory(c.b, pick.start, kSamples);
+  WriteTrajectory(orbit.stream(), "x", pick.start.period, orbit_tr);
+  // (The right panel's x_c range: the orbit's and d, 8 % of that below and
+  // 12 % above, the impacts on d clear of the frame; rounded out to the
+  // ticks, it ran 0.5 d above d, a sixth of the height empty.)
+  const double x_lo = orbit_tr.col(1 + c.contact).minCoeff(),
+               x_hi = std::max(orbit_tr.col(1 + c.contact).maxCoeff(), c.b.gap);
   // The energy axis (log) from just below the lowest drawn orbit (3-ipp or
   // 1-ipp in the window) to above the family's highest, not admissible ones
   // included (the continuation the caption follows), at most 20 times the
@@ -1342,7 +1348,8 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   // The right panel: what the left one (and its inset) set, reset.
   body << "set lmargin at screen 0.68\nset rmargin at screen 0.98\nset tmargin at screen 0.97\nset bmargin at screen "
        << kFoot << "\nunset object\nunset arrow\nset tics scale default\nset format y '% h'\n"
-       << "unset logscale y\nunset label\nset xtics autofreq\nset ytics autofreq right offset 0, 0\nset mytics default\nset autoscale y\nset xrange [0:" << pick.start.period << "]\n"
+       << "unset logscale y\nunset label\nset xtics autofreq\nset ytics autofreq right offset 0, 0\nset mytics default\nset yrange [" << x_lo - 0.08 * (x_hi - x_lo) << ":"
+       << x_hi + 0.12 * (x_hi - x_lo) << "]\nset xrange [0:" << pick.start.period << "]\n"
        << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << LegendPanel(0.18)
        // (Spaced for the subscript of T_G, which touched the next row in the
        // column PDF.)
