@@ -878,7 +878,8 @@ void FepTable::Write(std::ostream& out) const {
 
 // (T over the roots' span of periods, log E over their decades: the frame
 // of a plot of the whole table, or of a zoom on it.)
-std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepTable::Root>>& branches) {
+std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepTable::Root>>& branches,
+                                              bool short_at_middle) {
   double t_lo = INFINITY, t_hi = 0.0, e_lo = INFINITY, e_hi = 0.0;
   for (const auto& branch : branches) {
     for (const FepTable::Root& r : branch) {
@@ -917,6 +918,7 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
     // A stretch shorter than a step marked at its middle, not its start:
     // Fig. 18's steep (1, 1) pieces, 0.1 s wide, read as a stray marker and
     // a stray dash above it.
+    if (!short_at_middle) continue;
     std::size_t start = 0;
     double length = 0.0;
     std::vector<double> at(branch.size(), 0.0);  // the length from the stretch's start

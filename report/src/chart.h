@@ -403,7 +403,11 @@ std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable:
 // Where to put a branch's markers: at equal steps of its length in the
 // frame (9 % of it), the first point marked, not every k-th point (where a
 // branch is steep its points crowd, and k-th markers made a chain of beads).
-std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepTable::Root>>& branches);
+// With `short_at_middle`, a stretch shorter than a step is marked once, at
+// its middle (Fig. 18's isolated pieces; on Figs. 8 and fep_all_families,
+// whose short stretches end at the bridges, such a marker met their labels).
+std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepTable::Root>>& branches,
+                                              bool short_at_middle = false);
 
 // A window of a frequency-energy chart to zoom on: T and E (linear in the
 // inset), its label in the inset's corner.

@@ -1468,7 +1468,7 @@ void Figure18(Context& c) {
       }
     }
     // A 2-impact sequence's markers at equal steps along its branches.
-    const std::vector<std::vector<bool>> marks = EqualStepMarks(branches);
+    const std::vector<std::vector<bool>> marks = EqualStepMarks(branches, true);
     for (std::size_t b = 0; b < branches.size(); ++b) {
       // (One blank line between branches: gnuplot breaks the line there.)
       os << (first ? "" : "\n");
@@ -1784,7 +1784,7 @@ std::string ResponseInsets(const std::vector<ResponseRow>& rows, const std::vect
     // and 6 % high (the markers clear of each other at the inset's scale).
     const double px = std::max(0.5 * (x1 - x0), 0.01 * (frame[1] - frame[0]));
     const double py = log_y ? std::max(0.5 * (y1 - y0), 0.06 * y1) : std::max(0.5 * (y1 - y0), 0.03 * (frame[3] - frame[2]));
-    zooms.push_back({x0 - px, x1 + px, std::max(y0 - py, log_y ? 0.5 * y0 : frame[2]), y1 + py, "", 0.34, 0.32});
+    zooms.push_back({x0 - px, x1 + px, std::max(y0 - py, log_y ? 0.5 * y0 : frame[2]), y1 + py, "", 0.40, 0.25});
   }
   return ZoomInsets(free, plot, zooms, false);
 }
