@@ -834,7 +834,7 @@ std::string StableStretchInsets(const Context& c, const Plot& plot) {
   return ZoomInsets(c, plot, true, zooms);
 }
 
-void FepTable::Write(std::ostream& out) const {
+void FepTable::Write(std::ostream& out, bool short_at_middle) const {
   // One blank line between the families and the branches (two would start
   // a new dataset).
   out << "family,T,t2,energy,stable,branch,mark\n";
@@ -850,7 +850,7 @@ void FepTable::Write(std::ostream& out) const {
   // 28.85 and 28.86).
   std::vector<std::vector<Root>> branches = TwoImpactBranches(roots_);
   branches.push_back(three_rows_);
-  std::vector<std::vector<bool>> marks = EqualStepMarks(branches);
+  std::vector<std::vector<bool>> marks = EqualStepMarks(branches, short_at_middle);
   branches.pop_back();
   std::vector<bool> three_marks = std::move(marks.back());
   marks.pop_back();

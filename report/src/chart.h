@@ -370,7 +370,9 @@ class FepTable {
   static constexpr std::array<const char*, 9> kKeyTitles = {
       "1-ipp, stable",  "1-ipp, unstable", "2-ipp, stable",   "2-ipp, unstable", "2-ipp, t_2 = T/2, stable",
       "2-ipp, t_2 = T/2, unstable", "3-ipp, stable", "3-ipp, unstable", "bridge"};
-  void Write(std::ostream& out) const;
+  // (`short_at_middle`: EqualStepMarks', for Fig. 17's panels, each zoomed
+  // on one bridge, where a short stretch at a bridge's foot is the subject.)
+  void Write(std::ostream& out, bool short_at_middle = false) const;
 
   struct Root {
     int step = 0;
@@ -404,8 +406,9 @@ std::vector<std::vector<FepTable::Root>> TwoImpactBranches(std::vector<FepTable:
 // frame (9 % of it), the first point marked, not every k-th point (where a
 // branch is steep its points crowd, and k-th markers made a chain of beads).
 // With `short_at_middle`, a stretch shorter than a step is marked once, at
-// its middle (Fig. 18's isolated pieces; on Figs. 8 and fep_all_families,
-// whose short stretches end at the bridges, such a marker met their labels).
+// its middle (Fig. 18's isolated pieces, Fig. 17's panels; on Figs. 8 and
+// fep_all_families, whose short stretches end at the bridges, such a marker
+// met the bridges' labels).
 std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepTable::Root>>& branches,
                                               bool short_at_middle = false);
 

@@ -195,26 +195,45 @@ void FigureMultipliers(Context& c) {
   // in pairs mu, 1/mu), each pointing at its place: on the line, the
   // triangles hid the short stable stretches they bound (0.6 s wide at
   // T = 5). A mark within 1.5 % of the period range of the one before it
-  // goes one row further down (the two -1 triangles at T = 9.49 and 9.62
-  // lay over each other).
+  // (of either kind) goes one row further down (the two -1 triangles at
+  // T = 9.49 and 9.62 lay over each other). The row named "crossings" in
+  // its widest gap, where that is a sixth of the range or more (a reader
+  // took a triangle for a value of max |mu| under 1).
   constexpr double kRow = 1.3;  // a row's step down from |mu| = 1 (a factor: the axis is logarithmic)
+  std::vector<std::pair<double, bool>> crossings;  // (T, through +1)
+  for (const double t : plus) crossings.push_back({t, true});
+  for (const double t : minus) crossings.push_back({t, false});
+  std::sort(crossings.begin(), crossings.end());
   int rows = 1;
-  auto row_of = [&](const std::vector<double>& ts) {
-    std::vector<std::pair<double, int>> placed;
-    for (const double t : ts) {
-      const int row = !placed.empty() && t - placed.back().first < 0.015 * (t_hi - t_lo) ? placed.back().second + 1 : 1;
-      placed.push_back({t, row});
-      rows = std::max(rows, row);
-    }
-    return placed;
-  };
-  std::sort(plus.begin(), plus.end());
-  std::sort(minus.begin(), minus.end());
+  std::vector<int> row(crossings.size(), 1);
+  for (std::size_t k = 1; k < crossings.size(); ++k) {
+    if (crossings[k].first - crossings[k - 1].first < 0.015 * (t_hi - t_lo)) row[k] = row[k - 1] + 1;
+    rows = std::max(rows, row[k]);
+  }
   std::ostringstream marks;
-  marks << branch.str() << "EOD\n$plus << EOD\n";
-  for (const auto& [t, row] : row_of(plus)) marks << t << "," << std::pow(kRow, -row) << "\n";
-  marks << "EOD\n$minus << EOD\n";
-  for (const auto& [t, row] : row_of(minus)) marks << t << "," << std::pow(kRow, -row) << "\n";
+  for (const bool through_plus : {true, false}) {
+    marks << (through_plus ? branch.str() + "EOD\n$plus << EOD\n" : "EOD\n$minus << EOD\n");
+    for (std::size_t k = 0; k < crossings.size(); ++k) {
+      if (crossings[k].second == through_plus) marks << crossings[k].first << "," << std::pow(kRow, -row[k]) << "\n";
+    }
+  }
+  std::string crossings_label;
+  if (!crossings.empty()) {
+    const double x_lo = t_lo - 0.02 * (t_hi - t_lo), x_hi = t_hi + 0.02 * (t_hi - t_lo);
+    double gap_from = x_lo, gap = crossings.front().first - x_lo;
+    for (std::size_t k = 0; k < crossings.size(); ++k) {
+      const double next = k + 1 < crossings.size() ? crossings[k + 1].first : x_hi;
+      if (next - crossings[k].first > gap) {
+        gap = next - crossings[k].first;
+        gap_from = crossings[k].first;
+      }
+    }
+    if (gap >= (x_hi - x_lo) / 6.0) {
+      std::ostringstream os;
+      os << "set label 'crossings' at " << gap_from + 0.5 * gap << ", " << std::pow(kRow, -1.0) << " center\n";
+      crossings_label = os.str();
+    }
+  }
   marks << "EOD\n$circle << EOD\n";
   for (int k = 0; k <= 180; ++k) marks << std::cos(k * std::numbers::pi / 90) << "," << std::sin(k * std::numbers::pi / 90) << "\n";
   marks << "EOD\n";
@@ -233,7 +252,7 @@ void FigureMultipliers(Context& c) {
   // (kLeft: room for "1000" and the label in the column PDF; at 0.11 the
   // label touched the page's edge.)
   constexpr double kLeft = 0.13, kRight = 0.81, kBottom = 0.085, kTop = 0.42, kAspect = 1.15, kIm = 1.5;
-  body << marks.str() << "set multiplot\nset size 1, 0.53\nset origin 0, 0.47\n"
+  body << marks.str() << "set multiplot\nset size 1, 0.53\nset origin 0, 0.47\n" << crossings_label
        << "set lmargin at screen " << kLeft << "\nset rmargin at screen " << kRight << "\n"
        << "set key at graph 0.29, graph 0.97 left top Left reverse samplen 1.5 maxrows 7\n"
        << "set xlabel 'period T (s)'\n"
@@ -262,7 +281,7 @@ void FigureMultipliers(Context& c) {
   // orbit (all of them lay hundreds deep: filled and open could not be told;
   // counted apart, a short stable stretch keeps its points).
   const double re_half = kIm * (kRight - kLeft) / ((kTop - kBottom) * kAspect);
-  body << left.str() << "unset logscale y\nunset key\nset size 1, 0.47\nset origin 0, 0\n"
+  body << left.str() << "unset logscale y\nunset key\nunset label\nset size 1, 0.47\nset origin 0, 0\n"
        << "set bmargin at screen " << kBottom << "\nset tmargin at screen " << kTop << "\n"
        << "set colorbox user origin screen " << kRight + 0.02 << ", screen " << kBottom << " size screen 0.022, screen "
        << kTop - kBottom << "\n"
@@ -431,8 +450,10 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
     SimulateOptions sopt;
     sopt.t_end = shown * o.period;
     // (16 samples a period: at 40, and still at 24, their circles hid the
-    // analytic line and its family colour.)
-    for (int j = 0; j <= 16; ++j) sopt.sample_times.push_back((shown - 1 + j / 16.0) * o.period);
+    // analytic line and its family colour; each in the middle of its
+    // sixteenth, off t = 0 and T, where the impact dots are: at j / 16 one
+    // fell on the 2-ipp orbit's impact at t2 / T = 0.69.)
+    for (int j = 0; j < 16; ++j) sopt.sample_times.push_back((shown - 1 + (j + 0.5) / 16.0) * o.period);
     SimulationObserver observer;
     observer.on_sample = [&](double t, const Eigen::VectorXd& z) {
       out << k << ",simulated," << t / o.period - (shown - 1) << "," << z[c.contact] << "\n";

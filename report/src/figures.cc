@@ -1076,7 +1076,9 @@ void Figure17(Context& c) {
     const double margin = 0.04 * std::max(p_hi - p_lo, 1e-3 * br.period);
     const double x_lo = std::isfinite(p_lo) ? p_lo - margin : br.period - w;
     const double x_hi = std::isfinite(p_hi) ? p_hi + margin : br.period + w;
-    table.Write(out.stream());
+    // (A short stretch at a bridge's foot marked at its middle: under the
+    // bridge's cap, B1's unstable one was not seen.)
+    table.Write(out.stream(), true);
     out << "\n\n";
     WriteBridges(bo.stream(), {br});
     bo << "\n\n";
