@@ -1088,21 +1088,21 @@ void TransitionLines(Context& c, const std::string& name, bool all, std::ostream
   const auto [lo, hi] = EnergyRange(c);
   const std::string block = name.substr(0, name.find('.'));
   body << VerticalLines(block + "_singular", at[TransitionKind::kSingular], lo, hi);
-  // T_S above each singular transition's line, outside the frame (the
-  // families crowd the top of the frame, where the energy diverges), each
-  // in the lowest row where it is a label's width and a gap (5.5 % of the axis in the
-  // column PDF, where the text is largest against the axis) from that row's
-  // last.
+  // T_S above the singular transitions' lines, outside the frame (the
+  // families crowd the top of the frame, where the energy diverges), in one
+  // row: lines closer than a label's width and a gap (5.5 % of the axis in
+  // the column PDF, where the text is largest against the axis) share one
+  // label over their middle (stacked in rows, a reader found the labels
+  // hard to follow; the key names the lines).
   const double axis = PeriodTop(c, all);
-  std::vector<double> last;  // each row's last label
-  for (double t : at[TransitionKind::kSingular]) {
-    std::size_t row = 0;
-    while (row < last.size() && t - last[row] < 0.055 * axis) ++row;  // the lowest row with room
-    if (row == last.size()) last.push_back(t);
-    last[row] = t;
-    body << "set label 'T_S' at " << t << ", graph 1 center offset 0, " << 0.8 + 1.1 * static_cast<double>(row) << "\n";
+  const std::vector<double>& singular = at[TransitionKind::kSingular];
+  for (std::size_t k = 0; k < singular.size();) {
+    std::size_t j = k;
+    while (j + 1 < singular.size() && singular[j + 1] - singular[j] < 0.055 * axis) ++j;
+    body << "set label 'T_S' at " << 0.5 * (singular[k] + singular[j]) << ", graph 1 center offset 0, 0.8\n";
+    k = j + 1;
   }
-  if (!last.empty()) body << "set tmargin " << 1.5 + 1.1 * static_cast<double>(last.size()) << "\n";
+  if (!singular.empty()) body << "set tmargin 2.6\n";
   // T_G beside each grazing circle, to its left (the stability changes that
   // follow a graze are marked to its right), clear of the circle (1.8: at
   // -0.8 characters the label touched it in the column PDF); where the
