@@ -1333,7 +1333,12 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
       const Orbit& o = list.front().orbit;
       if (o.admissible) free.Mark(free.X(o.period), free.Y(o.energy));
     }
-    for (const double t : {pick.admissible_from, pick.admissible_to}) free.MarkBox(free.X(t), 0.0, free.X(t), 1.0);
+    // (The ends' lines with 3 % of the frame each side: at their own width,
+    // the inset's edge, its "28.86" and its leader ran within 10 px of the
+    // T_G line in the column PDF.)
+    for (const double t : {pick.admissible_from, pick.admissible_to}) {
+      free.MarkBox(free.X(t) - 0.03, 0.0, free.X(t) + 0.03, 1.0);
+    }
     for (const Orbit* o : {&pick.start, &graze}) {
       free.MarkBox(free.X(o->period) - 0.03, free.Y(o->energy) - 0.03, free.X(o->period) + 0.03, free.Y(o->energy) + 0.03);
     }
