@@ -1088,21 +1088,58 @@ void TransitionLines(Context& c, const std::string& name, bool all, std::ostream
   const auto [lo, hi] = EnergyRange(c);
   const std::string block = name.substr(0, name.find('.'));
   body << VerticalLines(block + "_singular", at[TransitionKind::kSingular], lo, hi);
-  // T_S above the singular transitions' lines, outside the frame (the
+  // T_S above each singular transition's line, outside the frame (the
   // families crowd the top of the frame, where the energy diverges), in one
-  // row: lines closer than a label's width and a gap (5.5 % of the axis in
-  // the column PDF, where the text is largest against the axis) share one
-  // label over their middle (stacked in rows, a reader found the labels
-  // hard to follow; the key names the lines).
-  const double axis = PeriodTop(c, all);
+  // row: each label centred on its line, or ending at it (right) or starting
+  // at it (left) where its neighbours need the room, the fewest off centre
+  // (a label is 4 % of the axis wide in the column PDF, where the text is
+  // largest against the axis, with 1 % between labels). Stacked in rows,
+  // readers found the labels hard to follow; one label shared by close
+  // lines read as naming one line. Rows only where no such placing fits
+  // (more than 8 lines, or lines closer than a label's width and a gap).
+  const double axis = PeriodTop(c, all), w = 0.04 * axis, gap = 0.01 * axis;
   const std::vector<double>& singular = at[TransitionKind::kSingular];
-  for (std::size_t k = 0; k < singular.size();) {
-    std::size_t j = k;
-    while (j + 1 < singular.size() && singular[j + 1] - singular[j] < 0.055 * axis) ++j;
-    body << "set label 'T_S' at " << 0.5 * (singular[k] + singular[j]) << ", graph 1 center offset 0, 0.8\n";
-    k = j + 1;
+  const std::size_t n = singular.size();
+  std::vector<int> best;  // per line: 0 centred, 1 right (ending at it), 2 left (starting at it)
+  if (n > 0 && n <= 8) {
+    int best_cost = 1 << 30;
+    std::vector<int> choice(n, 0);
+    for (long code = 0; code < static_cast<long>(std::pow(3.0, static_cast<double>(n))); ++code) {
+      long rest = code;
+      int cost = 0;
+      bool fits = true;
+      double end = -INFINITY;
+      for (std::size_t k = 0; k < n && fits; ++k) {
+        choice[k] = static_cast<int>(rest % 3);
+        rest /= 3;
+        cost += choice[k] != 0;
+        const double from = choice[k] == 0 ? singular[k] - 0.5 * w : choice[k] == 1 ? singular[k] - w : singular[k];
+        fits = from >= end + gap;
+        end = from + w;
+      }
+      if (fits && cost < best_cost) {
+        best_cost = cost;
+        best = choice;
+      }
+    }
   }
-  if (!singular.empty()) body << "set tmargin 2.6\n";
+  if (!best.empty()) {
+    const char* align[] = {"center", "right", "left"};
+    for (std::size_t k = 0; k < n; ++k) {
+      body << "set label 'T_S' at " << singular[k] << ", graph 1 " << align[best[k]] << " offset 0, 0.8\n";
+    }
+    body << "set tmargin 2.6\n";
+  } else if (n > 0) {
+    std::vector<double> last;  // each row's last label
+    for (const double t : singular) {
+      std::size_t row = 0;
+      while (row < last.size() && t - last[row] < w + gap) ++row;  // the lowest row with room
+      if (row == last.size()) last.push_back(t);
+      last[row] = t;
+      body << "set label 'T_S' at " << t << ", graph 1 center offset 0, " << 0.8 + 1.1 * static_cast<double>(row) << "\n";
+    }
+    body << "set tmargin " << 1.5 + 1.1 * static_cast<double>(last.size()) << "\n";
+  }
   // T_G beside each grazing circle, to its left (the stability changes that
   // follow a graze are marked to its right), clear of the circle (1.8: at
   // -0.8 characters the label touched it in the column PDF); where the

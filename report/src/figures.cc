@@ -1791,7 +1791,12 @@ std::string ResponseInsets(const std::vector<ResponseRow>& rows, const std::vect
     // and 6 % high (the markers clear of each other at the inset's scale).
     const double px = std::max(0.5 * (x1 - x0), 0.01 * (frame[1] - frame[0]));
     const double py = log_y ? std::max(0.5 * (y1 - y0), 0.06 * y1) : std::max(0.5 * (y1 - y0), 0.03 * (frame[3] - frame[2]));
-    zooms.push_back({x0 - px, x1 + px, std::max(y0 - py, log_y ? 0.5 * y0 : frame[2]), y1 + py, "", 0.40, 0.25});
+    // (The energy chart's 0.40 by 0.25 of the frame: at 0.34 by 0.32,
+    // taller than the free band above its curves, it was drawn at 0.65 of
+    // that, about 1 by 0.7 cm in the column PDF; on the amplitude chart, so
+    // flat, its markers met.)
+    zooms.push_back({x0 - px, x1 + px, std::max(y0 - py, log_y ? 0.5 * y0 : frame[2]), y1 + py, "",
+                     log_y ? 0.40 : 0.34, log_y ? 0.25 : 0.32});
   }
   return ZoomInsets(free, plot, zooms, false);
 }
