@@ -153,8 +153,25 @@ void Figure4(Context& c, const ModalPick& m) {
   const Orbit in = OneImpactOrbit(c.b, m.period + m.side * eps), beyond = OneImpactOrbit(c.b, m.period - m.side * eps);
   const Orbit mode = GrazingMode(c.b, ModeOf(c.b, m.period), m.period);
   WriteTrajectory(out.stream(), "admissible", in.period, OrbitTrajectory(c.b, in, kSamples));
-  WriteTrajectory(out.stream(), "modal", mode.period, OrbitTrajectory(c.b, mode, kSamples));
-  WriteTrajectory(out.stream(), "not_admissible", beyond.period, OrbitTrajectory(c.b, beyond, kSamples));
+  const Eigen::MatrixXd mode_tr = OrbitTrajectory(c.b, mode, kSamples);
+  WriteTrajectory(out.stream(), "modal", mode.period, mode_tr);
+  const Eigen::MatrixXd beyond_tr = OrbitTrajectory(c.b, beyond, kSamples);
+  WriteTrajectory(out.stream(), "not_admissible", beyond.period, beyond_tr);
+  // The mode's grazes inside the period (t / T), circled as Figs. 5 and 9
+  // circle theirs: its samples at d (to 1e-6 d) with none higher beside
+  // them; and whether the orbit beyond exceeds d (its excess filled, as
+  // Fig. 2's).
+  const long xc_col = 1 + c.contact;
+  const double tol = 1e-6 * std::max(1.0, std::abs(c.b.gap));
+  std::vector<double> grazes;
+  for (long r = 1; r + 1 < mode_tr.rows(); ++r) {
+    const double x = mode_tr(r, xc_col);
+    if (std::abs(x - c.b.gap) <= tol && x >= mode_tr(r - 1, xc_col) && x >= mode_tr(r + 1, xc_col) &&
+        (grazes.empty() || mode_tr(r, 0) / mode.period - grazes.back() > 0.01)) {
+      grazes.push_back(mode_tr(r, 0) / mode.period);
+    }
+  }
+  const long above = (beyond_tr.col(xc_col).array() > c.b.gap + tol).count();
   std::ostringstream body;
   body << "set xlabel 'normalised time t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset autoscale yfix\n";
   const std::string xc = std::to_string(XCol(c, c.contact));
@@ -165,15 +182,23 @@ void Figure4(Context& c, const ModalPick& m) {
   in_title << "T = " << Num(in.period) << " (admissible, " << (stable ? "stable" : "unstable") << ")";
   mode_title << "T = " << Num(m.period) << " (grazing linear mode)";
   beyond_title << "T = " << Num(beyond.period) << " (" << Xc(c) << " > d: not admissible)";
+  // The orbit beyond drawn as Fig. 2 draws a motion that is not an orbit:
+  // grey and solid, its excess above d filled (thin, grey and dotted, it was
+  // faint in the column PDF).
   Plot plot;
-  plot.Add("'fig04_modal_transition.csv' using (strcol(1) eq 'admissible' ? $3/$2 : 1/0):" + xc,
-           With(stable ? "orbit" : "orbit_unstable"), in_title.str())
+  plot.Add("'fig04_modal_transition.csv' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" + xc,
+           "with filledcurves above y=" + std::to_string(c.b.gap) + " " + style::Look("excess"),
+           Xc(c) + " > d: NC3 fails", above)
+      .Add("'' using (strcol(1) eq 'admissible' ? $3/$2 : 1/0):" + xc, With(stable ? "orbit" : "orbit_unstable"),
+           in_title.str())
       .Add("'' using (strcol(1) eq 'modal' ? $3/$2 : 1/0):" + xc, With("limit"), mode_title.str())
-      .Add("'' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" + xc, With("not_admissible"), beyond_title.str())
-      .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+      .Add("'' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" + xc, With("orbit_not_admissible"),
+           beyond_title.str());
+  plot.Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
   // The impact at t = 0, again at T (t / T = 0 and 1), filled as Figs. 2, 5
-  // and 9 fill theirs.
+  // and 9 fill theirs; the mode's grazes circled.
   ImpactMarks(c, {0.0, 1.0})(plot);
+  GrazeMarks(c, grazes)(plot);
   body << plot.str();
   out.Commit();
   std::ostringstream note;
