@@ -181,7 +181,8 @@ void Figure4(Context& c, const ModalPick& m) {
   const bool stable = OrbitStability(c.b, in).stable;
   in_title << "T = " << Num(in.period) << " (admissible, " << (stable ? "stable" : "unstable") << ")";
   mode_title << "T = " << Num(m.period) << " (grazing linear mode)";
-  beyond_title << "T = " << Num(beyond.period) << " (" << Xc(c) << " > d: not admissible)";
+  // (Not "x_c > d: not admissible": the excess's own entry says x_c > d.)
+  beyond_title << "T = " << Num(beyond.period) << " (not admissible)";
   // The orbit beyond drawn as Fig. 2 draws a motion that is not an orbit:
   // grey and solid, its excess above d filled (thin, grey and dotted, it was
   // faint in the column PDF).
