@@ -196,6 +196,20 @@ std::vector<double> GroundStarts(const std::string& script) {
 
 }  // namespace
 
+// An energy axis rounded up to a value its log ticks label names its top,
+// even where rounding up lengthens the axis past two decades and thins the
+// labels to 1 and 3 a decade (Fig. 18's top, 18.9, was not labelled).
+TEST(Charts, AnAxisRoundedUpToALabelledValueNamesItsTop) {
+  EXPECT_DOUBLE_EQ(report::LogLabelledTop(0.25, 18.9), 20.0);
+  EXPECT_NE(report::LogTics("y", 0.25, 20.0).find("'20' 20"), std::string::npos);
+  // 0.105 to 10.4: 1.995 decades, labelled 1, 2, 3, 5; rounded to 20 the
+  // axis is 2.28 decades, labelled 1 and 3 only, and 20 is not one of them.
+  EXPECT_EQ(report::LogTics("y", 0.105, 20.0).find("'20' 20"), std::string::npos);
+  const double top = report::LogLabelledTop(0.105, 10.4);
+  EXPECT_DOUBLE_EQ(top, 30.0);
+  EXPECT_NE(report::LogTics("y", 0.105, top).find("'30' 30"), std::string::npos);
+}
+
 // A leader into an inset's foot (the inset above its window) rises its last
 // stretch straight up, between the two period labels: slanted, leaders cut
 // the labels "28.8" and "0.52" in the column PDF.

@@ -134,6 +134,37 @@ std::pair<double, double> EnergyRange(const Context& c) {
   return {0.8 * lo, std::min(hi, 1e4 * lo)};
 }
 
+namespace {
+// LogTics' labelled mantissas on an axis `decades` long.
+// (Up to 2 decades 1, 2, 3, 5 (with 1 and 3 alone, Fig. 7's colour bar had no
+// label in its darkest third); with 1, 2, 5, a range from 0.25 had no
+// label in its lowest third.)
+std::vector<double> LogMantissas(double decades) {
+  return decades <= 2.0 ? std::vector<double>{1, 2, 3, 5} : decades <= 3.5 ? std::vector<double>{1, 3} : std::vector<double>{1};
+}
+}  // namespace
+
+double LogLabelledTop(double lo, double hi) {
+  // (Rounding up lengthens the axis, which may thin its labels, 1, 2, 3, 5
+  // to 1, 3 to 1: then `hi` rounded up among the fewer.)
+  std::vector<double> mantissas = LogMantissas(std::log10(hi / lo));
+  const double decade = std::pow(10.0, std::floor(std::log10(hi)));
+  double top = 10.0 * decade;
+  for (int pass = 0; pass < 3; ++pass) {
+    top = 10.0 * decade;
+    for (const double m : mantissas) {
+      if (m * decade >= hi * (1 - 1e-9)) {
+        top = m * decade;
+        break;
+      }
+    }
+    std::vector<double> at_top = LogMantissas(std::log10(top / lo));
+    if (at_top == mantissas) break;
+    mantissas = std::move(at_top);
+  }
+  return top;
+}
+
 std::string LogTics(const char* axis, double lo, double hi, bool ends, Beyond beyond) {
   std::ostringstream os;
   os << "set " << axis << "tics (";
@@ -141,11 +172,7 @@ std::string LogTics(const char* axis, double lo, double hi, bool ends, Beyond be
   // (A tick within 7 % of the axis of a named end left out: "20" under
   // "23.6" on Fig. 7's bar in the column PDF.)
   auto clear = [&](double v) { return !ends || std::min(std::log10(v / lo), std::log10(hi / v)) > 0.07 * decades; };
-  // (Up to 2 decades 1, 2, 3, 5 (with 1 and 3 alone, Fig. 7's colour bar had no
-  // label in its darkest third); with 1, 2, 5, a range from 0.25 had no
-  // label in its lowest third.)
-  const std::vector<double> mantissas = decades <= 2.0 ? std::vector<double>{1, 2, 3, 5} :
-                                        decades <= 3.5 ? std::vector<double>{1, 3} : std::vector<double>{1};
+  const std::vector<double> mantissas = LogMantissas(decades);
   bool first = true;
   for (double p = std::floor(std::log10(lo)); p <= std::ceil(std::log10(hi)); ++p) {
     for (double m : mantissas) {
@@ -900,12 +927,18 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
     // Each stretch of one stability (drawn as a series of its own) marked
     // from its first point, then at equal steps.
     double since = kMarkStep;
+    std::vector<double> at(branch.size(), 0.0);  // each point's length from its stretch's start
     for (std::size_t k = 0; k < branch.size(); ++k) {
       if (k > 0) {
         const FepTable::Root &r = branch[k], &p = branch[k - 1];
         const double dy = r.energy > 0.0 && p.energy > 0.0 ? std::log10(r.energy / p.energy) / decades : 0.0;
-        since += std::hypot((r.period - p.period) / t_span, dy);
-        if (r.stable != p.stable) since = kMarkStep;
+        const double step = std::hypot((r.period - p.period) / t_span, dy);
+        since += step;
+        at[k] = at[k - 1] + step;
+        if (r.stable != p.stable) {
+          since = kMarkStep;
+          at[k] = 0.0;
+        }
       }
       // (Not at a stretch's last point: at a change of stability the next
       // stretch's first mark was beside it, and at a branch's end an open
@@ -919,17 +952,9 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
     // Fig. 18's steep (1, 1) pieces, 0.1 s wide, read as a stray marker and
     // a stray dash above it.
     if (!short_at_middle) continue;
-    std::size_t start = 0;
-    double length = 0.0;
-    std::vector<double> at(branch.size(), 0.0);  // the length from the stretch's start
-    for (std::size_t k = 1; k <= branch.size(); ++k) {
-      if (k < branch.size() && branch[k].stable == branch[k - 1].stable) {
-        const FepTable::Root &r = branch[k], &p = branch[k - 1];
-        const double dy = r.energy > 0.0 && p.energy > 0.0 ? std::log10(r.energy / p.energy) / decades : 0.0;
-        length += std::hypot((r.period - p.period) / t_span, dy);
-        at[k] = length;
-        continue;
-      }
+    for (std::size_t start = 0, k = 1; k <= branch.size(); ++k) {
+      if (k < branch.size() && branch[k].stable == branch[k - 1].stable) continue;
+      const double length = at[k - 1];
       if (length < kMarkStep && k - start > 2) {
         std::size_t middle = start;
         for (std::size_t j = start; j < k; ++j) {
@@ -939,10 +964,16 @@ std::vector<std::vector<bool>> EqualStepMarks(const std::vector<std::vector<FepT
         marks.back()[middle] = true;
       }
       start = k;
-      length = 0.0;
     }
   }
   return marks;
+}
+
+std::string ContactTimeRange(const Context& c, double lo, double hi) {
+  hi = std::max(hi, c.b.gap);
+  std::ostringstream os;
+  os << "set yrange [" << lo - 0.08 * (hi - lo) << ":" << hi + 0.12 * (hi - lo) << "]\n";
+  return os.str();
 }
 
 double NiceStep(double lo, double hi, int ticks) {

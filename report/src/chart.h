@@ -217,6 +217,9 @@ struct Beyond {
   bool lo = false, hi = false;
 };
 std::string LogTics(const char* axis, double lo, double hi, bool ends = false, Beyond beyond = {});
+// The least value at or above `hi` that LogTics labels on [lo, that value]:
+// an axis ending there names its top.
+double LogLabelledTop(double lo, double hi);
 // About `ticks` ticks on [lo, hi] none of them within 0.4 of a step of its
 // ends: on a 3-D chart's floor the two axes' end labels meet at a corner.
 std::string InnerTics(const char* axis, double lo, double hi, int ticks);
@@ -227,6 +230,11 @@ std::string FamilyBarTics(double lo, double hi);
 // A tick step of 1, 2 or 5 times a power of 10 giving about `ticks` ticks on
 // [lo, hi] (small panels, 3-D axes and column PDFs need few).
 double NiceStep(double lo, double hi, int ticks);
+// gnuplot's y range of a chart of x_c over time whose curves span [lo, hi]:
+// that and d, 8 % of it below and 12 % above, so the impacts on d clear the
+// frame (rounded out to the ticks, ranges ran 0.5 to 1 d above d, empty;
+// fitted without a margin, the impact dots met the frame).
+std::string ContactTimeRange(const Context& c, double lo, double hi);
 // About three ticks on [lo, hi], at least two of them labelled inside it.
 double TwoTicksStep(double lo, double hi);
 // Two ticks on [lo, hi], the first and the last of TwoTicksStep's, and as

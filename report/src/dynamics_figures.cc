@@ -185,11 +185,6 @@ void FigureMultipliers(Context& c) {
     c.log << "  multipliers_one_impact: no admissible 1-ipp orbit with its multipliers; skipped\n";
     return;
   }
-  std::vector<double> plus, minus;
-  for (const Transition& t : c.transitions) {
-    if (t.kind == TransitionKind::kMultiplierPlusOne) plus.push_back(t.period);
-    if (t.kind == TransitionKind::kMultiplierMinusOne) minus.push_back(t.period);
-  }
   // The changes of stability marked in a row under |mu| = 1, where no
   // branch runs (max |mu| >= 1: the multipliers of a conservative orbit come
   // in pairs mu, 1/mu), each pointing at its place: on the line, the
@@ -201,9 +196,13 @@ void FigureMultipliers(Context& c) {
   // took a triangle for a value of max |mu| under 1).
   constexpr double kRow = 1.3;  // a row's step down from |mu| = 1 (a factor: the axis is logarithmic)
   std::vector<std::pair<double, bool>> crossings;  // (T, through +1)
-  for (const double t : plus) crossings.push_back({t, true});
-  for (const double t : minus) crossings.push_back({t, false});
+  for (const Transition& t : c.transitions) {
+    if (t.kind == TransitionKind::kMultiplierPlusOne) crossings.push_back({t.period, true});
+    if (t.kind == TransitionKind::kMultiplierMinusOne) crossings.push_back({t.period, false});
+  }
   std::sort(crossings.begin(), crossings.end());
+  const long plus = std::count_if(crossings.begin(), crossings.end(), [](const auto& x) { return x.second; });
+  const long minus = static_cast<long>(crossings.size()) - plus;
   int rows = 1;
   std::vector<int> row(crossings.size(), 1);
   for (std::size_t k = 1; k < crossings.size(); ++k) {
@@ -271,8 +270,8 @@ void FigureMultipliers(Context& c) {
       .Add("$branch using 1:($2 == 1 ? $3 : 1/0)", With("one_stable"), "stable", stable)
       .Unkeyed("$branch using 1:($2 == 0 ? $3 : 1/0)", With("one_unstable_trace"))
       .Add("$branch using 1:($2 == 0 ? $3 : 1/0)", With("one_unstable"), "unstable", unstable)
-      .Add("$plus using 1:2", With("multiplier_plus_one"), "{/Symbol m} through +1", static_cast<long>(plus.size()))
-      .Add("$minus using 1:2", With("multiplier_minus_one"), "{/Symbol m} through -1", static_cast<long>(minus.size()));
+      .Add("$plus using 1:2", With("multiplier_plus_one"), "{/Symbol m} through +1", plus)
+      .Add("$minus using 1:2", With("multiplier_minus_one"), "{/Symbol m} through -1", minus);
   if (stable > 0) left.KeyOnly(With("map_stable", "points", style::Colour("black")), "{/Symbol m}, stable orbit");
   if (unstable > 0) left.KeyOnly(With("map_unstable", "points", style::Colour("black")), "{/Symbol m}, unstable orbit");
   // The complex plane: Im mu within 1.5 of 0 and Re mu as far as the frame's
@@ -489,20 +488,15 @@ void FigureValidation(Context& c, const ThreeImpactPick& three) {
        << " * ns_h - " << row * kGapY << ")\n";
     return os.str();
   };
-  // (The orbits' x_c ranges 8 % of their span below and 12 % above, clear
-  // of the impact dots on d: fitted to them, the top frame lay 0.1 above d
-  // and the dots overlapped it; rounded out to the ticks, 1-ipp's ran 1 m
-  // above d, a band a reader found empty.)
+  // (Each panel's x_c range its orbit's: ContactTimeRange.)
   body << "set multiplot\nns_h = (0.9 - " << KeyFoot(0.11, 0.14) << " - 0.14) / 2.0\n";
   std::vector<Plot::Entry> entries;
   for (int k = 0; k < cols; ++k) {
     const Orbit& o = orbits[k].second;
     const auto [x_lo, x_hi] = x_range[k];
-    const double top = std::max(x_hi, c.b.gap);
     body << panel(0, k) << "set title '" << orbits[k].first << ", T = " << Num(o.period) << "'\nset xlabel 't / T'\nset ylabel '"
          << (k == 0 ? DofLabel("x", c.contact, "m") : std::string()) << "'\nset xrange [0:1]\nset xtics 0.5\nset ytics "
-         << NiceStep(x_lo, top, 5) << "\nset yrange [" << x_lo - 0.08 * (top - x_lo) << ":" << top + 0.12 * (top - x_lo)
-         << "]\n";
+         << NiceStep(x_lo, std::max(x_hi, c.b.gap), 5) << "\n" << ContactTimeRange(c, x_lo, x_hi);
     Plot p("plot", Plot::Keys::kCollected);
     // Each orbit in its family's colour (Fig. 8's), keyed once in black.
     const char* family = o.impacts == 1 ? "one_stable" : o.impacts == 2 ? "two_stable" : "three_stable";

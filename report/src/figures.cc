@@ -41,6 +41,15 @@ namespace nsmodal::report {
 namespace {
 
 
+// The part of x_c above d filled, keyed "x_c > d: NC3 fails" where there is
+// one: `spec` the data of the samples `tr` (OrbitTrajectory's), above d by
+// more than 1e-6 d (a graze's round-off is not an excess).
+void AddExcess(Plot& plot, const Context& c, const std::string& spec, const Eigen::MatrixXd& tr) {
+  const long above = (tr.col(1 + c.contact).array() > c.b.gap + 1e-6 * std::abs(c.b.gap)).count();
+  plot.Add(spec, "with filledcurves above y=" + std::to_string(c.b.gap) + " " + style::Look("excess"),
+           Xc(c) + " > d: NC3 fails", above);
+}
+
 // A chart of x_c(t) over one period of one orbit (Figs. 2, 5, 9) drawn as
 // `role`: the orbit's samples to DIR/NAME.csv, the obstacle at d, the part
 // of x_c above d filled (an NC3 failure is seen, not read off a number).
@@ -52,8 +61,6 @@ void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const cha
   const Eigen::MatrixXd tr = OrbitTrajectory(c.b, o, kSamples);
   WriteTrajectory(out.stream(), "x", o.period, tr);
   out.Commit();
-  // Above d by more than 1e-6 d: a graze's round-off is not an excess.
-  const long above = (tr.col(1 + c.contact).array() > c.b.gap + 1e-6 * std::abs(c.b.gap)).count();
   const std::string xc = std::to_string(TCol()) + ":" + std::to_string(XCol(c, c.contact));
   std::ostringstream body;
   // (The range the orbit's and d's, 5 % beyond, not rounded out to the
@@ -61,9 +68,8 @@ void DrawOneOrbit(Context& c, const std::string& name, const Orbit& o, const cha
   body << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset autoscale yfix\nset xrange [0:"
        << o.period << "]\n" << setup;
   Plot plot;
-  plot.Add("'" + name + ".csv' using " + xc, "with filledcurves above y=" + std::to_string(c.b.gap) + " " + style::Look("excess"),
-           Xc(c) + " > d: NC3 fails", above)
-      .Add("'' using " + xc, With(role), Xc(c) + "(t), T = " + Num(o.period))
+  AddExcess(plot, c, "'" + name + ".csv' using " + xc, tr);
+  plot.Add("'' using " + xc, With(role), Xc(c) + "(t), T = " + Num(o.period))
       .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
   // Its impact at t = 0, again at T (each orbit is computed from one).
   ImpactMarks(c, {0.0, o.period})(plot);
@@ -159,8 +165,7 @@ void Figure4(Context& c, const ModalPick& m) {
   WriteTrajectory(out.stream(), "not_admissible", beyond.period, beyond_tr);
   // The mode's grazes inside the period (t / T), circled as Figs. 5 and 9
   // circle theirs: its samples at d (to 1e-6 d) with none higher beside
-  // them; and whether the orbit beyond exceeds d (its excess filled, as
-  // Fig. 2's).
+  // them.
   const long xc_col = 1 + c.contact;
   const double tol = 1e-6 * std::max(1.0, std::abs(c.b.gap));
   std::vector<double> grazes;
@@ -171,7 +176,6 @@ void Figure4(Context& c, const ModalPick& m) {
       grazes.push_back(mode_tr(r, 0) / mode.period);
     }
   }
-  const long above = (beyond_tr.col(xc_col).array() > c.b.gap + tol).count();
   std::ostringstream body;
   body << "set xlabel 'normalised time t / T'\nset ylabel '" << XcLabel(c) << "'\nset key below\nset autoscale yfix\n";
   const std::string xc = std::to_string(XCol(c, c.contact));
@@ -184,13 +188,11 @@ void Figure4(Context& c, const ModalPick& m) {
   // (Not "x_c > d: not admissible": the excess's own entry says x_c > d.)
   beyond_title << "T = " << Num(beyond.period) << " (not admissible)";
   // The orbit beyond drawn as Fig. 2 draws a motion that is not an orbit:
-  // grey and solid, its excess above d filled (thin, grey and dotted, it was
-  // faint in the column PDF).
+  // grey and solid, its excess above d filled.
   Plot plot;
-  plot.Add("'fig04_modal_transition.csv' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" + xc,
-           "with filledcurves above y=" + std::to_string(c.b.gap) + " " + style::Look("excess"),
-           Xc(c) + " > d: NC3 fails", above)
-      .Add("'' using (strcol(1) eq 'admissible' ? $3/$2 : 1/0):" + xc, With(stable ? "orbit" : "orbit_unstable"),
+  AddExcess(plot, c, "'fig04_modal_transition.csv' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" + xc,
+            beyond_tr);
+  plot.Add("'' using (strcol(1) eq 'admissible' ? $3/$2 : 1/0):" + xc, With(stable ? "orbit" : "orbit_unstable"),
            in_title.str())
       .Add("'' using (strcol(1) eq 'modal' ? $3/$2 : 1/0):" + xc, With("limit"), mode_title.str())
       .Add("'' using (strcol(1) eq 'not_admissible' ? $3/$2 : 1/0):" + xc, With("orbit_not_admissible"),
@@ -945,8 +947,8 @@ void Figures13To15(Context& c) {
       diff << "\n";
     };
     difference("one_shifted", shifted);
-    // (The upper panel's x_c range: the orbits' and d.)
-    double x_lo = one_tr.col(col).minCoeff(), x_hi = std::max(one_tr.col(col).maxCoeff(), c.b.gap);
+    // (The upper panel's x_c range: the orbits'.)
+    double x_lo = one_tr.col(col).minCoeff(), x_hi = one_tr.col(col).maxCoeff();
     for (const auto& [label, f] : {std::pair<const char*, double>{"s10", 0.1}, {"s30", 0.3}, {"s50", 0.5}}) {
       const Eigen::MatrixXd tr = OrbitTrajectory(c.b, BridgeOrbit(c.b, *br, f * br->s_end), kSamples);
       WriteTrajectory(out.stream(), label, t, tr);
@@ -974,10 +976,7 @@ void Figures13To15(Context& c) {
          << "\nns_split = ns_foot + 0.4 * (0.97 - ns_foot - 0.03)\nset lmargin at screen 0.14\n"
          << "set rmargin at screen 0.97\nset bmargin at screen (ns_split + 0.03)\nset tmargin at screen 0.97\nset format x ''\n"
          << "set xlabel ''\nset ylabel '" << XcLabel(c) << "'\nset xrange [0:" << t << "]\n"
-         // (8 % of the span below the orbits and 12 % above d, the impact
-         // dots clear of the frame: rounded out to the ticks, the range ran
-         // 0.5 d above d, a band a reader found empty.)
-         << "set yrange [" << x_lo - 0.08 * (x_hi - x_lo) << ":" << x_hi + 0.12 * (x_hi - x_lo) << "]\n";
+         << ContactTimeRange(c, x_lo, x_hi);
     Plot upper("plot", Plot::Keys::kCollected);
     upper.Add("'fig13_bridge_orbits.csv' using (strcol(1) eq 'one' ? $3 : 1/0):" + xc, With("limit"),
               "grazing, s = 0")
@@ -1264,11 +1263,9 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   WriteTrajectoryHeader(orbit.stream(), c);
   const Eigen::MatrixXd orbit_tr = OrbitTrajectory(c.b, pick.start, kSamples);
   WriteTrajectory(orbit.stream(), "x", pick.start.period, orbit_tr);
-  // (The right panel's x_c range: the orbit's and d, 8 % of that below and
-  // 12 % above, the impacts on d clear of the frame; rounded out to the
-  // ticks, it ran 0.5 d above d, a sixth of the height empty.)
-  const double x_lo = orbit_tr.col(1 + c.contact).minCoeff(),
-               x_hi = std::max(orbit_tr.col(1 + c.contact).maxCoeff(), c.b.gap);
+  // (The right panel's x_c range: ContactTimeRange of the orbit's.)
+  const std::string x_range = ContactTimeRange(c, orbit_tr.col(1 + c.contact).minCoeff(),
+                                               orbit_tr.col(1 + c.contact).maxCoeff());
   // The energy axis (log) from just below the lowest drawn orbit (3-ipp or
   // 1-ipp in the window) to above the family's highest, not admissible ones
   // included (the continuation the caption follows), at most 20 times the
@@ -1381,8 +1378,8 @@ void Figure16(Context& c, const ThreeImpactPick& pick) {
   // The right panel: what the left one (and its inset) set, reset.
   body << "set lmargin at screen 0.68\nset rmargin at screen 0.98\nset tmargin at screen 0.97\nset bmargin at screen "
        << kFoot << "\nunset object\nunset arrow\nset tics scale default\nset format y '% h'\n"
-       << "unset logscale y\nunset label\nset xtics autofreq\nset ytics autofreq right offset 0, 0\nset mytics default\nset yrange [" << x_lo - 0.08 * (x_hi - x_lo) << ":"
-       << x_hi + 0.12 * (x_hi - x_lo) << "]\nset xrange [0:" << pick.start.period << "]\n"
+       << "unset logscale y\nunset label\nset xtics autofreq\nset ytics autofreq right offset 0, 0\nset mytics default\n" << x_range
+       << "set xrange [0:" << pick.start.period << "]\n"
        << "set xlabel 'time t (s)'\nset ylabel '" << XcLabel(c) << "'\n" << orbit_plot.str() << LegendPanel(0.18)
        // (Spaced for the subscript of T_G, which touched the next row in the
        // column PDF.)
@@ -1521,20 +1518,10 @@ void Figure18(Context& c) {
   std::ostringstream body;
   // Up to 30 times the median energy, as the other frequency-energy plots:
   // the families fill the frame, their diverging ends leave it.
-  // Its top rounded up to a value the log axis labels (1, 2, 3 or 5 a
-  // decade), so that the top is named: its ends labelled, 18.9 and 0.247
-  // broke the set's rule of round log labels and dropped 0.3; unlabelled,
-  // a reader asked what the top was.
-  double top = std::min(2.0 * hi, EnergyTop(energies));
-  {
-    const double decade = std::pow(10.0, std::floor(std::log10(top)));
-    for (const double m : {1.0, 2.0, 3.0, 5.0, 10.0}) {
-      if (m * decade >= top * (1 - 1e-9)) {
-        top = m * decade;
-        break;
-      }
-    }
-  }
+  // Its top rounded up to a value the log axis labels, so that the top is
+  // named: its ends labelled, 18.9 and 0.247 broke the set's rule of round
+  // log labels and dropped 0.3; unlabelled, a reader asked what the top was.
+  const double top = LogLabelledTop(0.8 * lo, std::min(2.0 * hi, EnergyTop(energies)));
   body << "set logscale y\n" << LogTics("y", 0.8 * lo, top) << "set yrange [" << 0.8 * lo << ":" << top << "]\n"
        << "set xlabel 'period T (s)'\nset ylabel 'energy E (J)'\nset xrange [0:" << PeriodTop(c) << "]\n"
        << "set key below";
