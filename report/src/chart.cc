@@ -207,12 +207,13 @@ namespace {
 
 // A bridge too short to see at a frequency-energy chart's scale (under 4 %
 // of its energy axis's height): zoomed on in an inset (BridgeInsets), the
-// window T within 2 % of the period axis on each side.
+// window T within 2.5 % of the period axis on each side (its box wider than
+// the grazing circle in every format).
 bool ShortBridge(const Context& c, const Bridge& b) {
   const auto [lo, hi] = EnergyRange(c);
   return b.energy_max > b.energy_min && std::log(b.energy_max / b.energy_min) <= 0.04 * std::log(hi / lo);
 }
-constexpr double kBridgeWindow = 0.02;
+constexpr double kBridgeWindow = 0.025, kBridgeBox = 0.07;
 
 }  // namespace
 
@@ -678,7 +679,9 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     free.MarkBox(free.X(z.t_lo), free.Y(z.e_lo), free.X(z.t_hi), free.Y(z.e_hi));
     ++shown;
     boxes << "set object " << 10 + shown << " rect from " << z.t_lo << ", " << z.e_lo << " to " << z.t_hi << ", " << z.e_hi
-          << " front fillstyle empty border lc rgb '" << style::Colour("grey") << "' lw 0.6\n";
+          // (gnuplot draws no border given as "border lw ...": its colour first.)
+          << " front fillstyle empty border lc rgb '" << style::RoleColour("leader") << "' "
+          << style::Look("leader", "lines") << "\n";
     // In the inset: the frame placed on the main frame (gnuplot's terminal
     // coordinates of the plot before, GPVAL_TERM_*, as fractions of the
     // canvas), a white ground under it and its tick labels; E linear.
@@ -706,12 +709,14 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
       // drawn with the inset (over its ground, which covered a leader drawn
       // with the chart); its end on the frame as this format places it
       // (kLeft is about the PNG's; the column PDF's labels are wider).
-      // (Thin, solid and grey: dotted, it read as a non-admissible branch;
-      // light grey, it was not seen.)
+      // (Thin and solid: dotted, it read as a non-admissible branch; light
+      // grey, it was not seen; grey, as Fig. 3's potential orbits.)
       const std::array<double, 4> l = leader(bx, by);
       std::ostringstream end_os;
       end_os << "(" << frame_left << " + " << end_fraction(bx, by) << " * (" << frame_right << " - " << frame_left << "))";
-      const std::string end = end_os.str(), look = " nohead lw 0.6 dt 1 lc rgb '" + style::Colour("grey") + "' front\n";
+      std::string look = " ";  // (not " " + ...: GCC 12's -Wrestrict false positive on it)
+      look += style::Look("leader") + " front\n";
+      const std::string end = end_os.str();
       if (l[3] > l[1]) {
         // Into the foot: to the ground's edge below the gap, then straight
         // up through the gap to the frame. (Slanted through the labels'
@@ -766,16 +771,27 @@ std::pair<double, double> EnergySpan(const std::vector<Orbit>& orbits, double t_
 std::string BridgeInsets(const Context& c, const Plot& plot, const std::vector<Orbit>& also,
                          const std::vector<Zoom>& more) {
   const double t_top = PeriodTop(c, false);
+  const auto [axis_lo, axis_hi] = EnergyRange(c);
   std::vector<Zoom> zooms;
   std::vector<double> at;  // each zoom's bridge's period
   for (std::size_t k = 0; k < c.bridges.size(); ++k) {
     const Bridge& b = c.bridges[k];
     if (!ShortBridge(c, b)) continue;  // (seen at the chart's scale)
-    // The zoom: the bridge over 2/3 of the inset's height.
+    // The zoom: the bridge over 2/3 of the inset's height, its window's box
+    // on the chart at least kBridgeBox of the energy axis high (log): a
+    // smaller box sat inside the grazing circle and the bridge's caps, and
+    // box, marks and label read as one spot in the column PDF.
     const double pad = 0.25 * (b.energy_max - b.energy_min), dt = kBridgeWindow * t_top;
+    double e_lo = b.energy_min - pad, e_hi = b.energy_max + pad;
+    const double least = std::pow(axis_hi / axis_lo, kBridgeBox);
+    if (!(e_lo > 0.0) || e_hi / e_lo < least) {
+      const double mid = std::sqrt(b.energy_min * b.energy_max);
+      e_lo = mid / std::sqrt(least);
+      e_hi = mid * std::sqrt(least);
+    }
     std::string label = "B";  // (not "B" + ...: GCC 12's -Wrestrict false positive on it)
     label += std::to_string(k + 1);
-    zooms.push_back({b.period - dt, b.period + dt, b.energy_min - pad, b.energy_max + pad, label});
+    zooms.push_back({b.period - dt, b.period + dt, e_lo, e_hi, label});
     at.push_back(b.period);
   }
   // A window within a bridge's is shown in the bridge's inset, narrowed to

@@ -117,20 +117,22 @@ void FigureModel(Context& c) {
            << 0.5 * (left(i) + size + left(i + 1)) << ", 0.95 center\n";
     }
   }
-  const double wall = left(n - 1) + size + 1.0;
+  // The gap 1.5 wide (at 1, "d = 1 m" filled it, 1 px from the wall in the
+  // column PDF), its arrow across it at the mass's middle, from its face to
+  // the wall (under the mass, its end hung over "m = 1 kg"), "d" above the
+  // arrow, in the gap, as the caption says.
+  const double wall = left(n - 1) + size + 1.5;
   Wall(lines, wall, -0.3, 1.3, 1);
   lines << "EOD\n";
-  body << "set arrow from " << left(n - 1) + size << ", -0.15 to " << wall << ", -0.15 heads size 0.1,25 "
+  body << "set arrow from " << left(n - 1) + size << ", 0.5 to " << wall << ", 0.5 heads size 0.1,25 "
        << style::Look("function") << "\nset label 'd = " << Num(m.FirstContact().gap) << " m' at "
-       // (In the gap, just above its arrow, as the caption says: under it, a
-       // row below the masses' labels, a reader found it detached from the
-       // arrow; e short: at the column's width the labels are a larger part
-       // of the drawing.)
-       << 0.5 * (left(n - 1) + size + wall) << ", 0.15 center\n"
+       << 0.5 * (left(n - 1) + size + wall) << ", 0.78 center\n"
        << "set label 'e = " << Num(stop.restitution) << "' at " << wall << ", 1.6 center\n";
   std::ostringstream chart;
   // The canvas of the drawing's shape: no white bands around it.
-  const double x_lo = -0.6, x_hi = wall + 0.8, y_lo = -1.05, y_hi = 2.0;
+  // (From under the masses' labels to over x_i's: the PNG had bands of a
+  // fifth of its height above and below.)
+  const double x_lo = -0.6, x_hi = wall + 0.8, y_lo = -0.62, y_hi = 1.85;
   chart << "unset border\nunset tics\nunset grid\nunset key\nset size ratio -1\nset margins 0, 0, 0, 0\nset xrange ["
         << x_lo << ":" << x_hi << "]\nset yrange [" << y_lo << ":" << y_hi << "]\n" << lines.str() << body.str();
   Plot plot;

@@ -263,7 +263,8 @@ void Figure6(Context& c) {
   // row), ticks at 0 and T and about three on det, the two kinds of root
   // keyed once each below the panels (by the first panel that draws one).
   body << "set multiplot layout 2,5 margins 0.1, 0.97, 0.17, 0.91 spacing 0.065, 0.15\n"
-       << "set format y '%g'\nset ytics scale 0.5\nset key horizontal\n";
+       << "set format y '%g'\nset ytics scale 0.5\nset key horizontal\n"
+       << "set nonlinear y via sgn(y) * sqrt(abs(y)) inverse sgn(y) * y**2\n";
   bool keyed[2] = {false, false};
   for (int period = 1; period <= 10; ++period) {
     const std::string at = "($1 == " + std::to_string(period) + " && $3 == ";
@@ -280,17 +281,22 @@ void Figure6(Context& c) {
         plot.Unkeyed(spec, With(role));
       }
     }
-    // det A_2 >= 0 (its roots are double, touching 0; the samples' values
-    // below 0 are rounding, 1e-32): the axis from just below 0, so that the
-    // roots sit on its foot and a near-root reads as one.
-    const double hi = range[period][1];
+    // det A_2 >= 0 here (its roots are double, touching 0; the samples'
+    // values below 0 are rounding, 1e-32): the axis from just below 0, so
+    // that the roots sit on its foot and a near-root reads as one; in
+    // sign(det) sqrt|det| (on a linear axis, the humps between the roots at
+    // T = 4 and 5, 0.5 under ends of 11, were 1 % of the panel's height and
+    // a root could not be told from a near-root; as a square root a double
+    // root is a V through 0). Ticks at 0, about an eighth and about the top.
+    const double hi = range[period][1], step = NiceStep(0.0, hi, 2), low = NiceStep(0.0, hi / 4.0, 2);
     // (t2 from 4 % before 0 to 4 % past T: the roots at 0 and T sat on the
     // frame, and the neighbours' labels "T" and "0" ran together in the
     // column PDF, "1 0 2".)
     body << "set title 'T = " << period << " s'\nset xrange [" << -0.04 * period << ":" << 1.04 * period
          << "]\nset xtics (0, " << period << ")\n"
          << "set xlabel '" << (period > 5 ? "t_2 (s)" : "") << "'\nset ylabel '" << (period % 5 == 1 ? "det A_2" : "")
-         << "'\nset yrange [" << -0.06 * hi << ":" << 1.06 * hi << "]\nset ytics 0, " << NiceStep(0.0, hi, 2) << "\n"
+         << "'\nset yrange [" << -0.0036 * hi << ":" << 1.1236 * hi << "]\nset ytics (0, " << low << ", "
+         << std::floor(hi / step) * step << ")\n"
          << plot.str();
   }
   body << "unset multiplot";
@@ -356,7 +362,9 @@ void Figure6(Context& c) {
   // them; the linear modal transitions, where branches end, as short
   // vertical lines.
   // (No vertical grid: it looked like the k T_i lines.)
-  plane << "set xlabel 'period T (s)'\nset ylabel 'second impact time t_2 / T'\nset key below\n"
+  // (The key in two columns of three: in one column of six it took a fifth
+  // of the column PDF's height.)
+  plane << "set xlabel 'period T (s)'\nset ylabel 'second impact time t_2 / T'\nset key below maxrows 3\n"
         << "unset grid\nset grid ytics lt 1 lw 0.5 lc rgb '" << style::Colour("grid") << "'\n"
         << "set xrange [0:" << c.periods.back() << "]\nset yrange [0:1]\n";
   // Every multiple k T_i of a linear period in the frame (where the 1-ipp
@@ -367,15 +375,15 @@ void Figure6(Context& c) {
   }
   plane << VerticalLines("modal", modal, 0.0, 1.0);
   Plot plot;
-  plot.Add("$modal using 1:2", With("modal"), "k T_i, multiples of the linear periods", static_cast<long>(modal.size()))
+  plot.Add("$modal using 1:2", With("modal"), "k T_i, linear modal", static_cast<long>(modal.size()))
       .Add("'fig06_root_curves.csv' using 1:($3 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "lines"),
-           "other root, not admissible", other)
-      .Add("'' using 1:($3 == 1 ? $2 / $1 : 1/0)", With("root_curve"), "other root, admissible", admissible);
+           "root, not admissible", other)
+      .Add("'' using 1:($3 == 1 ? $2 / $1 : 1/0)", With("root_curve"), "root, admissible", admissible);
   // (The runs of one or two roots, points: keyed, they had read as noise.)
   plot.Add("'fig06_root_curves.csv' using 1:($3 == 0 && $5 == 1 ? $2 / $1 : 1/0)", With("root_cloud_other"),
-           "not admissible, a short run", alone_other)
+           "short run, not admissible", alone_other)
       .Add("'fig06_root_curves.csv' using 1:($3 == 1 && $5 == 1 ? $2 / $1 : 1/0)", With("root"),
-           "admissible, a short run", alone);
+           "short run, admissible", alone);
   plot.Add("0.5", With("two_half"), "trivial root t_2 = T/2");
   Draw(c, "fig06_root_curves", plane.str() + plot.str());
 }
@@ -1187,7 +1195,10 @@ void Figure17(Context& c) {
       body << std::fixed << std::setprecision(3) << "set label \"" << n.end << " J" << (n.grazes ? "\\ngrazing" : "")
            << "\" at " << br.period << ", " << n.end << " left offset 0.8, " << (above ? (n.grazes ? -1.4 : -0.9) : 0.9)
            << " front\nset label '" << n.nearest << " J' at " << br.period << ", " << n.nearest << " right offset -0.8, "
-           << (above ? 0.6 : -0.6) << " front\n" << std::defaultfloat << std::setprecision(6);
+           // (A line off the branch: at 0.6, "3.254 J" sat on
+           // B4's 2-ipp circles, which rise to the right under it; at 1.5,
+           // on the panel's top edge.)
+           << (above ? 1.0 : -1.0) << " front\n" << std::defaultfloat << std::setprecision(6);
     }
     body << plot.str();
     entries.insert(entries.end(), plot.Collected().begin(), plot.Collected().end());
@@ -1800,10 +1811,13 @@ std::string ResponseInsets(const std::vector<ResponseRow>& rows, const std::vect
       y0 = std::min(y0, d->y);
       y1 = std::max(y1, d->y);
     }
-    // The group in the inset's middle half, at least 2 % of the frame wide
-    // and 6 % high (the markers clear of each other at the inset's scale).
-    const double px = std::max(0.5 * (x1 - x0), 0.01 * (frame[1] - frame[0]));
-    const double py = log_y ? std::max(0.5 * (y1 - y0), 0.06 * y1) : std::max(0.5 * (y1 - y0), 0.03 * (frame[3] - frame[2]));
+    // The group in the inset's middle half, at least 3.5 % of the frame wide
+    // and 8 % high: the markers clear of each other at the inset's scale,
+    // and the window's box on the chart about their size (at 2 % by 6 %, the
+    // amplitude chart's box at 0.683 was 12 px wide in the column PDF, its
+    // markers over its sides).
+    const double px = std::max(0.5 * (x1 - x0), 0.0175 * (frame[1] - frame[0]));
+    const double py = log_y ? std::max(0.5 * (y1 - y0), 0.06 * y1) : std::max(0.5 * (y1 - y0), 0.04 * (frame[3] - frame[2]));
     // (The energy chart's 0.40 by 0.25 of the frame: at 0.34 by 0.32,
     // taller than the free band above its curves, it was drawn at 0.65 of
     // that, about 1 by 0.7 cm in the column PDF; on the amplitude chart, so
