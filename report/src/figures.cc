@@ -294,7 +294,7 @@ void Figure6(Context& c) {
     // column PDF, "1 0 2".)
     body << "set title 'T = " << period << " s'\nset xrange [" << -0.04 * period << ":" << 1.04 * period
          << "]\nset xtics (0, " << period << ")\n"
-         << "set xlabel '" << (period > 5 ? "t_2 (s)" : "") << "'\nset ylabel '" << (period % 5 == 1 ? "det A_2" : "")
+         << "set xlabel '" << (period > 5 ? "t_2 (s)" : "") << "'\nset ylabel '" << (period % 5 == 1 ? "det A_2 (√ axis)" : "")
          << "'\nset yrange [" << -0.0036 * hi << ":" << 1.1236 * hi << "]\nset ytics (0, " << low << ", "
          << std::floor(hi / step) * step << ")\n"
          << plot.str();
@@ -375,7 +375,7 @@ void Figure6(Context& c) {
   }
   plane << VerticalLines("modal", modal, 0.0, 1.0);
   Plot plot;
-  plot.Add("$modal using 1:2", With("modal"), "k T_i, linear modal", static_cast<long>(modal.size()))
+  plot.Add("$modal using 1:2", With("modal"), "k T_i, multiples of T_i", static_cast<long>(modal.size()))
       .Add("'fig06_root_curves.csv' using 1:($3 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "lines"),
            "root, not admissible", other)
       .Add("'' using 1:($3 == 1 ? $2 / $1 : 1/0)", With("root_curve"), "root, admissible", admissible);
@@ -702,8 +702,11 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        // (The plane's place on its axis named: the inner ticks stop short of
        // it, and a reader asked where x_c = d was.)
        << "set ytics add ('d' " << c.b.gap << ")\n"
+       // (The tick labels off their axes, the contact's label past them: on
+       // the axes, the lines struck "0.5", "0", "-0.5" through.)
+       << "set xtics offset -0.3, -0.4\nset ytics offset 0.6, -0.3\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
-       << DofLabel("x", c.contact, "m") << "'\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate offset 2.5, 0\n"
+       << DofLabel("x", c.contact, "m") << "' offset 2.5, -0.5\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate offset 2.5, 0\n"
        // (The data's ranges, set: the overlay of the limit curve below maps
        // onto the same frame.)
        << "set xrange [" << lo[0] << ":" << hi[0] << "]\nset yrange [" << lo[1] << ":" << hi[1] << "]\nset zrange ["
@@ -1571,6 +1574,7 @@ void Figure18(Context& c) {
     std::string rows, look;
     bool one;
     const char* role;
+    std::string colour;  // ("": the role's)
   };
   std::vector<Layer> layers;
   // The key's entries a row per sequence, stable then unstable, where each
@@ -1597,7 +1601,7 @@ void Figure18(Context& c) {
                                                                                  : two_roles[k % 3].second;
       const std::string look = With(role, one ? "lines" : "linespoints", colour);
       keys[paired ? stable : 1].push_back({look, titles[s] + (stable ? " stable" : " unstable")});
-      layers.push_back({rows, one ? look : colour, one, role});
+      layers.push_back({rows, one ? look : colour, one, role, colour});
     }
   }
   if (paired && keyed > 0) body << "set key maxrows " << keyed << " maxcols 2\n";
@@ -1607,8 +1611,14 @@ void Figure18(Context& c) {
   for (const Layer& l : layers) {
     if (!l.one) MarkedLine(plot, "'fig18_sequences_fep.csv'", "3", l.rows, "$5", 8, l.role, l.look);
   }
+  // (An unstable one over its path drawn thin, as Fig. 8's: where the (1)
+  // and (1, 1) dashes lay on each other, at T = 29.4-29.7, they read as one
+  // two-coloured dash.)
   for (const Layer& l : layers) {
-    if (l.one) plot.Unkeyed("'fig18_sequences_fep.csv' using 3:(" + l.rows + " ? $5 : 1/0)", l.look);
+    if (!l.one) continue;
+    const std::string using_rows = "'fig18_sequences_fep.csv' using 3:(" + l.rows + " ? $5 : 1/0)";
+    if (std::string_view(l.role) == "one_unstable") plot.Unkeyed(using_rows, With("one_unstable_trace", "lines", l.colour));
+    plot.Unkeyed(using_rows, l.look);
   }
   body << plot.str();
   Draw(c, "fig18_sequences_fep", body.str(), std::to_string(sequences.size()) + " impact sequences");
