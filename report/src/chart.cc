@@ -457,6 +457,12 @@ double Occupancy::Y(double e) const {
   return log_e_ ? std::log(e / e_lo_) / std::log(e_hi_ / e_lo_) : (e - e_lo_) / (e_hi_ - e_lo_);
 }
 
+double Occupancy::T(double fx) const { return t_lo_ + fx * (t_hi_ - t_lo_); }
+
+double Occupancy::E(double fy) const {
+  return log_e_ ? e_lo_ * std::pow(e_hi_ / e_lo_, fy) : e_lo_ + fy * (e_hi_ - e_lo_);
+}
+
 void Occupancy::Mark(double fx, double fy, long weight) {
   if (fx < 0.0 || fx >= 1.0 || fy < 0.0 || fy >= 1.0 || !std::isfinite(fx) || !std::isfinite(fy)) return;
   long& cell = cells_[static_cast<int>(fx * kCells) * kCells + static_cast<int>(fy * kCells)];
@@ -579,6 +585,7 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
   // (inside the frame they lay on its curves; beyond the ground, on the
   // chart's). kLeft, kBelow: about where its frame starts (the leader's end).
   constexpr double kLeft = 0.06, kBelow = 0.075, kEdge = 0.012;
+  constexpr double kMinBox[2] = {0.025, 0.035};  // (a window's box on the chart, as fractions of the frame)
   std::ostringstream boxes, insets;
   int shown = 0;
   for (std::size_t i = 0; i < zooms.size(); ++i) {
@@ -604,7 +611,22 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     // across the chart). (`at`: the window's middle in the frame.)
     double w = z.width, h = z.height;
     const double at = free.X(0.5 * (z.t_lo + z.t_hi));
-    const double box_top = free.Y(z.e_hi), box_bottom = free.Y(z.e_lo);
+    // The window's box on the chart, at least kMinBox of the frame about its
+    // middle: a smaller one was not seen (Fig. 16's, 0.8 % by 0.1 %, and
+    // Fig. 3's at T = 20.3 in the column PDF); the inset's ticks give the
+    // window itself.
+    double fx0 = free.X(z.t_lo), fx1 = free.X(z.t_hi), fy0 = free.Y(z.e_lo), fy1 = free.Y(z.e_hi);
+    if (fx1 - fx0 < kMinBox[0]) {
+      const double mid = 0.5 * (fx0 + fx1);
+      fx0 = mid - 0.5 * kMinBox[0];
+      fx1 = mid + 0.5 * kMinBox[0];
+    }
+    if (fy1 - fy0 < kMinBox[1]) {
+      const double mid = 0.5 * (fy0 + fy1);
+      fy0 = mid - 0.5 * kMinBox[1];
+      fy1 = mid + 0.5 * kMinBox[1];
+    }
+    const double box_top = fy1, box_bottom = fy0;
     // The inset's period ticks, as fractions of its frame's width.
     std::vector<double> ticks = {0.5};
     if (!z.one_period_tick) {
@@ -676,9 +698,10 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
       const std::array<double, 4> l = leader(bx, by);
       free.MarkSegment(l[0], l[1], l[2], l[3], 40);
     }
-    free.MarkBox(free.X(z.t_lo), free.Y(z.e_lo), free.X(z.t_hi), free.Y(z.e_hi));
+    free.MarkBox(fx0, fy0, fx1, fy1);
     ++shown;
-    boxes << "set object " << 10 + shown << " rect from " << z.t_lo << ", " << z.e_lo << " to " << z.t_hi << ", " << z.e_hi
+    boxes << "set object " << 10 + shown << " rect from " << free.T(fx0) << ", " << free.E(fy0) << " to " << free.T(fx1)
+          << ", " << free.E(fy1)
           // (gnuplot draws no border given as "border lw ...": its colour first.)
           << " front fillstyle empty border lc rgb '" << style::RoleColour("leader") << "' "
           << style::Look("leader", "lines") << "\n";

@@ -465,6 +465,9 @@ class Occupancy {
   // A period and an energy as fractions of the frame.
   double X(double t) const;
   double Y(double e) const;
+  // Their inverses: the period and the energy at fractions of the frame.
+  double T(double fx) const;
+  double E(double fy) const;
   // The cell at (fx, fy) holds at least `weight` (outside the frame: nothing).
   void Mark(double fx, double fy, long weight = kSubject);
   void MarkBox(double x0, double y0, double x1, double y1, long weight = kSubject);

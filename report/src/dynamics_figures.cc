@@ -158,6 +158,8 @@ void FigureMultipliers(Context& c) {
   long stable = 0, unstable = 0, points = 0;
   double t_lo = INFINITY, t_hi = -INFINITY, m_hi = 1.0;
   int last = -2;
+  // The branch's widest gap in T (where it is not admissible): the key's place.
+  double prev_period = NAN, gap_lo = NAN, gap_hi = NAN;
   // The branch's largest modulus, one row per orbit (T, stable, max |mu|),
   // a blank line at each gap: the upper panel's lines.
   std::ostringstream branch;
@@ -168,8 +170,13 @@ void FigureMultipliers(Context& c) {
     if (last >= 0 && static_cast<int>(k) != last + 1) {  // a gap in the branch breaks its line
       out << "\n";
       branch << "\n";
+      if (!(r.orbit.period - prev_period <= gap_hi - gap_lo)) {
+        gap_lo = prev_period;
+        gap_hi = r.orbit.period;
+      }
     }
     last = static_cast<int>(k);
+    prev_period = r.orbit.period;
     const Stability& s = *r.stability;
     branch << r.orbit.period << "," << s.stable << "," << s.max_modulus << "\n";
     (s.stable ? stable : unstable) += 1;
@@ -243,8 +250,8 @@ void FigureMultipliers(Context& c) {
   // Two panels stacked (height 1.15 width), their frames between the same
   // left and right edges: above, the branch, where the stability changes
   // 1.1 apart in T stand apart even in a journal's column, one key for both
-  // inside it, over T 10-19 where the branch is not admissible (clear of the
-  // spike at 20.4); below, the complex plane at equal scales, its colour bar
+  // inside it, over the widest stretch where the branch is not admissible
+  // (T 10-19, clear of the spike at 20.4); below, the complex plane at equal scales, its colour bar
   // beside it in the upper panel's right margin.
   // (The complex plane's Im within 1.5 of 0: beyond 1, nothing, and at 1.4
   // the frame's Re range, 2.37, put the multiplier at 2.35 on its edge; the
@@ -255,7 +262,10 @@ void FigureMultipliers(Context& c) {
   constexpr double kLeft = 0.13, kRight = 0.81, kBottom = 0.085, kTop = 0.42, kAspect = 1.15, kIm = 1.5;
   body << marks.str() << "set multiplot\nset size 1, 0.53\nset origin 0, 0.47\n" << crossings_label
        << "set lmargin at screen " << kLeft << "\nset rmargin at screen " << kRight << "\n"
-       << "set key at graph 0.29, graph 0.97 left top Left reverse samplen 1.5 maxrows 7\n"
+       // (Centred on the branch's widest gap: from its left end at graph
+       // 0.29, the column PDF's wider key covered the spike at T = 20.4.)
+       << "set key at " << (std::isfinite(gap_lo) ? 0.5 * (gap_lo + gap_hi) : 0.5 * (t_lo + t_hi))
+       << ", graph 0.97 center top Left reverse samplen 1.5 maxrows 7\n"
        << "set xlabel 'period T (s)'\n"
        // (From a row under the marks' last row and 2 % beyond the
        // branch's ends: the marks and the ends' points clear of the frame.)
@@ -265,8 +275,7 @@ void FigureMultipliers(Context& c) {
   // |mu| = 1 first: the stable stretches lie on it, a thick solid line over
   // its thin dashes; the unstable ones dashed, as on Fig. 3, over their
   // path drawn thin and solid (the spikes are a few samples wide: the
-  // dashes' gaps cut 187 to 165 at T = 8.9). The lower
-  // panel's keys here too (legend-only, in black: their colour is T's).
+  // dashes' gaps cut 187 to 165 at T = 8.9).
   Plot left;
   left.Add("1", With("unit_circle"), "|{/Symbol m}| = 1")
       .Add("$branch using 1:($2 == 1 ? $3 : 1/0)", With("one_stable"), "stable", stable)
@@ -274,15 +283,18 @@ void FigureMultipliers(Context& c) {
       .Add("$branch using 1:($2 == 0 ? $3 : 1/0)", With("one_unstable"), "unstable", unstable)
       .Add("$plus using 1:2", With("multiplier_plus_one"), "{/Symbol m} through +1", plus)
       .Add("$minus using 1:2", With("multiplier_minus_one"), "{/Symbol m} through -1", minus);
-  if (stable > 0) left.KeyOnly(With("map_stable", "points", style::Colour("black")), "{/Symbol m}, stable orbit");
-  if (unstable > 0) left.KeyOnly(With("map_unstable", "points", style::Colour("black")), "{/Symbol m}, unstable orbit");
   // The complex plane: Im mu within 1.5 of 0 and Re mu as far as the frame's
   // width allows at equal scales (the larger real ones of the unstable orbits
   // are on the upper panel), of every third stable and every third unstable
   // orbit (all of them lay hundreds deep: filled and open could not be told;
   // counted apart, a short stable stretch keeps its points).
   const double re_half = kIm * (kRight - kLeft) / ((kTop - kBottom) * kAspect);
-  body << left.str() << "unset logscale y\nunset key\nunset label\nset size 1, 0.47\nset origin 0, 0\n"
+  // (The lower panel's two keys in a row over its unit circle, where Im mu
+  // > 1 holds nothing: in the upper key, they made it wider than the gap it
+  // stands in, and in the column PDF it covered the spikes at T = 8.9 and
+  // 20.4.)
+  body << left.str() << "unset logscale y\nunset label\nset size 1, 0.47\nset origin 0, 0\n"
+       << "set key at graph 0.02, graph 0.985 left top Left reverse horizontal samplen 1 maxrows 1\n"
        << "set bmargin at screen " << kBottom << "\nset tmargin at screen " << kTop << "\n"
        << "set colorbox user origin screen " << kRight + 0.02 << ", screen " << kBottom << " size screen 0.022, screen "
        << kTop - kBottom << "\n"
@@ -299,6 +311,9 @@ void FigureMultipliers(Context& c) {
             style::WithPalette("map_unstable"), "", unstable)
       .Add("'' using (" + third + "$2 == 1) ? $5 : 1/0):6" + shade, style::WithPalette("map_stable"), "", stable)
       .Add("$circle using 1:2", With("unit_circle"), "", 1);  // keyed with |mu| = 1
+  // (Legend-only, in black: their colour is T's.)
+  if (stable > 0) right.KeyOnly(With("map_stable", "points", style::Colour("black")), "{/Symbol m}, stable orbit");
+  if (unstable > 0) right.KeyOnly(With("map_unstable", "points", style::Colour("black")), "{/Symbol m}, unstable orbit");
   body << right.str() << "unset multiplot";
   Draw(c, "multipliers_one_impact", body.str(),
        std::to_string(stable + unstable) + " admissible orbits, T from " + Num(t_lo) + " to " + Num(t_hi) +

@@ -1198,10 +1198,10 @@ void Figure17(Context& c) {
       body << std::fixed << std::setprecision(3) << "set label \"" << n.end << " J" << (n.grazes ? "\\ngrazing" : "")
            << "\" at " << br.period << ", " << n.end << " left offset 0.8, " << (above ? (n.grazes ? -1.4 : -0.9) : 0.9)
            << " front\nset label '" << n.nearest << " J' at " << br.period << ", " << n.nearest << " right offset -0.8, "
-           // (A line off the branch: at 0.6, "3.254 J" sat on
-           // B4's 2-ipp circles, which rise to the right under it; at 1.5,
-           // on the panel's top edge.)
-           << (above ? 1.0 : -1.0) << " front\n" << std::defaultfloat << std::setprecision(6);
+           // (0.8 of a line off the branch: at 0.6, "3.254 J" sat on B4's
+           // 2-ipp circles, which rise to the right under it; at 1.5, on the
+           // panel's top edge; at 1, a reader found it floating.)
+           << (above ? 0.8 : -0.8) << " front\n" << std::defaultfloat << std::setprecision(6);
     }
     body << plot.str();
     entries.insert(entries.end(), plot.Collected().begin(), plot.Collected().end());
@@ -1822,11 +1822,13 @@ std::string ResponseInsets(const std::vector<ResponseRow>& rows, const std::vect
       y1 = std::max(y1, d->y);
     }
     // The group in the inset's middle half, at least 3.5 % of the frame wide
-    // and 8 % high: the markers clear of each other at the inset's scale,
+    // (2 % on the energy chart) and 8 % high: the markers clear of each other at the inset's scale,
     // and the window's box on the chart about their size (at 2 % by 6 %, the
     // amplitude chart's box at 0.683 was 12 px wide in the column PDF, its
     // markers over its sides).
-    const double px = std::max(0.5 * (x1 - x0), 0.0175 * (frame[1] - frame[0]));
+    // (The energy chart's window 2 % wide: at 3.5 %, its grazing circle and
+    // peak diamond met in the inset.)
+    const double px = std::max(0.5 * (x1 - x0), (log_y ? 0.01 : 0.0175) * (frame[1] - frame[0]));
     const double py = log_y ? std::max(0.5 * (y1 - y0), 0.06 * y1) : std::max(0.5 * (y1 - y0), 0.04 * (frame[3] - frame[2]));
     // (The energy chart's 0.40 by 0.25 of the frame: at 0.34 by 0.32,
     // taller than the free band above its curves, it was drawn at 0.65 of
