@@ -573,7 +573,9 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
        // needed 0.3 and left a white band in the PNG; the top at 0.95, the
        // d label above the right panel clear of the canvas's edge.)
        << "set bmargin at screen 0.22\nset tmargin at screen 0.95\n"
-       << "set lmargin at screen 0.1\nset rmargin at screen 0.44\nunset colorbox\n"
+       // (The right panel, where the impact states are, 0.28 wide: at 0.24,
+       // beside the left's 0.34, a reader found it narrow in the column.)
+       << "set lmargin at screen 0.1\nset rmargin at screen 0.40\nunset colorbox\n"
        << "set key at screen 0.5, screen 0.005 center bottom vertical maxrows 3\n"
        << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
        << DofLabel("x", c.contact, "m") << "'\nset xtics " << NiceStep(lo[0], hi[0], 4) << "\nset ytics "
@@ -627,7 +629,7 @@ void DrawProjections(Context& c, const std::string& name, const std::string& par
                    stable ? "impact, stable orbit (right)" : "impact, unstable orbit (right)");
     }
   }
-  body << left.str() << "unset key\nset lmargin at screen 0.58\nset rmargin at screen 0.82\n"
+  body << left.str() << "unset key\nset lmargin at screen 0.54\nset rmargin at screen 0.82\n"
        << "set colorbox user origin screen 0.845, screen 0.22 size screen 0.025, screen 0.68\n"
        << ContactProjectionAxes(c, lo, hi) << right.str() << "unset multiplot";
   Draw(c, name, body.str(), note);
@@ -738,7 +740,7 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
   // curves overlap: 11 orbits of two loops were 22 curves in a band).
   const std::string every = family.orbits.size() > 8 ? " every :2" : "";
   Plot projection;
-  projection.Unkeyed("'" + name + ".csv' index 0" + every + " using " + w + ":" + v + ":2", "with lines lw 1 lc palette");
+  projection.Unkeyed("'" + name + ".csv' index 0" + every + " using " + w + ":" + v + ":2", style::WithPalette("family_curve"));
   // Its impact states, filled in their orbit's colour (as Fig. 12's).
   projection.Unkeyed("'" + name + ".csv' index 0" + every + " using " + ImpactStates(c, w, v),
                      style::WithPalette("impact_state"));
@@ -872,6 +874,9 @@ void Figures11And12(Context& c) {
   // colour is their place along the family); the impacts at 0 and T filled.
   const std::string stable_col = "$" + std::to_string(7 + 2 * c.b.n);
   Plot plot;
+  // The obstacle under everything (over the t2 circles, its dashes ran
+  // through them), keyed in its place below.
+  plot.Unkeyed(std::to_string(c.b.gap), With("obstacle"));
   const long stable_orbits = std::count(orbit_stable.begin() + 1, orbit_stable.end(), true);
   if (stable_orbits > 0) plot.KeyOnly(With("family_orbit"), "stable orbit");
   if (stable_orbits < curves) plot.KeyOnly(With("family_orbit_unstable"), "unstable orbit");
@@ -885,11 +890,13 @@ void Figures11And12(Context& c) {
   plot.Add("'fig11_two_impact_mode.csv' using ($3 / $2):(strcol(1) eq '0' ? $" + xc + " : 1/0)", With("limit"),
            "grazing linear mode")
       // (Keyed in black: the circle's colour is its orbit's.)
-      .KeyOnly(With("impact_map", "points", style::Colour("black")), "second impact t_2")
-      .Unkeyed("'fig11_two_impact_mode.csv' every ::0::0 using ($1 > 0 ? $" + std::to_string(4 + 2 * c.b.n) +
-                   " / $2 : 1/0):(" + std::to_string(c.b.gap) + "):" + arc,
-               style::WithPalette("impact_map"))
-      .Add(std::to_string(c.b.gap), With("obstacle"), "obstacle d");
+      .KeyOnly(With("impact_map", "points", style::Colour("black")), "second impact t_2");
+  // (Each circle on a white disc: the orbits' arcs along d ran through it.)
+  const std::string t2_at = "'fig11_two_impact_mode.csv' every ::0::0 using ($1 > 0 ? $" + std::to_string(4 + 2 * c.b.n) +
+                            " / $2 : 1/0):(" + std::to_string(c.b.gap) + ")";
+  plot.Unkeyed(t2_at, With("ring_ground"))
+      .Unkeyed(t2_at + ":" + arc, style::WithPalette("impact_map"))
+      .KeyOnly(With("obstacle"), "obstacle d");
   ImpactMarks(c, {0.0, 1.0})(plot);  // (the first impact, at 0 and T: t / T = 0 and 1)
   body << plot.str();
   out.Commit();

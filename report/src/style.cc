@@ -206,6 +206,10 @@ std::string WithMapped(std::string_view role, std::string_view kind, double f) {
 
 std::string WithPalette(std::string_view role) {
   const Series& s = Role(role);
+  if (s.kind == "lines") {
+    std::string with = With(role);
+    return with.substr(0, with.rfind("lc rgb '")) + "lc palette";
+  }
   std::ostringstream os;
   os << "with points pt " << s.point << " ps " << Number(s.size) << " lw " << Number(s.width) << " lc palette";
   return os.str();

@@ -43,8 +43,9 @@ std::string With(std::string_view role, std::string_view kind = "", std::string_
 std::string Look(std::string_view role, std::string_view kind = "", std::string_view colour = "");
 // "#RRGGBB" of a role's colour (a series drawn in another role's colour).
 std::string RoleColour(std::string_view role);
-// Points of the role's marker and size coloured by the palette (the third
-// column of `using`): a family whose colour is a map's one meaning.
+// Points of the role's marker and size (or, for a role of kind "lines", its
+// line) coloured by the palette (the third column of `using`): a family
+// whose colour is a map's one meaning.
 std::string WithPalette(std::string_view role);
 // The role's look at the fraction f of the chart's palette (`lc palette frac
 // f`: one colour for the whole layer, drawn as one path, so a dash runs on
