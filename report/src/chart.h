@@ -96,8 +96,14 @@ class Plot {
     return *this;
   }
   bool empty() const { return layers_.empty(); }
+  // (The key switched off for a plot with no entry, on for one with some:
+  // gnuplot cleared an empty key's place, and the grid lines of Fig. 17's
+  // panels broke at their top right corners.)
   std::string str() const {
-    std::string out = command_ + " ";
+    const bool keyed = std::any_of(layers_.begin(), layers_.end(),
+                                   [](const std::string& layer) { return layer.find(" title '") != std::string::npos; });
+    std::string out = keyed ? "set key on\n" : "set key off\n";
+    out += command_ + " ";
     for (std::size_t k = 0; k < layers_.size(); ++k) out += (k ? ", \\\n  " : "") + layers_[k];
     return out + "\n";
   }

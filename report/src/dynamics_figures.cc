@@ -392,8 +392,9 @@ void FigureTimeHistory(Context& c) {
   lower_top << "((" << foot << " + 0.96) / 2 - 0.01)";
   body << "set multiplot\nset xrange [0:" << opt.t_end << "]\nset format x ''\n"
        << panel(upper_foot.str(), "0.96") << "set ylabel 'displacement (m)'\nset ytics " << NiceStep(x_lo, x_hi, 4) << "\n"
-       // (d named on the axis: the round ticks stopped short of it.)
-       << "set ytics add ('d' " << c.b.gap << ")\n"
+       // (d named on the axis with its value: the round ticks stopped short
+       // of it, and "d" alone never said it was 1.)
+       << "set ytics add ('d = " << Num(c.b.gap) << "' " << c.b.gap << ")\n"
        // (Its range the motion's, not the tics': rounded out, -6 to 2 left a
        // fifth of the panel empty.)
        << "set yrange [" << x_lo - 0.06 * (x_hi - x_lo) << ":" << x_hi + 0.06 * (x_hi - x_lo) << "]\n";
@@ -420,7 +421,7 @@ void FigureTimeHistory(Context& c) {
   std::vector<Plot::Entry> entries = top.Collected();
   entries.insert(entries.end(), bottom.Collected().begin(), bottom.Collected().end());
   body << top.str() << "set format x '% g'\nset xlabel 'time t (s)'\nset ylabel 'contact velocity (m/s)'\nset yrange [*:*]\n"
-       << panel(foot, lower_top.str()) << "set ytics " << NiceStep(v_lo, v_hi, 4) << "\n" << bottom.str()
+       << panel(foot, lower_top.str()) << "set ytics " << NiceStep(v_lo, v_hi, 6) << "\n" << bottom.str()
        << LegendPanel(0.14)
        << "set key spacing 1.3\n" << Plot::Legend(entries) << "unset multiplot";
   Draw(c, "time_history", body.str(),
@@ -691,8 +692,10 @@ FiguresResult DrawBarFigures(const Model& model, const BarSpec& bar, const Outpu
   body << "set multiplot\nset lmargin at screen " << kLeft << "\nset rmargin at screen " << kRight
        << "\nset bmargin at screen " << kMapBottom << "\nset tmargin at screen " << kMapTop
        << "\nset format x ''\nset ylabel 'position along the bar x (m)'\n"
-       // (a strip above x = L: the impacts marked there are not cut.)
-       << "set xrange [0:" << 1e3 * opt.t_end << "]\nset yrange [0:" << 1.06 * bar.length << "]\nset ytics "
+       // (To x = L: the impacts marked there drawn whole over the frame's
+       // edge, gnuplot clipping no point inside its range; a white strip
+       // above L had read as a gap in the data.)
+       << "set xrange [0:" << 1e3 * opt.t_end << "]\nset yrange [0:" << bar.length << "]\nset ytics "
        << NiceStep(0.0, bar.length, 4) << "\n"
        << style::Palette("displacement", "u / d") << "set cbrange [" << -m << ":" << m
        << "]\nset colorbox user origin screen " << kBarLeft << ", screen " << kMapBottom << " size screen " << kBarWidth

@@ -988,9 +988,11 @@ void Figures13To15(Context& c) {
     // (The panels placed on the canvas, their frames aligned in every
     // format, over one key in three columns at its foot: below the lower
     // panel in one column of seven, it squeezed that panel in the column PDF;
-    // their foot over the x labels and the key's band: KeyFoot), the lower
+    // their foot over the x labels and the key's band: KeyFoot, the band 0.16
+    // of the PNG and 0.25 of the column PDF, whose key has four rows: at
+    // 0.19, the PNG had a gap of 45 px over its key), the lower
     // panel 0.4 of their height.
-    body << style::Palette("family", "") << "unset colorbox\nset multiplot\nns_foot = " << KeyFoot(0.11, 0.14)
+    body << style::Palette("family", "") << "unset colorbox\nset multiplot\nns_foot = " << KeyFoot(0.025, 0.225)
          << "\nns_split = ns_foot + 0.4 * (0.97 - ns_foot - 0.03)\nset lmargin at screen 0.14\n"
          << "set rmargin at screen 0.97\nset bmargin at screen (ns_split + 0.03)\nset tmargin at screen 0.97\nset format x ''\n"
          << "set xlabel ''\nset ylabel '" << XcLabel(c) << "'\nset xrange [0:" << t << "]\n"
@@ -1020,7 +1022,8 @@ void Figures13To15(Context& c) {
          // (Short: "x - x(s = 0)" ran into the upper panel's label in the
          // column PDF; the caption says what it is.)
          << "set autoscale y\nset format x '% g'\nset xlabel 'time t (s)'\nset ylabel '{/Symbol D}" << x
-         << " (m)'\nset ytics " << NiceStep(-c.b.gap, c.b.gap, 4) << "\n"
+         // (Ticks every 0.2 d: at 0.5 d, the panel had three labels.)
+         << " (m)'\nset ytics " << NiceStep(-c.b.gap, c.b.gap, 10) << "\n"
          << lower.str() << LegendPanel(0.14) << Plot::Legend(upper.Collected()) << "unset multiplot\n";
     out.Commit();
     std::ostringstream note;
