@@ -100,6 +100,9 @@ void FigureModel(Context& c) {
          << "set label '" << mass << "' at " << left(i) + 0.5 * size << ", -0.35 center\n"
          << "set arrow from " << left(i) + 0.5 * size << ", 1.35 to " << left(i) + 0.5 * size + 0.8 << ", 1.35 head size 0.12,25 "
          << style::Look("function") << "\nset label 'x_{" << i + 1 << "}' at " << left(i) + 0.5 * size + 0.4 << ", 1.6 center\n";
+    // (The displacement's origin: a short datum line at the arrow's tail,
+    // over the mass's middle at rest.)
+    lines << left(i) + 0.5 * size << ",1.22\n" << left(i) + 0.5 * size << ",1.48\n\n";
     if (i == 0) {
       if (!(ground > 1e-12 * m.stiffness.norm())) {
         c.log << "  fig01_model: mass 1 has no spring to the wall: drawn for chains fixed at the left; skipped\n";

@@ -263,11 +263,12 @@ std::string CycleColour(std::string_view cycle, std::size_t k) {
 std::string ChartSetup(const Format& format) {
   // (Arrow style 1: the bridge's line with a flat cap at each end, for
   // `with vectors arrowstyle 1`; a plot command's own `size` took a comma.
-  // The cap 0.005 of the canvas each side, narrower than a grazing circle:
-  // at 0.007 it hid the circle at a grazing bridge's top.)
+  // The cap 0.004 of the canvas each side, narrower than a grazing circle:
+  // at 0.007 it hid the circle at a grazing bridge's top; at 0.005 a reader
+  // found Fig. 15's circle barely wider than it in the PNG.)
   return The().dash_patterns + "ns_key_band = " + Number(format.key_band) + "\nset grid lt 1 lw 0.5 lc rgb '" +
          Colour("grid") + "'\nset key " + format.key +
-         " noautotitle\nset style arrow 1 heads size screen 0.005,90 " + Look("bridge", "lines") + "\n";
+         " noautotitle\nset style arrow 1 heads size screen 0.004,90 " + Look("bridge", "lines") + "\n";
 }
 
 std::string Json() {
