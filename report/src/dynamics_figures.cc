@@ -394,7 +394,11 @@ void FigureTimeHistory(Context& c) {
   upper_foot << "((" << foot << " + 0.96) / 2 + 0.01)";
   lower_top << "((" << foot << " + 0.96) / 2 - 0.01)";
   body << "set multiplot\nset xrange [0:" << opt.t_end << "]\nset format x ''\n"
-       << panel(upper_foot.str(), "0.96") << "set ylabel 'displacement (m)'\nset ytics " << NiceStep(x_lo, x_hi, 4) << "\n"
+       // (The two axes' titles at one place on the canvas, the middle of
+       // their panels: as ylabels, "d = 1" pushed the upper one left of the
+       // lower.)
+       << panel(upper_foot.str(), "0.96") << "set ylabel ''\nset label 91 'displacement (m)' at screen 0.035, screen ("
+       << upper_foot.str() << " + 0.96) / 2 center rotate by 90\nset ytics " << NiceStep(x_lo, x_hi, 4) << "\n"
        // (d named on the axis with its value: the round ticks stopped short
        // of it, and "d" alone never said it was 1.)
        << "set ytics add ('d = " << Num(c.b.gap) << "' " << c.b.gap << ")\n"
@@ -423,7 +427,8 @@ void FigureTimeHistory(Context& c) {
            s.impacts);
   std::vector<Plot::Entry> entries = top.Collected();
   entries.insert(entries.end(), bottom.Collected().begin(), bottom.Collected().end());
-  body << top.str() << "set format x '% g'\nset xlabel 'time t (s)'\nset ylabel 'contact velocity (m/s)'\nset yrange [*:*]\n"
+  body << top.str() << "set format x '% g'\nset xlabel 'time t (s)'\nunset label 91\nset label 92 'contact velocity (m/s)' at "
+       << "screen 0.035, screen (" << foot << " + " << lower_top.str() << ") / 2 center rotate by 90\nset yrange [*:*]\n"
        << panel(foot, lower_top.str()) << "set ytics " << NiceStep(v_lo, v_hi, 6) << "\n" << bottom.str()
        << LegendPanel(0.14)
        << "set key spacing 1.3\n" << Plot::Legend(entries) << "unset multiplot";

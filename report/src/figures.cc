@@ -375,7 +375,7 @@ void Figure6(Context& c) {
   }
   plane << VerticalLines("modal", modal, 0.0, 1.0);
   Plot plot;
-  plot.Add("$modal using 1:2", With("modal"), "k T_i, multiples of T_i", static_cast<long>(modal.size()))
+  plot.Add("$modal using 1:2", With("modal"), "multiples k T_i", static_cast<long>(modal.size()))
       .Add("'fig06_root_curves.csv' using 1:($3 == 0 ? $2 / $1 : 1/0)", With("root_cloud_other", "lines"),
            "root, not admissible", other)
       .Add("'' using 1:($3 == 1 ? $2 / $1 : 1/0)", With("root_curve"), "root, admissible", admissible);
@@ -704,10 +704,10 @@ void DrawSection(Context& c, const std::string& name, const SectionFamily& famil
        // (The plane's place on its axis named: the inner ticks stop short of
        // it, and a reader asked where x_c = d was.)
        << "set ytics add ('d' " << c.b.gap << ")\n"
-       // (The tick labels off their axes, the contact's label past them: on
+       // (The tick labels off their axes, the axes' labels past them: on
        // the axes, the lines struck "0.5", "0", "-0.5" through.)
        << "set xtics offset -0.3, -0.4\nset ytics offset 0.6, -0.3\n"
-       << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "'\nset ylabel '"
+       << "set xlabel '" << (c.b.n > 1 ? DofLabel("x", c.other, "m") : std::string("t (s)")) << "' offset -1.5, -0.6\nset ylabel '"
        << DofLabel("x", c.contact, "m") << "' offset 2.5, -0.5\nset zlabel '" << DofLabel("v", c.contact, "m/s") << "' rotate offset 2.5, 0\n"
        // (The data's ranges, set: the overlay of the limit curve below maps
        // onto the same frame.)
