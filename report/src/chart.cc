@@ -615,17 +615,15 @@ std::string ZoomInsets(Occupancy free, const Plot& plot, const std::vector<Zoom>
     // middle: a smaller one was not seen (Fig. 16's, 0.8 % by 0.1 %, and
     // Fig. 3's at T = 20.3 in the column PDF); the inset's ticks give the
     // window itself.
+    auto at_least = [](double& lo, double& hi, double least) {
+      if (hi - lo >= least) return;
+      const double mid = 0.5 * (lo + hi);
+      lo = mid - 0.5 * least;
+      hi = mid + 0.5 * least;
+    };
     double fx0 = free.X(z.t_lo), fx1 = free.X(z.t_hi), fy0 = free.Y(z.e_lo), fy1 = free.Y(z.e_hi);
-    if (fx1 - fx0 < kMinBox[0]) {
-      const double mid = 0.5 * (fx0 + fx1);
-      fx0 = mid - 0.5 * kMinBox[0];
-      fx1 = mid + 0.5 * kMinBox[0];
-    }
-    if (fy1 - fy0 < kMinBox[1]) {
-      const double mid = 0.5 * (fy0 + fy1);
-      fy0 = mid - 0.5 * kMinBox[1];
-      fy1 = mid + 0.5 * kMinBox[1];
-    }
+    at_least(fx0, fx1, kMinBox[0]);
+    at_least(fy0, fy1, kMinBox[1]);
     const double box_top = fy1, box_bottom = fy0;
     // The inset's period ticks, as fractions of its frame's width.
     std::vector<double> ticks = {0.5};

@@ -197,19 +197,23 @@ std::string With(std::string_view role, std::string_view kind, std::string_view 
   return "with " + (k == "fill" ? std::string("filledcurves") : k) + " " + Look(role, k, colour);
 }
 
-std::string WithMapped(std::string_view role, std::string_view kind, double f) {
+namespace {
+// A role's "with ..." clause up to its colour (for a palette's instead).
+std::string Uncoloured(std::string_view role, std::string_view kind = "") {
   std::string with = With(role, kind);
   const std::size_t at = with.rfind("lc rgb '");
   NSMODAL_CHECK(at != std::string::npos);
-  return with.substr(0, at) + "lc palette frac " + Number(std::clamp(f, 0.0, 1.0));
+  return with.substr(0, at);
+}
+}  // namespace
+
+std::string WithMapped(std::string_view role, std::string_view kind, double f) {
+  return Uncoloured(role, kind) + "lc palette frac " + Number(std::clamp(f, 0.0, 1.0));
 }
 
 std::string WithPalette(std::string_view role) {
   const Series& s = Role(role);
-  if (s.kind == "lines") {
-    std::string with = With(role);
-    return with.substr(0, with.rfind("lc rgb '")) + "lc palette";
-  }
+  if (s.kind == "lines") return Uncoloured(role) + "lc palette";
   std::ostringstream os;
   os << "with points pt " << s.point << " ps " << Number(s.size) << " lw " << Number(s.width) << " lc palette";
   return os.str();
